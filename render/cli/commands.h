@@ -1,0 +1,16 @@
+// The voxfall command's subcommands. Each adds itself to the CLI11 app and returns the
+// process exit code through the callback's `exitCode`.
+#pragma once
+
+namespace CLI {
+class App;
+}
+
+namespace vf::cli {
+
+// voxfall simulate SCENE [--csv FILE] [--summary FILE] [--level N] [--step S|auto] [--quiet]
+void addSimulateCommand(CLI::App& app, int& exitCode);
+// voxfall render SCENE [-o OUT] [--frames A:B] [--size WxH] [--fps N] [--level N] [--crf N]
+void addRenderCommand(CLI::App& app, int& exitCode);
+
+}  // namespace vf::cli
