@@ -8,6 +8,8 @@
 #include <optional>
 #include <vector>
 
+#include "sim/collide/contact.h"
+#include "sim/core/body.h"
 #include "sim/core/math.h"
 #include "sim/shape/shape.h"
 
@@ -114,23 +116,21 @@ class World {
   Diagnostics measure() const;
 
  private:
-  struct Body {
-    std::shared_ptr<const Shape> shape;
-    double invMass = 0;
-    Mat3 inertiaBodyInv = Mat3::Zero();
-    bool isStatic = false;
-    bool active = true;
-    double releaseTime = 0;
-  };
-  // Stages of step(), in order; each lives in its own file (see README).
+  // Steps once towards `target` (> time_), never past it; lands on it exactly when the step
+  // rule allows reaching it in one step.
+  void stepToward(double target);
   void releaseBodies();
+  double nextReleaseAfter(double t) const;
 
   WorldDef def_;
   double time_ = 0;
-  std::vector<Body> bodies_;
+  std::vector<BodyInfo> bodies_;
   std::vector<BodyState> states_;
   RunStats totals_;
   StepStats last_;
+  std::vector<BodyPair> pairs_;     // scratch, reused every step
+  std::vector<Contact> contacts_;   // scratch, reused every step
+  ContactCache contactCache_;       // last step's contact impulses (warm starting)
 };
 
 }  // namespace vf

@@ -1,0 +1,18 @@
+// Broad phase: body pairs whose bounding spheres overlap (fig. 3, step 1).
+#pragma once
+
+#include <vector>
+
+#include "sim/collide/contact.h"
+#include "sim/core/body.h"
+#include "sim/world.h"
+
+namespace vf {
+
+// Appends to `pairs` every pair (a < b) of active bodies, not both static, whose bounding
+// spheres (SphereTree::boundingRadius about the centre of mass) overlap. Ordered by (a, b),
+// so contacts are generated in a fixed order.
+void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
+               std::vector<BodyPair>& pairs);
+
+}  // namespace vf

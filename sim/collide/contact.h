@@ -1,0 +1,46 @@
+// Contacts between leaf spheres, as the narrow phase finds them and the solver consumes them.
+#pragma once
+
+#include <compare>
+#include <cstdint>
+#include <vector>
+
+#include "sim/core/math.h"
+
+namespace vf {
+
+constexpr int kGround = -1;  // body id of the floor plane (and, later, terrain)
+
+// One colliding leaf-sphere pair (section 4, fig. 5). Body `a` is the paper's body 1.
+struct Contact {
+  int a = 0;
+  int b = kGround;             // another body, or kGround
+  Vec3 point = Vec3::Zero();   // p = (x1 + x2) / 2 for two spheres; on the plane for the floor
+  Vec3 normal = Vec3::UnitZ(); // n21 = (x1 - x2) / |x1 - x2|: direction of the force on `a`
+  double depth = 0;            // r1 + r2 - |x1 - x2| (sphere overlap), m
+  std::uint32_t leafA = 0;     // leaf-sphere index in a's tree (feature key)
+  std::uint32_t leafB = 0;     // leaf-sphere index in b's tree; 0 for the plane
+};
+
+// A body pair whose bounding spheres overlap; a < b.
+struct BodyPair {
+  int a = 0;
+  int b = 0;
+};
+
+// Identifies a contact across steps: the body pair and the two leaf spheres.
+struct ContactKey {
+  int a = 0, b = 0;
+  std::uint32_t leafA = 0, leafB = 0;
+  auto operator<=>(const ContactKey&) const = default;
+};
+
+// A contact's accumulated impulse from the previous step, per unit time (a force), so it can
+// seed the next step's solve whatever that step's length ("warm starting").
+struct CachedImpulse {
+  ContactKey key;
+  double normal = 0, tangent1 = 0, tangent2 = 0;  // N
+};
+using ContactCache = std::vector<CachedImpulse>;  // sorted by key
+
+}  // namespace vf

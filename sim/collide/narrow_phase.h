@@ -1,0 +1,46 @@
+// Narrow phase: leaf-sphere contacts between two colliders, dispatched by a
+// [type][type] table (see narrow_phase.cpp).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sim/collide/contact.h"
+#include "sim/core/body.h"
+#include "sim/core/math.h"
+#include "sim/shape/sphere_tree.h"
+#include "sim/world.h"
+
+namespace vf {
+
+enum class ColliderType : int { kSphereTree = 0, kPlane = 1, kCount = 2 };
+
+// What the narrow phase needs of one side of a pair, posed in the world.
+struct Collider {
+  ColliderType type = ColliderType::kSphereTree;
+  int body = kGround;
+  // kSphereTree: the tree and its pose (body frame -> world: p = x + R p_body).
+  const SphereTree* tree = nullptr;
+  Vec3 x = Vec3::Zero();
+  Mat3 R = Mat3::Identity();
+  // kPlane: points p with normal . p = offset; the solid is on the side -normal.
+  Vec3 normal = Vec3::UnitZ();
+  double offset = 0;
+};
+
+Collider sphereTreeCollider(int body, const SphereTree& tree, const Vec3& x, const Quat& q);
+Collider planeCollider(double height);
+
+// Appends the contacts between a and b (a's leaf spheres are the paper's body 1) in a fixed
+// order, and returns the number of sphere tests made. The bounding-sphere test (fig. 3 step 1)
+// is part of it.
+std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>& out);
+
+// The narrow-phase stage of a step: contacts of every broad-phase pair, in pair order, then
+// of every moving body with the floor plane (if any), by body id. Returns the sphere tests.
+std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
+                           const std::vector<BodyState>& states,
+                           const std::vector<BodyPair>& pairs,
+                           const std::optional<double>& groundHeight, std::vector<Contact>& out);
+
+}  // namespace vf

@@ -1,0 +1,40 @@
+// Collision response: restitution impulses (eq. 15) with Coulomb friction, many contacts
+// resolved sequentially.
+#pragma once
+
+#include <vector>
+
+#include "sim/collide/contact.h"
+#include "sim/core/body.h"
+#include "sim/world.h"
+
+namespace vf {
+
+// Denominator of eq. 15 for direction d at lever arms ra, rb (inverse effective mass):
+// 1/M1 + 1/M2 + d . [ (I1^-1 (r1 x d)) x r1 + (I2^-1 (r2 x d)) x r2 ].
+double inverseEffectiveMass(double invMassA, const Mat3& invInertiaA, const Vec3& ra,
+                            double invMassB, const Mat3& invInertiaB, const Vec3& rb,
+                            const Vec3& d);
+
+// Eq. 15: the impulse magnitude j for one contact approaching at vRel (< 0) with restitution
+// eps: j = -(1 + eps) vRel / inverseEffectiveMass(...).
+double restitutionImpulse(double vRel, double eps, double inverseEffectiveMass);
+
+struct SolverSettings {
+  ContactMaterial material;
+  int iterations = 12;
+  // Approach speeds below this get no restitution: the speed gravity adds in a step or two.
+  // Without it a resting body would bounce by eps g dt every step (visible jitter).
+  double restingSpeed = 0;
+  double dt = 0;  // step length, s: converts cached forces to impulses
+};
+
+// Resolves every contact and applies the impulses to P and L of the bodies involved
+// (P1 += J, L1 += r1 x J; the opposite on body 2). Contacts with the ground or a static body use
+// the body-ground material, others body-body. See impulse.cpp for the scheme.
+// `cache` holds the previous step's impulses on entry and this step's on return.
+void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyInfo>& bodies,
+                   std::vector<BodyState>& states, const SolverSettings& settings,
+                   ContactCache& cache);
+
+}  // namespace vf

@@ -1,0 +1,267 @@
+// Scenario tests against analytic physics. Each tolerance is derived from the method
+// (step size dt, voxel level) in the comment beside it.
+//
+// The step applies gravity to P before moving the bodies (design.md), i.e. the position update
+// uses the end-of-step velocity. For constant acceleration g this gives, after n steps of dt,
+//   v_n = v_0 + g t,   x_n = x_0 + v_0 t + g t^2 / 2 + g t dt / 2     (t = n dt)
+// exactly, which several tests below use.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+#include "sim/world.h"
+#include "tests/support/test_world.h"
+
+namespace vf {
+namespace {
+
+constexpr double kG = 9.81;
+
+TEST(Scenario, FreeFallMatchesTheDiscreteSolutionExactly) {
+  WorldDef def;
+  def.fixedStep = 1.0 / 240;
+  World world(def);
+  auto s = test::boxShape(0.2, 0.2, 0.2, 800, 3);
+  BodyDef b;
+  b.shape = s;
+  b.position = Vec3(0, 0, 10);
+  b.velocity = Vec3(1, 0, 2);
+  world.addBody(b);
+  const double T = 1.0;
+  world.advanceTo(T);
+  EXPECT_EQ(world.time(), T);
+  const double dt = def.fixedStep;
+  // Closed form of the discrete scheme (see top); only rounding separates them.
+  EXPECT_NEAR(world.state(0).x.z(), 10 + 2 * T - kG * T * T / 2 - kG * T * dt / 2, 1e-9);
+  EXPECT_NEAR(world.state(0).x.x(), 1 * T, 1e-12);
+  EXPECT_NEAR(world.velocity(0).z(), 2 - kG * T, 1e-10);
+  // And the continuous answer within the scheme's first-order error g t dt / 2.
+  EXPECT_NEAR(world.state(0).x.z(), 10 + 2 * T - kG * T * T / 2, kG * T * dt / 2 + 1e-9);
+}
+
+TEST(Scenario, FreeFallWithTheAutoStepStaysWithinItsErrorBound) {
+  WorldDef def;  // eq. 20 step
+  World world(def);
+  auto s = test::boxShape(0.2, 0.2, 0.2, 800, 4);
+  BodyDef b;
+  b.shape = s;
+  b.position = Vec3(0, 0, 10);
+  world.addBody(b);
+  world.advanceTo(1.0);
+  const double dtMax = world.totals().dtMax;
+  // Steps vary, but each step's position error is g dt^2/2 at most: total <= g T dt_max / 2.
+  EXPECT_NEAR(world.state(0).x.z(), 10 - kG / 2, kG * dtMax / 2 + 1e-9);
+  EXPECT_NEAR(world.velocity(0).z(), -kG, 1e-9);  // velocity is exact for constant g
+  EXPECT_LE(dtMax, def.maxStep);
+}
+
+// A box dropped flat onto the floor: Newton's law v+ = -eps v- at the impact makes the rebound
+// height eps^2 times the fall height (both measured from where the spheres first touch).
+// A fixed 1 ms step keeps the discretisation error small against the 4.5 cm answer.
+TEST(Scenario, BoxDroppedFlatReboundsToEpsSquaredOfItsDropHeight) {
+  const double eps = 0.3, h = 0.5, dt = 1e-3;
+  WorldDef def;
+  def.groundHeight = 0.0;
+  def.contact.restitutionBodyGround = eps;
+  def.fixedStep = dt;
+  World world(def);
+  auto s = test::boxShape(0.3, 0.3, 0.2, 800, 4);
+  const double zTouch = test::restOffset(*s);  // COM height when the spheres touch the floor
+  BodyDef b;
+  b.shape = s;
+  b.position = Vec3(0, 0, zTouch + h);
+  world.addBody(b);
+  double apex = 0, vBefore = 0, vAfter = 0;
+  bool bounced = false;
+  while (world.time() < 0.7) {
+    const double v = world.velocity(0).z();
+    world.step(dt);
+    const double v2 = world.velocity(0).z();
+    if (!bounced && v < 0 && v2 > 0) {
+      bounced = true;
+      vBefore = v;
+      vAfter = v2;
+    }
+    if (bounced) apex = std::max(apex, world.state(0).x.z() - zTouch);
+  }
+  ASSERT_TRUE(bounced);
+  // The impact step adds g dt before the impulse: v+ = -eps (v- - g dt) exactly for a flat,
+  // spin-free landing, so the ratio is eps to within eps g dt / |v-|.
+  EXPECT_NEAR(vAfter / -vBefore, eps, eps * kG * dt / -vBefore + 1e-9);
+  EXPECT_NEAR(world.state(0).q.vec().norm(), 0, 1e-9) << "a flat landing must not tilt";
+  // Rebound height. Error sources, each at most v dt / 2 with v the impact speed: Euler on the
+  // fall, Euler on the rise, and the travel past first touch before the impulse (< v dt).
+  const double vImpact = std::sqrt(2 * kG * h);
+  EXPECT_NEAR(apex, eps * eps * h, 2 * vImpact * dt);
+}
+
+// A box sliding at 3 m/s with mu = 0.5 stops after v^2 / (2 mu g).
+TEST(Scenario, SlidingBoxStopsAfterTheCoulombDistance) {
+  const double v0 = 3.0, mu = 0.5;
+  WorldDef def;
+  def.groundHeight = 0.0;
+  def.contact.frictionBodyGround = mu;
+  def.contact.restitutionBodyGround = 0.0;
+  World world(def);
+  auto s = test::boxShape(0.3, 0.3, 0.2, 800, 4);
+  BodyDef b;
+  b.shape = s;
+  b.position = Vec3(0, 0, test::restOffset(*s) + 1e-4);
+  b.velocity = Vec3(v0, 0, 0);
+  world.addBody(b);
+  world.advanceTo(1.5);  // stopping time v0 / (mu g) = 0.61 s
+  const double expected = v0 * v0 / (2 * mu * kG);
+  const double dt = world.totals().dtMax;
+  // Per step the friction impulse removes mu g dt of speed (Coulomb, kinetic), so the stopping
+  // distance has the Euler error v0 dt / 2; the 0.1 mm fall before first contact (< 2 steps at
+  // this speed) slides without friction, up to 2 v0 dt more. Total: 3 v0 dt.
+  EXPECT_NEAR(world.state(0).x.x(), expected, 3 * v0 * dt);
+  EXPECT_LT(world.velocity(0).norm(), kG * dt) << "at rest: below what gravity adds in a step";
+  EXPECT_NEAR(world.state(0).x.y(), 0, 1e-9);  // no sideways drift
+}
+
+// Torque-free rotation in zero gravity: L is never touched by anything but contacts, so it is
+// kept exactly; the energy E = L.w/2 drifts only through Euler's orientation error.
+TEST(Scenario, TorqueFreeSpinKeepsAngularMomentumAndEnergy) {
+  auto run = [](double dt, Vec3& L0, Vec3& L1, double& E0, double& E1, double& wMax) {
+    WorldDef def;
+    def.gravity = Vec3::Zero();
+    def.fixedStep = dt;
+    World world(def);
+    BodyDef b;
+    b.shape = test::boxShape(0.1, 0.2, 0.4, 800, 2);  // three distinct principal moments
+    b.angularVelocity = Vec3(0.3, 4.0, 0.2);  // near the unstable middle axis: tumbling
+    world.addBody(b);
+    L0 = world.state(0).L;
+    E0 = world.measure().kineticEnergy;
+    wMax = 0;
+    for (int i = 1; i <= 200; ++i) {
+      world.advanceTo(i * 0.01);
+      wMax = std::max(wMax, world.angularVelocity(0).norm());
+    }
+    L1 = world.state(0).L;
+    E1 = world.measure().kineticEnergy;
+    return b.shape;
+  };
+  const double T = 2.0;
+  Vec3 L0, L1;
+  double E0, E1, wMax;
+  auto shape = run(1e-3, L0, L1, E0, E1, wMax);
+  EXPECT_EQ(L0, L1);  // exactly: no torque acts
+  // Euler bound: each step rotates by theta = |w| dt about the start-of-step w, so dE/dtheta
+  // vanishes and |dE| <= theta^2 |L|^2 ||I^-1|| per step (second derivative of L.R I^-1 R^T L/2
+  // along a rotation is at most 2 |L|^2 ||I^-1||). Over T/dt steps:
+  // |E1 - E0| <= T dt wMax^2 |L|^2 / I_min.
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(shape->inertiaBody);
+  const double iMin = eig.eigenvalues().minCoeff();
+  const double dt = 1e-3;
+  const double bound = T * dt * wMax * wMax * L0.squaredNorm() / iMin;
+  EXPECT_LE(std::abs(E1 - E0), bound);
+  // First order: halving dt roughly halves the drift (an O(1) drift would mean a wrong eq. 7).
+  Vec3 M0, M1;
+  double F0, F1, wMax2;
+  run(5e-4, M0, M1, F0, F1, wMax2);
+  const double ratio = std::abs(E1 - E0) / std::abs(F1 - F0);
+  EXPECT_GT(ratio, 1.6);
+  EXPECT_LT(ratio, 2.5);
+}
+
+// Rotation about a principal axis: w is constant, and the quaternion update rotates by
+// 2 atan(|w| dt / 2) per step. After T the angle is |w| T within |w| T (|w| dt)^2 / 12.
+// A missing factor 1/2 in dq/dt (the paper's eq. 7 as printed) would double the angle.
+TEST(Scenario, SpinAboutPrincipalAxisTurnsAtTheRightRate) {
+  WorldDef def;
+  def.gravity = Vec3::Zero();
+  def.fixedStep = 1e-3;
+  World world(def);
+  BodyDef b;
+  b.shape = test::boxShape(0.1, 0.2, 0.4, 800, 2);
+  const double w = 1.0;
+  b.angularVelocity = Vec3(0, 0, w);
+  world.addBody(b);
+  world.advanceTo(1.0);
+  const Quat q = world.state(0).q;
+  const double angle = 2 * std::atan2(q.vec().norm(), q.w());
+  EXPECT_NEAR(angle, w * 1.0, w * 1.0 * std::pow(w * def.fixedStep, 2) / 12 + 1e-12);
+  EXPECT_NEAR(q.vec().normalized().z(), 1.0, 1e-12);
+}
+
+// A thin plate fired at 30 m/s onto a thin static plate. With the eq.-20 step no leaf sphere
+// moves more than its radius per step (eq. 17), so the plates cannot pass through each other.
+// The same shot at a fixed 1/30 s step (1 m per step) tunnels: the test can fail.
+TEST(Scenario, ThinFastBodyDoesNotTunnelAtTheEq20Step) {
+  auto shoot = [](double fixedStep, int& tunnelledFrames, double& deepest) {
+    WorldDef def;
+    def.gravity = Vec3::Zero();
+    def.fixedStep = fixedStep;
+    def.maxStep = 1.0 / 30;
+    World world(def);
+    auto plate = test::boxShape(0.4, 0.4, 0.01, 800, 4);
+    BodyDef wall;
+    wall.shape = plate;
+    wall.isStatic = true;
+    world.addBody(wall);
+    BodyDef shot;
+    shot.shape = plate;
+    // 2.1 m up: a 1 m step puts it 10 cm above the plate (farther than the 4.3 cm the two
+    // plates' leaf spheres reach), then 90 cm below: no step ever sees an overlap.
+    shot.position = Vec3(0.05, 0, 2.1);
+    shot.velocity = Vec3(0, 0, -30);
+    world.addBody(shot);
+    tunnelledFrames = 0;
+    deepest = 0;
+    for (int k = 1; k <= 8; ++k) {
+      world.advanceTo(k / 30.0);
+      const Diagnostics d = world.measure();
+      tunnelledFrames += d.tunnelled;
+      deepest = std::max(deepest, d.maxPenetrationBodyBody);
+    }
+    return world.state(1).x.z();
+  };
+  int tunnelled;
+  double deepest;
+  const double zEq20 = shoot(0, tunnelled, deepest);
+  EXPECT_GT(zEq20, 0.0) << "the shot must stay above the static plate";
+  EXPECT_EQ(tunnelled, 0);
+  const double leafEdge = 0.4 / 16;  // level 4 of a 0.4 m plate
+  EXPECT_LE(deepest, leafEdge);
+  const double zCoarse = shoot(1.0 / 30, tunnelled, deepest);
+  EXPECT_LT(zCoarse, 0.0) << "control: a 1 m step must tunnel, else the test proves nothing";
+}
+
+// A resting stack of three boxes settles and then neither jitters nor creeps.
+TEST(Scenario, RestingStackSettlesWithoutJitterOrCreep) {
+  WorldDef def;
+  def.groundHeight = 0.0;
+  World world(def);
+  auto s = test::boxShape(0.3, 0.3, 0.3, 800, 4);
+  const double lift = test::restOffset(*s);
+  for (int i = 0; i < 3; ++i) {
+    BodyDef b;
+    b.shape = s;
+    // Each box a little above the one below (sphere hulls stick out by up to a leaf radius).
+    b.position = Vec3(0.02 * i, 0, lift + i * (2 * lift + 0.005));
+    world.addBody(b);
+  }
+  world.advanceTo(1.5);  // settle
+  std::vector<Vec3> settled;
+  for (int i = 0; i < 3; ++i) settled.push_back(world.state(i).x);
+  double maxSpeed = 0;
+  for (int k = 1; k <= 45; ++k) {  // 1.5 s more, checked at 30 fps
+    world.advanceTo(1.5 + k / 30.0);
+    for (int i = 0; i < 3; ++i) maxSpeed = std::max(maxSpeed, world.velocity(i).norm());
+  }
+  const double dt = world.totals().dtMax;
+  // At rest: no body moves faster than gravity accelerates it in one step (a jittering body
+  // would bounce at eps times that, every step).
+  EXPECT_LT(maxSpeed, kG * dt);
+  // No creep: over 1.5 s each box moves less than 1 % of a leaf-voxel edge (0.3/16 m).
+  for (int i = 0; i < 3; ++i)
+    EXPECT_LT((world.state(i).x - settled[i]).norm(), 0.01 * 0.3 / 16) << "box " << i;
+  EXPECT_EQ(world.measure().tunnelled, 0);
+}
+
+}  // namespace
+}  // namespace vf

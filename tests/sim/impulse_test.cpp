@@ -1,0 +1,165 @@
+// Eq. 15 and the sequential-impulse solver against hand computations.
+#include <gtest/gtest.h>
+
+#include "sim/solve/impulse.h"
+#include "tests/support/test_world.h"
+
+namespace vf {
+namespace {
+
+struct OneBody {
+  std::vector<BodyInfo> bodies;
+  std::vector<BodyState> states;
+  explicit OneBody(std::shared_ptr<const Shape> s) {
+    BodyInfo b;
+    b.shape = s;
+    b.invMass = 1 / s->mass;
+    b.inertiaBodyInv = s->inertiaBodyInv;
+    bodies.push_back(b);
+    states.emplace_back();
+  }
+};
+
+TEST(Impulse, OffCentreGroundContactMatchesHandComputation) {
+  // Box 0.4 x 0.2 x 0.2, contact below the centre at r = (d, 0, -h), normal +z.
+  // By hand: r x n = (0, -d, 0); I^-1 (r x n) = (0, -d/Iyy, 0); (..) x r = (d h/Iyy, 0, d^2/Iyy);
+  // so K = 1/m + d^2/Iyy and j = -(1 + eps) v_rel / K (eq. 15). Then P_z += j, L_y += -d j.
+  auto s = test::boxShape(0.4, 0.2, 0.2, 800, 2);
+  OneBody w(s);
+  const double m = s->mass, Iyy = m * (0.4 * 0.4 + 0.2 * 0.2) / 12;  // closed form, box
+  const double vz = -2.0, d = 0.15, h = 0.1, eps = 0.3;
+  w.states[0].P = Vec3(0, 0, m * vz);
+  Contact c;
+  c.a = 0;
+  c.b = kGround;
+  c.point = Vec3(d, 0, -h);
+  c.normal = Vec3::UnitZ();
+  SolverSettings settings;
+  settings.dt = 0.01;
+  ContactCache cache;
+  settings.material.restitutionBodyGround = eps;
+  settings.material.frictionBodyGround = 0;
+  settings.iterations = 1;
+  solveContacts({c}, w.bodies, w.states, settings, cache);
+  const double K = 1 / m + d * d / Iyy;
+  const double j = -(1 + eps) * vz / K;
+  EXPECT_NEAR(w.states[0].P.z(), m * vz + j, 1e-9 * m);
+  EXPECT_NEAR(w.states[0].L.y(), -d * j, 1e-9 * m);
+  EXPECT_NEAR(w.states[0].L.x(), 0, 1e-12);
+  EXPECT_NEAR(inverseEffectiveMass(1 / m, s->inertiaBodyInv, c.point, 0, Mat3::Zero(),
+                                   Vec3::Zero(), c.normal),
+              K, 1e-9 * K);
+  EXPECT_DOUBLE_EQ(restitutionImpulse(vz, eps, K), j);
+  // The contact point now separates at -eps times its approach speed (v_rel+ = -eps v_rel-).
+  const Vec3 v = w.states[0].P / m;
+  const Vec3 omega = s->inertiaBodyInv * w.states[0].L;
+  EXPECT_NEAR((v + omega.cross(c.point)).z(), -eps * vz, 1e-9);
+}
+
+TEST(Impulse, HeadOnCollisionOfEqualBodiesFollowsNewtonsLaw) {
+  // Two equal boxes, centres on the x axis, contact midway, approaching at 3 and -1 m/s.
+  // Newton's restitution law with momentum conservation (independent of eq. 15):
+  // v1' = ((1 - e) v1 + (1 + e) v2) / 2, v2' = ((1 + e) v1 + (1 - e) v2) / 2.
+  auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
+  std::vector<BodyInfo> bodies(2);
+  std::vector<BodyState> states(2);
+  for (int i = 0; i < 2; ++i) {
+    bodies[i].shape = s;
+    bodies[i].invMass = 1 / s->mass;
+    bodies[i].inertiaBodyInv = s->inertiaBodyInv;
+  }
+  const double v1 = 3, v2 = -1, e = 0.5, m = s->mass;
+  states[0].x = Vec3(-0.1, 0, 0);
+  states[1].x = Vec3(0.1, 0, 0);
+  states[0].P = Vec3(m * v1, 0, 0);
+  states[1].P = Vec3(m * v2, 0, 0);
+  Contact c;
+  c.a = 0;
+  c.b = 1;
+  c.point = Vec3::Zero();
+  c.normal = Vec3(-1, 0, 0);  // force on body 1 (a) points from b to a
+  SolverSettings settings;
+  settings.dt = 0.01;
+  ContactCache cache;
+  settings.material.restitutionBodyBody = e;
+  solveContacts({c}, bodies, states, settings, cache);
+  EXPECT_NEAR(states[0].P.x() / m, ((1 - e) * v1 + (1 + e) * v2) / 2, 1e-12);
+  EXPECT_NEAR(states[1].P.x() / m, ((1 + e) * v1 + (1 - e) * v2) / 2, 1e-12);
+  EXPECT_NEAR(states[0].L.norm() + states[1].L.norm(), 0, 1e-12);  // central impact
+}
+
+TEST(Impulse, FrictionIsBoundedByCoulombAndStopsSlowSlip) {
+  // A box sliding at 1 m/s along x while pressed into the ground at 1 m/s; contact under the
+  // centre of mass. Tangential impulse magnitude is at most mu * j_n (kinetic Coulomb).
+  auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
+  const double m = s->mass;
+  for (double mu : {0.1, 5.0}) {
+    OneBody w(s);
+    w.states[0].P = m * Vec3(1.0, 0, -1.0);
+    Contact c;
+    c.a = 0;
+    c.point = Vec3(0, 0, -0.1);
+    c.normal = Vec3::UnitZ();
+    SolverSettings settings;
+    settings.dt = 0.01;
+    ContactCache cache;
+    settings.material.restitutionBodyGround = 0;
+    settings.material.frictionBodyGround = mu;
+    solveContacts({c}, w.bodies, w.states, settings, cache);
+    const Vec3 dP = w.states[0].P - m * Vec3(1.0, 0, -1.0);
+    const double jn = dP.z(), jt = std::hypot(dP.x(), dP.y());
+    EXPECT_GT(jn, 0);
+    EXPECT_LE(jt, mu * jn * (1 + 1e-12));
+    EXPECT_LT(dP.x(), 0);  // opposes the slip
+    if (mu == 0.1) EXPECT_NEAR(jt, mu * jn, 1e-9 * jn);  // sliding: the full Coulomb bound
+    if (mu == 5.0) {
+      // Sticking: the contact point's tangential velocity is brought to zero.
+      const Vec3 v = w.states[0].P / m, omega = s->inertiaBodyInv * w.states[0].L;
+      EXPECT_NEAR((v + omega.cross(c.point)).x(), 0, 1e-9);
+    }
+  }
+}
+
+TEST(Impulse, SeparatingContactGetsNoImpulse) {
+  auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
+  OneBody w(s);
+  w.states[0].P = Vec3(0, 0, 1.0);
+  Contact c;
+  c.a = 0;
+  c.point = Vec3(0, 0, -0.1);
+  SolverSettings settings;
+  settings.dt = 0.01;
+  ContactCache cache;
+  solveContacts({c}, w.bodies, w.states, settings, cache);
+  EXPECT_EQ(w.states[0].P, Vec3(0, 0, 1.0));
+  EXPECT_EQ(w.states[0].L, Vec3::Zero());
+}
+
+TEST(Impulse, WarmStartReusesLastStepsForcePerUnitTime) {
+  // A box resting on one contact under its centre: the contact must carry m g. Solved once with
+  // dt = 0.01, the cache holds the force m g; the next solve at dt = 0.02 starts from m g 0.02,
+  // which already cancels that step's gravity, so one pass leaves the box exactly at rest.
+  auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
+  const double m = s->mass, g = 9.81;
+  OneBody w(s);
+  Contact c;
+  c.a = 0;
+  c.point = Vec3(0, 0, -0.1);
+  SolverSettings settings;
+  settings.iterations = 1;
+  settings.dt = 0.01;
+  settings.restingSpeed = 1.0;  // no bounce
+  ContactCache cache;
+  w.states[0].P = Vec3(0, 0, -m * g * 0.01);  // gravity of one step
+  solveContacts({c}, w.bodies, w.states, settings, cache);
+  ASSERT_EQ(cache.size(), 1u);
+  EXPECT_NEAR(cache[0].normal, m * g, 1e-9 * m * g);
+  settings.dt = 0.02;
+  w.states[0].P = Vec3(0, 0, -m * g * 0.02);
+  solveContacts({c}, w.bodies, w.states, settings, cache);
+  EXPECT_NEAR(w.states[0].P.z(), 0, 1e-12 * m);
+  EXPECT_NEAR(cache[0].normal, m * g, 1e-9 * m * g);
+}
+
+}  // namespace
+}  // namespace vf

@@ -1,0 +1,37 @@
+#include "tests/support/test_world.h"
+
+#include <algorithm>
+
+namespace vf::test {
+
+TriMesh boxMesh(double a, double b, double c) {
+  TriMesh m;
+  for (int i = 0; i < 8; ++i)
+    m.vertices.push_back(Vec3((i & 1 ? 0.5 : -0.5) * a, (i & 2 ? 0.5 : -0.5) * b,
+                              (i & 4 ? 0.5 : -0.5) * c));
+  // Two triangles per face, counter-clockwise seen from outside.
+  m.triangles = {{0, 2, 3}, {0, 3, 1},   // -z
+                 {4, 5, 7}, {4, 7, 6},   // +z
+                 {0, 1, 5}, {0, 5, 4},   // -y
+                 {2, 6, 7}, {2, 7, 3},   // +y
+                 {0, 4, 6}, {0, 6, 2},   // -x
+                 {1, 3, 7}, {1, 7, 5}};  // +x
+  return m;
+}
+
+std::shared_ptr<const Shape> boxShape(double a, double b, double c, double density, int level) {
+  return makeShape("box", boxMesh(a, b, c), Vec3::Ones(), density, level);
+}
+
+double restOffset(const Shape& s) {
+  const SphereTreeLevel& leaves = s.tree->leaves();
+  double lowest = 0;
+  for (const Vec3& c : leaves.centers) lowest = std::min(lowest, c.z() - leaves.radius);
+  return -lowest;
+}
+
+std::string sourcePath(const std::string& relative) {
+  return std::string(VOXFALL_SOURCE_DIR) + "/" + relative;
+}
+
+}  // namespace vf::test

@@ -1,0 +1,27 @@
+// Helpers that keep the physics tests short (Jolt's PhysicsTestContext habit): closed box
+// meshes, shapes at a chosen level, and worlds built from them.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "sim/geometry/tri_mesh.h"
+#include "sim/shape/shape.h"
+#include "sim/world.h"
+
+namespace vf::test {
+
+// Closed, outward box mesh of size a x b x c centred at the origin (8 vertices, 12 triangles).
+TriMesh boxMesh(double a, double b, double c);
+
+// A box shape of the given size and density at voxel level `level`.
+std::shared_ptr<const Shape> boxShape(double a, double b, double c, double density, int level);
+
+// Lowest point of the body's leaf spheres below its centre of mass when unrotated: place a
+// body at z = ground + restOffset(...) for its spheres to just touch the floor.
+double restOffset(const Shape& s);
+
+// Path of a file in the source tree.
+std::string sourcePath(const std::string& relative);
+
+}  // namespace vf::test
