@@ -24,6 +24,10 @@ namespace vf {
 
 namespace {
 
+// Times closer than this are the same instant: release times are computed as start + i * interval
+// and frame times as k / fps, which can differ in the last bit where they are meant to agree.
+constexpr double kTimeTolerance = 1e-9;  // s
+
 using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point& t) {
@@ -43,6 +47,8 @@ void RunStats::add(const StepStats& s) {
   sphereTests += s.sphereTests;
   contacts += s.contacts;
   nonFinite += s.nonFinite;
+  floored += s.floored;
+  overlappingReleases += s.overlappingReleases;
   secondsPairs += s.secondsPairs;
   secondsContacts += s.secondsContacts;
   secondsSolve += s.secondsSolve;
@@ -57,7 +63,7 @@ int World::addBody(const BodyDef& d) {
   b.shape = d.shape;
   b.isStatic = d.isStatic;
   b.releaseTime = d.releaseTime;
-  b.active = d.releaseTime <= time_;
+  b.active = d.releaseTime <= time_ + kTimeTolerance;
   BodyState y;
   y.x = d.position;
   y.q = d.orientation.normalized();
@@ -81,7 +87,11 @@ const StepStats& World::step(double maxDt) {
 
 void World::advanceTo(double t) {
   VF_ASSERT(t >= time_);
-  while (time_ < t) stepToward(std::min(t, nextReleaseAfter(time_)));
+  while (time_ < t) {
+    // A release time within kTimeTolerance of t is taken at t: no sliver steps.
+    const double release = nextReleaseAfter(time_);
+    stepToward(release < t - kTimeTolerance ? release : t);
+  }
 }
 
 double World::stableStep() const {
@@ -96,7 +106,11 @@ void World::stepToward(double target) {
   // none longer than the rule. The 1e-9 keeps a fixed step that divides the interval up to
   // rounding from producing one extra tiny step.
   const double remaining = target - time_;
-  const double rule = def_.fixedStep > 0 ? def_.fixedStep : stableStep();
+  double rule = def_.fixedStep > 0 ? def_.fixedStep : stableStep();
+  if (rule < def_.minStep) {
+    rule = def_.minStep;
+    s.floored = 1;
+  }
   const double n = std::max(1.0, std::ceil(remaining / rule - 1e-9));
   const bool lands = n == 1.0;
   s.dt = lands ? remaining : remaining / n;
@@ -123,22 +137,34 @@ void World::stepToward(double target) {
 
   s.nonFinite = integrate(bodies_, states_, s.dt);
   time_ = lands ? target : time_ + s.dt;
-  releaseBodies();
+  s.overlappingReleases = releaseBodies();
   s.secondsIntegrate = secondsSince(clock);
 
   last_ = s;
   totals_.add(s);
 }
 
-void World::releaseBodies() {
-  for (BodyInfo& b : bodies_)
-    if (!b.active && b.releaseTime <= time_) b.active = true;
+std::uint64_t World::releaseBodies() {
+  std::uint64_t overlapping = 0;
+  for (int i = 0; i < bodyCount(); ++i) {
+    BodyInfo& b = bodies_[i];
+    if (b.active || b.releaseTime > time_ + kTimeTolerance) continue;
+    const Collider mine = sphereTreeCollider(i, *b.shape->tree, states_[i].x, states_[i].q);
+    std::vector<Contact> found;
+    for (int j = 0; j < bodyCount() && found.empty(); ++j)
+      if (bodies_[j].active)
+        collide(mine, sphereTreeCollider(j, *bodies_[j].shape->tree, states_[j].x, states_[j].q),
+                found);
+    overlapping += found.empty() ? 0 : 1;
+    b.active = true;
+  }
+  return overlapping;
 }
 
 double World::nextReleaseAfter(double t) const {
   double next = INFINITY;
   for (const BodyInfo& b : bodies_)
-    if (!b.active && b.releaseTime > t) next = std::min(next, b.releaseTime);
+    if (!b.active && b.releaseTime > t + kTimeTolerance) next = std::min(next, b.releaseTime);
   return next;
 }
 

@@ -47,6 +47,8 @@ struct WorldDef {
   Vec3 gravity = Vec3(0, 0, -9.81);      // m/s^2
   double fixedStep = 0;                  // s; 0 selects the eq.-20 rule every step
   double maxStep = 1.0 / 60.0;           // s; upper bound of the eq.-20 step (bodies at rest)
+  double minStep = 1e-6;                 // s; floor of the eq.-20 step, so a runaway body (speeds
+                                         // over ~1e4 m/s) cannot stall a run; counted in stats
   std::optional<double> groundHeight;    // floor plane z = h; none: no floor
   ContactMaterial contact;
   int solverIterations = 12;             // sequential-impulse passes over the contacts
@@ -60,6 +62,8 @@ struct StepStats {
   std::uint64_t sphereTests = 0;  // sphere-sphere and sphere-plane tests in the narrow phase
   std::uint64_t contacts = 0;     // leaf contacts handed to the solver
   std::uint64_t nonFinite = 0;    // bodies whose state went non-finite and were frozen
+  std::uint64_t floored = 0;      // 1 if eq. 20 asked for less than WorldDef::minStep
+  std::uint64_t overlappingReleases = 0;  // bodies released into another body's spheres
   double secondsPairs = 0, secondsContacts = 0, secondsSolve = 0, secondsIntegrate = 0;
 };
 
@@ -67,7 +71,8 @@ struct StepStats {
 struct RunStats {
   std::uint64_t steps = 0;
   double dtMin = 0, dtMax = 0;
-  std::uint64_t pairs = 0, sphereTests = 0, contacts = 0, nonFinite = 0;
+  std::uint64_t pairs = 0, sphereTests = 0, contacts = 0, nonFinite = 0, floored = 0;
+  std::uint64_t overlappingReleases = 0;
   double secondsPairs = 0, secondsContacts = 0, secondsSolve = 0, secondsIntegrate = 0;
   void add(const StepStats& s);
 };
@@ -119,7 +124,9 @@ class World {
   // Steps once towards `target` (> time_), never past it; lands on it exactly when the step
   // rule allows reaching it in one step.
   void stepToward(double target);
-  void releaseBodies();
+  // Activates bodies whose release time has come; returns how many of them were released
+  // overlapping an active body's leaf spheres (an emitter aimed into a pile).
+  std::uint64_t releaseBodies();
   double nextReleaseAfter(double t) const;
 
   WorldDef def_;

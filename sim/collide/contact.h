@@ -35,12 +35,15 @@ struct ContactKey {
   auto operator<=>(const ContactKey&) const = default;
 };
 
-// A contact's accumulated impulse from the previous step, per unit time (a force), so it can
-// seed the next step's solve whatever that step's length ("warm starting").
+// A resting contact's accumulated impulse from the previous step, to seed the next step's
+// solve ("warm starting").
 struct CachedImpulse {
   ContactKey key;
-  double normal = 0, tangent1 = 0, tangent2 = 0;  // N
+  double normal = 0, tangent1 = 0, tangent2 = 0;  // N s
 };
-using ContactCache = std::vector<CachedImpulse>;  // sorted by key
+struct ContactCache {
+  double dt = 0;                        // length of the step the impulses belong to, s
+  std::vector<CachedImpulse> impulses;  // sorted by key
+};
 
 }  // namespace vf

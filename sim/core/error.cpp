@@ -5,16 +5,24 @@
 
 namespace vf {
 
+namespace {
+std::string joined(const std::string& where, const std::string& message) {
+  if (where.empty()) return message;
+  std::string s;
+  s.reserve(where.size() + 2 + message.size());
+  s.append(where).append(": ").append(message);
+  return s;
+}
+}  // namespace
+
 InputError::InputError(const std::string& where, const std::string& message)
-    : std::runtime_error(where.empty() ? message : where + ": " + message),
-      where_(where),
-      message_(message) {}
+    : std::runtime_error(joined(where, message)), where_(where), message_(message) {}
 
 std::string sourceLocation(const std::string& file, int line, int column) {
   std::string s = file;
   if (line > 0) {
-    s += ":" + std::to_string(line);
-    if (column > 0) s += ":" + std::to_string(column);
+    s.append(":").append(std::to_string(line));
+    if (column > 0) s.append(":").append(std::to_string(column));
   }
   return s;
 }

@@ -2,6 +2,8 @@
 // tunnelling), never inside the collision pipeline.
 #pragma once
 
+#include <vector>
+
 #include "sim/core/math.h"
 #include "sim/geometry/tri_mesh.h"
 

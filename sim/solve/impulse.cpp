@@ -16,11 +16,13 @@
 //     clamped to the Coulomb disc |J_t| <= mu J_n (kinetic mu).
 //   - warm starting: a contact that existed in the previous step (same body pair, same two
 //     leaf spheres) and was resting there (no restitution target) starts from the impulse it
-//     ended with, rescaled to this step's length. A face resting on a face has hundreds of
+//     ended with, scaled by min(1, dt / dt_previous). A face resting on a face has hundreds of
 //     leaf contacts whose centre-to-centre normals tilt by up to 45 degrees; from a cold start
 //     a dozen passes leave a residual that shows as jitter, while warm-started passes converge
 //     over steps. (Passes always run forward: alternating sweeps were tried and converged
-//     worse on a flat landing.)
+//     worse on a flat landing.) The scale never exceeds 1 because part of an impulse
+//     corrects velocity errors and does not grow with dt: after a very short step (a release
+//     time just after a frame time), scaling up by the step ratio would blow bodies apart.
 // A single new contact gets exactly eq. 15 in the first pass, and later passes change nothing.
 #include "sim/solve/impulse.h"
 
@@ -81,7 +83,8 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
                    std::vector<BodyState>& states, const SolverSettings& settings,
                    ContactCache& cache) {
   if (contacts.empty()) {
-    cache.clear();
+    cache.impulses.clear();
+    cache.dt = settings.dt;
     return;
   }
   const int n = static_cast<int>(bodies.size());
@@ -128,14 +131,15 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
   }
 
   // Warm start from the previous step's impulses (cache sorted by key: binary search).
+  const double scale = cache.dt > 0 ? std::min(1.0, settings.dt / cache.dt) : 0.0;
   for (Row& r : rows) {
     const auto it = std::lower_bound(
-        cache.begin(), cache.end(), r.key,
+        cache.impulses.begin(), cache.impulses.end(), r.key,
         [](const CachedImpulse& c, const ContactKey& k) { return c.key < k; });
-    if (it == cache.end() || it->key != r.key) continue;
-    r.jn = it->normal * settings.dt;
-    r.jt1 = it->tangent1 * settings.dt;
-    r.jt2 = it->tangent2 * settings.dt;
+    if (it == cache.impulses.end() || it->key != r.key) continue;
+    r.jn = it->normal * scale;
+    r.jt1 = it->tangent1 * scale;
+    r.jt2 = it->tangent2 * scale;
     applyImpulse(motion[r.a], motion[r.b], r, r.jn * r.n + r.jt1 * r.t1 + r.jt2 * r.t2);
   }
 
@@ -172,11 +176,11 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
 
   // Only resting contacts seed the next step: an impact's impulse belongs to its own step, and
   // re-applied while the bodies separate it would throw them apart.
-  cache.clear();
+  cache.dt = settings.dt;
+  cache.impulses.clear();
   for (const Row& r : rows)
-    if (r.target == 0.0)
-      cache.push_back({r.key, r.jn / settings.dt, r.jt1 / settings.dt, r.jt2 / settings.dt});
-  std::sort(cache.begin(), cache.end(),
+    if (r.target == 0.0) cache.impulses.push_back({r.key, r.jn, r.jt1, r.jt2});
+  std::sort(cache.impulses.begin(), cache.impulses.end(),
             [](const CachedImpulse& x, const CachedImpulse& y) { return x.key < y.key; });
 
   // P1 += J, L1 += r1 x J for the total impulse of every contact (and the opposite on body 2).

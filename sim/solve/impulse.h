@@ -26,7 +26,7 @@ struct SolverSettings {
   // Approach speeds below this get no restitution: the speed gravity adds in a step or two.
   // Without it a resting body would bounce by eps g dt every step (visible jitter).
   double restingSpeed = 0;
-  double dt = 0;  // step length, s: converts cached forces to impulses
+  double dt = 0;  // step length, s: scales the warm start
 };
 
 // Resolves every contact and applies the impulses to P and L of the bodies involved

@@ -1,0 +1,77 @@
+// World bookkeeping: frame and release times, release warnings, the state hash.
+#include <gtest/gtest.h>
+
+#include "sim/world.h"
+#include "tests/support/test_world.h"
+
+namespace vf {
+namespace {
+
+BodyDef bodyAt(std::shared_ptr<const Shape> s, const Vec3& x, double release = 0) {
+  BodyDef b;
+  b.shape = std::move(s);
+  b.position = x;
+  b.releaseTime = release;
+  return b;
+}
+
+TEST(World, ReleaseTimesOffByRoundingAreTakenAtTheFrameWithoutSliverSteps) {
+  WorldDef def;
+  World world(def);
+  auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
+  const double release = 0.4 * 3;  // 1.2000000000000002, one ulp after the frame time 36/30
+  world.addBody(bodyAt(s, Vec3(0, 0, 5), release));
+  ASSERT_NE(release, 36 / 30.0);
+  world.advanceTo(36 / 30.0);
+  EXPECT_EQ(world.time(), 36 / 30.0);
+  EXPECT_TRUE(world.isActive(0)) << "released at the frame it rounds to";
+  EXPECT_GT(world.totals().dtMin, 1e-6) << "no step shorter than rounding noise";
+}
+
+TEST(World, BodiesJoinExactlyAtTheirReleaseTime) {
+  WorldDef def;
+  def.gravity = Vec3::Zero();
+  World world(def);
+  auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
+  BodyDef b = bodyAt(s, Vec3(0, 0, 0), 0.25);
+  b.velocity = Vec3(1, 0, 0);
+  world.addBody(b);
+  world.advanceTo(0.2);
+  EXPECT_FALSE(world.isActive(0));
+  EXPECT_EQ(world.state(0).x, Vec3::Zero()) << "inactive bodies do not move";
+  world.advanceTo(1.0);
+  // Moving at 1 m/s from t = 0.25 exactly: 0.75 m by t = 1, to rounding.
+  EXPECT_NEAR(world.state(0).x.x(), 0.75, 1e-12);
+}
+
+TEST(World, ReleaseIntoAnotherBodyIsCounted) {
+  WorldDef def;
+  def.gravity = Vec3::Zero();
+  World world(def);
+  auto s = test::boxShape(0.2, 0.2, 0.2, 800, 3);
+  world.addBody(bodyAt(s, Vec3(0, 0, 0)));
+  world.addBody(bodyAt(s, Vec3(0.1, 0, 0), 0.1));  // overlaps body 0
+  world.addBody(bodyAt(s, Vec3(3, 0, 0), 0.2));    // free space
+  world.advanceTo(0.15);
+  EXPECT_EQ(world.totals().overlappingReleases, 1u);
+  world.advanceTo(0.3);
+  EXPECT_EQ(world.totals().overlappingReleases, 1u);
+}
+
+TEST(World, StateHashSeesEveryBit) {
+  WorldDef def;
+  auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
+  World a(def), b(def);
+  a.addBody(bodyAt(s, Vec3(0, 0, 1)));
+  b.addBody(bodyAt(s, Vec3(0, 0, std::nextafter(1.0, 2.0))));
+  EXPECT_NE(a.stateHash(), b.stateHash());
+  World c(def);
+  c.addBody(bodyAt(s, Vec3(0, 0, 1)));
+  EXPECT_EQ(a.stateHash(), c.stateHash());
+  a.advanceTo(0.5);
+  c.advanceTo(0.5);
+  EXPECT_EQ(a.stateHash(), c.stateHash());
+}
+
+}  // namespace
+}  // namespace vf
