@@ -123,7 +123,8 @@ void World::stepToward(double target) {
   s.secondsPairs = secondsSince(clock);
 
   contacts_.clear();
-  s.sphereTests = findContacts(bodies_, states_, pairs_, def_.groundHeight, contacts_);
+  s.sphereTests =
+      findContacts(bodies_, states_, pairs_, def_.groundHeight, def_.terrain.get(), contacts_);
   s.contacts = contacts_.size();
   s.secondsContacts = secondsSince(clock);
 
@@ -203,6 +204,11 @@ Diagnostics World::measure() const {
       d.maxPenetrationBodyGround = std::max(
           d.maxPenetrationBodyGround, groundPenetration(*b.shape, {y.x, y.q}, *def_.groundHeight));
       if (y.x.z() < *def_.groundHeight) tunnelled[i] = 1;
+    }
+    if (def_.terrain) {
+      d.maxPenetrationBodyGround = std::max(
+          d.maxPenetrationBodyGround, terrainPenetration(*b.shape, {y.x, y.q}, *def_.terrain));
+      if (y.x.z() < def_.terrain->heightAt(y.x.x(), y.x.y())) tunnelled[i] = 1;
     }
   }
   for (int a = 0; a < n; ++a) {

@@ -11,6 +11,7 @@
 #include "sim/collide/contact.h"
 #include "sim/core/body.h"
 #include "sim/core/math.h"
+#include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
 
 namespace vf {
@@ -50,6 +51,7 @@ struct WorldDef {
   double minStep = 1e-6;                 // s; floor of the eq.-20 step, so a runaway body (speeds
                                          // over ~1e4 m/s) cannot stall a run; counted in stats
   std::optional<double> groundHeight;    // floor plane z = h; none: no floor
+  std::shared_ptr<const Heightfield> terrain;  // heightfield ground; none: no terrain
   ContactMaterial contact;
   int solverIterations = 12;             // sequential-impulse passes over the contacts
 };
@@ -80,8 +82,8 @@ struct RunStats {
 // Checks of the TRUE meshes (not the spheres) at one instant; see World::measure().
 struct Diagnostics {
   double maxPenetrationBodyBody = 0;    // m, deepest point of one mesh inside another
-  double maxPenetrationBodyGround = 0;  // m, deepest vertex below the floor plane
-  int tunnelled = 0;  // bodies whose centre of mass is inside another body or below the floor
+  double maxPenetrationBodyGround = 0;  // m, deepest vertex below the floor or the terrain
+  int tunnelled = 0;  // bodies whose centre of mass is inside another body or below the ground
   double kineticEnergy = 0;    // J, dynamic bodies
   double potentialEnergy = 0;  // J, -m g.x relative to the origin
 };

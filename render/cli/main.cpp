@@ -1,1 +1,44 @@
-// placeholder: being written in this session
+// The voxfall command: subcommands register themselves (commands.h); main() owns the one place
+// where errors become a message and an exit code, so every failure is reported exactly once:
+//   0 success, 1 bad input or failed run, 2 usage error. SIGINT/SIGTERM end the process as
+// usual (shell status 130/143) after removing unfinished outputs (run_output.h).
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "render/cli/commands.h"
+#include "sim/core/error.h"
+
+// The build may pass the project version; this fallback must match project() in CMakeLists.txt.
+#ifndef VOXFALL_VERSION
+#define VOXFALL_VERSION "0.1.0"
+#endif
+
+int main(int argc, char** argv) {
+  CLI::App app{"voxfall: rigid bodies with voxel sphere-tree collisions "
+               "(Suzuki, Kubota & Ohtsubo 2003)",
+               "voxfall"};
+  app.set_version_flag("--version", std::string("voxfall ") + VOXFALL_VERSION);
+  app.require_subcommand(1);
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return "voxfall: error: " + std::string(e.what()) + "\nRun with --help for more information.\n";
+  });
+
+  int exitCode = 0;
+  vf::cli::addSimulateCommand(app, exitCode);
+  vf::cli::addRenderCommand(app, exitCode);  // RENDER-COMMAND (render/cli/render_command.cpp)
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version arrive here too, with exit code 0.
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  } catch (const std::exception& e) {  // vf::InputError included: what() is "where: message"
+    std::fprintf(stderr, "voxfall: error: %s\n", e.what());
+    return 1;
+  }
+  return exitCode;
+}

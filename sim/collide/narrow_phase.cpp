@@ -15,7 +15,9 @@
 // is one squared distance.
 #include "sim/collide/narrow_phase.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "sim/core/error.h"
 
@@ -145,6 +147,96 @@ class TreePlaneDescent {
   std::uint64_t tests_ = 0;
 };
 
+// Sphere tree against terrain. A node is tested conservatively: it is dropped only if its
+// sphere lies entirely above the highest sample under its footprint (a child's sphere lies in
+// its parent's, so this never drops a node with colliding leaves). A leaf sphere collides if
+// its centre is below the surface or the nearest surface triangle is closer than its radius;
+// its contact point is that nearest surface point, its normal points from there to the centre
+// (the surface normal when the centre is below the surface).
+class TreeHeightfieldDescent {
+ public:
+  TreeHeightfieldDescent(const Collider& a, const Collider& t, std::vector<Contact>& out)
+      : a_(a), t_(t), field_(*t.terrain), tree_(*a.tree), out_(out) {}
+
+  std::uint64_t run() {
+    ++tests_;
+    if (mayTouch(a_.x, tree_.boundingRadius)) visit(NodeRef{0, 0, a_.x}, /*tested=*/true);
+    return tests_;
+  }
+
+ private:
+  bool mayTouch(const Vec3& c, double r) const {
+    int i0, i1, j0, j1;
+    field_.cellRange(c.x(), c.y(), r, i0, i1, j0, j1);
+    double top = -INFINITY;
+    for (int j = j0; j <= j1 + 1 && j < field_.ny; ++j)
+      for (int i = i0; i <= i1 + 1 && i < field_.nx; ++i)
+        if (!std::isnan(field_.at(i, j))) top = std::max(top, field_.at(i, j));
+    return c.z() - r < top;
+  }
+
+  void visit(const NodeRef& n, bool tested) {
+    const SphereTreeLevel& lv = tree_.levels[n.level];
+    if (!tested) {
+      ++tests_;
+      if (!mayTouch(n.center, lv.radius)) return;
+    }
+    if (n.level == tree_.leafLevel()) {
+      leaf(n, lv.radius);
+      return;
+    }
+    const SphereTreeLevel& next = tree_.levels[n.level + 1];
+    for (std::uint32_t i = lv.childBegin[n.index]; i < lv.childBegin[n.index + 1]; ++i)
+      visit(NodeRef{n.level + 1, i, a_.x + a_.R * next.centers[i]}, false);
+  }
+
+  void leaf(const NodeRef& n, double r) {
+    const Vec3& c = n.center;
+    Contact k;
+    k.a = a_.body;
+    k.b = t_.body;
+    k.leafA = n.index;
+    const double h = field_.heightAt(c.x(), c.y());
+    if (!std::isnan(h) && c.z() < h) {  // centre inside the terrain
+      k.normal = field_.normalAt(c.x(), c.y());
+      k.point = Vec3(c.x(), c.y(), h);
+      k.depth = r + (h - c.z()) * k.normal.z();
+      out_.push_back(k);
+      return;
+    }
+    int i0, i1, j0, j1;
+    field_.cellRange(c.x(), c.y(), r, i0, i1, j0, j1);
+    double best = r * r;
+    Vec3 nearest;
+    bool found = false;
+    Vec3 tri[2][3];
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        if (!field_.hasCell(i, j)) continue;
+        field_.cellTriangles(i, j, tri);
+        for (const auto& t : tri) {
+          const Vec3 q = closestPointOnTriangle(c, t[0], t[1], t[2]);
+          const double d2 = (c - q).squaredNorm();
+          if (d2 < best) best = d2, nearest = q, found = true;
+        }
+      }
+    if (!found) return;
+    const double d = std::sqrt(best);
+    if (d == 0.0) return;  // centre exactly on the surface: no defined normal (measure zero)
+    k.normal = (c - nearest) / d;
+    k.point = nearest;
+    k.depth = r - d;
+    out_.push_back(k);
+  }
+
+  const Collider& a_;
+  const Collider& t_;
+  const Heightfield& field_;
+  const SphereTree& tree_;
+  std::vector<Contact>& out_;
+  std::uint64_t tests_ = 0;
+};
+
 std::uint64_t collideTreeTree(const Collider& a, const Collider& b, std::vector<Contact>& out) {
   return TreeTreeDescent(a, b, out).run();
 }
@@ -153,15 +245,21 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& b, std::vector
   return TreePlaneDescent(a, b, out).run();
 }
 
+std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& b,
+                                     std::vector<Contact>& out) {
+  return TreeHeightfieldDescent(a, b, out).run();
+}
+
 using CollideFn = std::uint64_t (*)(const Collider&, const Collider&, std::vector<Contact>&);
 
-// Which pair does what. Rows: type of a (body 1); columns: type of b (body 2). The plane is
-// always body 2 (the floor never moves), so its row is empty.
+// Which pair does what. Rows: type of a (body 1); columns: type of b (body 2). The plane and
+// the terrain are always body 2 (they never move), so their rows are empty.
 constexpr int kTypes = static_cast<int>(ColliderType::kCount);
 constexpr CollideFn kCollide[kTypes][kTypes] = {
-    //                 kSphereTree       kPlane
-    /* kSphereTree */ {collideTreeTree, collideTreePlane},
-    /* kPlane      */ {nullptr, nullptr},
+    //                  kSphereTree      kPlane            kHeightfield
+    /* kSphereTree  */ {collideTreeTree, collideTreePlane, collideTreeHeightfield},
+    /* kPlane       */ {nullptr, nullptr, nullptr},
+    /* kHeightfield */ {nullptr, nullptr, nullptr},
 };
 
 }  // namespace
@@ -174,6 +272,36 @@ Collider sphereTreeCollider(int body, const SphereTree& tree, const Vec3& x, con
   c.x = x;
   c.R = q.toRotationMatrix();
   return c;
+}
+
+Collider heightfieldCollider(const Heightfield& terrain) {
+  Collider c;
+  c.type = ColliderType::kHeightfield;
+  c.body = kGround;
+  c.terrain = &terrain;
+  return c;
+}
+
+Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Voronoi regions of the triangle: vertices, then edges, then the face (barycentric).
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double denom = 1 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
 Collider planeCollider(double height) {
@@ -194,7 +322,8 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
 std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
                            const std::vector<BodyState>& states,
                            const std::vector<BodyPair>& pairs,
-                           const std::optional<double>& groundHeight, std::vector<Contact>& out) {
+                           const std::optional<double>& groundHeight, const Heightfield* terrain,
+                           std::vector<Contact>& out) {
   auto treeOf = [&](int i) {
     return sphereTreeCollider(i, *bodies[i].shape->tree, states[i].x, states[i].q);
   };
@@ -202,6 +331,11 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
   for (const BodyPair& p : pairs) tests += collide(treeOf(p.a), treeOf(p.b), out);
   if (groundHeight) {
     const Collider ground = planeCollider(*groundHeight);
+    for (std::size_t i = 0; i < bodies.size(); ++i)
+      if (bodies[i].moves()) tests += collide(treeOf(static_cast<int>(i)), ground, out);
+  }
+  if (terrain) {
+    const Collider ground = heightfieldCollider(*terrain);
     for (std::size_t i = 0; i < bodies.size(); ++i)
       if (bodies[i].moves()) tests += collide(treeOf(static_cast<int>(i)), ground, out);
   }

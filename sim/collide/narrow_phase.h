@@ -8,12 +8,13 @@
 #include "sim/collide/contact.h"
 #include "sim/core/body.h"
 #include "sim/core/math.h"
+#include "sim/shape/heightfield.h"
 #include "sim/shape/sphere_tree.h"
 #include "sim/world.h"
 
 namespace vf {
 
-enum class ColliderType : int { kSphereTree = 0, kPlane = 1, kCount = 2 };
+enum class ColliderType : int { kSphereTree = 0, kPlane = 1, kHeightfield = 2, kCount = 3 };
 
 // What the narrow phase needs of one side of a pair, posed in the world.
 struct Collider {
@@ -26,10 +27,13 @@ struct Collider {
   // kPlane: points p with normal . p = offset; the solid is on the side -normal.
   Vec3 normal = Vec3::UnitZ();
   double offset = 0;
+  // kHeightfield: terrain in world coordinates; the solid is below the surface.
+  const Heightfield* terrain = nullptr;
 };
 
 Collider sphereTreeCollider(int body, const SphereTree& tree, const Vec3& x, const Quat& q);
 Collider planeCollider(double height);
+Collider heightfieldCollider(const Heightfield& terrain);
 
 // Appends the contacts between a and b (a's leaf spheres are the paper's body 1) in a fixed
 // order, and returns the number of sphere tests made. The bounding-sphere test (fig. 3 step 1)
@@ -37,10 +41,15 @@ Collider planeCollider(double height);
 std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>& out);
 
 // The narrow-phase stage of a step: contacts of every broad-phase pair, in pair order, then
-// of every moving body with the floor plane (if any), by body id. Returns the sphere tests.
+// of every moving body with the floor plane and the terrain (if any), by body id. Returns the
+// sphere tests.
 std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
                            const std::vector<BodyState>& states,
                            const std::vector<BodyPair>& pairs,
-                           const std::optional<double>& groundHeight, std::vector<Contact>& out);
+                           const std::optional<double>& groundHeight, const Heightfield* terrain,
+                           std::vector<Contact>& out);
+
+// Closest point of the triangle (a, b, c) to p.
+Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 }  // namespace vf

@@ -29,6 +29,17 @@ double groundPenetration(const Shape& s, const Pose& p, double height) {
   return deepest;
 }
 
+double terrainPenetration(const Shape& s, const Pose& p, const Heightfield& terrain) {
+  const Mat3 R = p.q.toRotationMatrix();
+  double deepest = 0;
+  for (const Vec3& v : s.mesh.vertices) {
+    const Vec3 w = p.x + R * v;
+    const double h = terrain.heightAt(w.x(), w.y());
+    if (h > w.z()) deepest = std::max(deepest, h - w.z());  // false for NaN
+  }
+  return deepest;
+}
+
 bool pointInsideBody(const Shape& s, const Pose& p, const Vec3& point) {
   const Vec3 local = toBody(p, point);
   return s.mesh.bounds().contains(local) && pointInsideMesh(s.mesh, local);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "sim/core/math.h"
+#include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
 
 namespace vf {
@@ -18,6 +19,10 @@ double meshPenetration(const Shape& a, const Pose& pa, const Shape& b, const Pos
 
 // How far the lowest vertex lies below the plane z = height, in m; 0 if none does.
 double groundPenetration(const Shape& s, const Pose& p, double height);
+
+// How far the lowest vertex lies below the terrain surface, in m; 0 if none does. Vertices
+// outside the grid or over missing data are not counted.
+double terrainPenetration(const Shape& s, const Pose& p, const Heightfield& terrain);
 
 // True if the world point lies inside the body's mesh.
 bool pointInsideBody(const Shape& s, const Pose& p, const Vec3& point);

@@ -85,6 +85,7 @@ struct SceneSpec {
   ContactMaterial contact;
   // [ground]
   std::optional<double> groundPlane;
+  std::string terrainPath;  // ESRI ASCII grid (heightfield), resolved; empty: no terrain
   std::vector<ShapeSpec> shapes;
   std::vector<BodySpec> bodies;
   std::vector<EmitterSpec> emitters;

@@ -1,1 +1,170 @@
-// placeholder: being written in this session
+// SceneSpec -> World. Meshes are imported once per file and sphere trees built once per
+// (mesh file, scale, level), the expensive parts; shapes are then cheap views sharing them.
+// Body ids follow the spec: [[bodies]] in file order, then each emitter's releases in turn
+// (camera `follow` indices rely on this order).
+#include <cmath>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "sim/core/error.h"
+#include "sim/core/prng.h"
+#include "sim/geometry/mesh_checks.h"
+#include "sim/geometry/mesh_import.h"
+#include "sim/scene/scene.h"
+#include "sim/shape/shape.h"
+#include "sim/shape/sphere_tree.h"
+
+namespace vf {
+namespace {
+
+// Default body colours by shape index, linear RGB: muted, distinct hues that stay apart under
+// the renderer's shading and read well on a light floor.
+constexpr std::array<Color, 8> kPalette = {{
+    {0.80f, 0.30f, 0.20f},  // terracotta
+    {0.20f, 0.40f, 0.75f},  // steel blue
+    {0.30f, 0.60f, 0.25f},  // moss green
+    {0.85f, 0.65f, 0.20f},  // ochre
+    {0.55f, 0.30f, 0.65f},  // plum
+    {0.15f, 0.60f, 0.60f},  // teal
+    {0.85f, 0.45f, 0.55f},  // rose
+    {0.50f, 0.50f, 0.55f},  // slate
+}};
+
+struct BuiltShape {
+  std::shared_ptr<const Shape> shape;
+  Color color;
+};
+
+// Sphere trees are a pure function of the scaled, centred mesh and the level (design.md), so
+// shapes that differ only in density or colour share one.
+using TreeKey = std::tuple<std::string, double, double, double, int>;
+
+std::map<std::string, BuiltShape> buildShapes(const SceneSpec& spec) {
+  std::map<std::string, TriMesh> meshes;  // by resolved file path
+  std::map<TreeKey, std::shared_ptr<const SphereTree>> trees;
+  std::map<std::string, BuiltShape> shapes;
+  for (std::size_t i = 0; i < spec.shapes.size(); ++i) {
+    const ShapeSpec& s = spec.shapes[i];
+    auto mesh = meshes.find(s.meshPath);
+    if (mesh == meshes.end()) {
+      // Both throw InputError naming the mesh file; nothing to add.
+      TriMesh m = importMesh(s.meshPath);
+      validateClosedMesh(m, s.meshPath);
+      mesh = meshes.emplace(s.meshPath, std::move(m)).first;
+    }
+    const int level = s.level.value_or(spec.level);
+    const TreeKey key{s.meshPath, s.scale.x(), s.scale.y(), s.scale.z(), level};
+    auto tree = trees.find(key);
+    if (tree == trees.end()) {
+      auto built = std::make_shared<const SphereTree>(
+          buildSphereTree(centredMesh(mesh->second, s.scale), level));
+      tree = trees.emplace(key, std::move(built)).first;
+    }
+    BuiltShape b;
+    b.shape = makeShape(s.name, mesh->second, s.scale, s.density, level, tree->second);
+    b.color = s.color.value_or(kPalette[i % kPalette.size()]);
+    shapes.emplace(s.name, std::move(b));
+  }
+  return shapes;
+}
+
+const BuiltShape& findShape(const std::map<std::string, BuiltShape>& shapes,
+                            const std::string& name, const std::string& where) {
+  auto it = shapes.find(name);
+  // loadScene already rejects this; a spec built in code may not have been through it.
+  if (it == shapes.end()) throw InputError(where, "unknown shape '" + name + "'");
+  return it->second;
+}
+
+// The World places bodies by their centre of mass; scenes place the mesh file's origin. The
+// body frame has the centre of mass at its origin and the file origin at shape.meshOrigin, so
+// position = x + R * meshOrigin, i.e. x = position - R * meshOrigin.
+Vec3 centreOfMass(const Shape& shape, const Vec3& filePosition, const Quat& q) {
+  return filePosition - q.toRotationMatrix() * shape.meshOrigin;
+}
+
+// A rotation drawn uniformly from SO(3) (Shoemake, "Uniform random rotations", Graphics Gems
+// III) from three uniforms in [0, 1).
+Quat uniformRotation(double u1, double u2, double u3) {
+  const double twoPi = 2 * std::numbers::pi;
+  const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
+  return Quat(b * std::cos(twoPi * u3), a * std::sin(twoPi * u2), a * std::cos(twoPi * u2),
+              b * std::sin(twoPi * u3));
+}
+
+}  // namespace
+
+BuiltScene buildScene(const SceneSpec& spec) {
+  WorldDef def;
+  def.gravity = spec.gravity;
+  def.fixedStep = spec.autoStep ? 0 : spec.fixedStep;
+  def.groundHeight = spec.groundPlane;
+  if (!spec.terrainPath.empty())
+    def.terrain = std::make_shared<const Heightfield>(loadEsriAsciiGrid(spec.terrainPath));
+  def.contact = spec.contact;
+
+  BuiltScene out;
+  out.world = std::make_unique<World>(def);
+  const auto shapes = buildShapes(spec);
+
+  auto add = [&](const BuiltShape& s, const std::string& shapeName, BodyDef body,
+                 const std::optional<Color>& color) {
+    body.shape = s.shape;
+    const int id = out.world->addBody(body);
+    VF_ASSERT(id == static_cast<int>(out.colors.size()));
+    out.colors.push_back(color.value_or(s.color));
+    out.shapeOf.push_back(shapeName);
+  };
+
+  for (const BodySpec& b : spec.bodies) {
+    const BuiltShape& s = findShape(shapes, b.shape, b.where);
+    BodyDef def;
+    def.orientation = b.orientation.normalized();
+    def.position = centreOfMass(*s.shape, b.position, def.orientation);
+    def.velocity = b.velocity;
+    def.angularVelocity = b.angularVelocity;
+    def.isStatic = b.isStatic;
+    add(s, b.shape, def, b.color);
+  }
+
+  for (const EmitterSpec& e : spec.emitters) {
+    const BuiltShape& s = findShape(shapes, e.shape, e.where);
+    if (e.positions.empty()) throw InputError(e.where, "emitter has no position");
+    // One generator per emitter, seeded from the scene, drawing the same seven numbers for
+    // every release whichever jitter is switched on: changing one kind of jitter does not
+    // reshuffle the others, and adding an emitter does not change its neighbours.
+    Prng rng(e.seed);
+    for (int i = 0; i < e.count; ++i) {
+      const Vec3 offset(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+      const double turn = rng.uniform(-1, 1);
+      const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+
+      Vec3 position = e.positions[static_cast<std::size_t>(i) % e.positions.size()];
+      Vec3 velocity = e.velocity;
+      Quat orientation = e.orientation.normalized();
+      if (e.positionJitter > 0) position += e.positionJitter * offset;
+      if (e.directionJitter > 0) {
+        // Rotating about z turns the horizontal part and keeps the vertical one.
+        const double angle = e.directionJitter * turn * std::numbers::pi / 180;
+        velocity = Eigen::AngleAxisd(angle, Vec3::UnitZ()) * velocity;
+      }
+      if (e.randomOrientation) orientation = (uniformRotation(u1, u2, u3) * orientation).normalized();
+
+      BodyDef def;
+      def.orientation = orientation;
+      def.position = centreOfMass(*s.shape, position, orientation);
+      def.velocity = velocity;
+      def.angularVelocity = e.angularVelocity;
+      def.releaseTime = e.start + i * e.interval;
+      add(s, e.shape, def, e.color);
+    }
+  }
+  return out;
+}
+
+}  // namespace vf

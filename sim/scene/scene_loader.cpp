@@ -1,1 +1,641 @@
-// placeholder: being written in this session
+// Scene files (TOML) -> SceneSpec. The only file in voxfall that includes toml++.
+//
+// Every value goes through a Reader that knows the file name, so each problem becomes one
+// InputError at "file:line:column" of the offending key or value, saying what is wrong and what
+// would be valid. Unknown keys are errors, never ignored: a typo such as `restitutoin` must not
+// silently fall back to a default, so the nearest valid key is suggested by edit distance.
+// Errors are reported in file order within a table, so the first problem a reader would meet is
+// the one shown.
+#include "sim/scene/scene.h"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sim/core/error.h"
+#include "sim/shape/sphere_tree.h"
+
+namespace vf {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Guards against values that parse but cannot be run (allocation of frame or body arrays).
+constexpr double kMaxFrames = 1e7;
+constexpr std::int64_t kMaxEmitterCount = 1000000;
+constexpr std::int64_t kMaxImageSide = 16384;
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  return out;
+}
+
+// Optimal string alignment distance (Levenshtein plus adjacent transpositions): swapping two
+// neighbouring letters, the commonest typo ("restitutoin"), counts as one edit, not two.
+int editDistance(std::string_view a, std::string_view b) {
+  const std::size_t n = a.size(), m = b.size();
+  std::vector<std::vector<int>> d(n + 1, std::vector<int>(m + 1, 0));
+  for (std::size_t i = 0; i <= n; ++i) d[i][0] = static_cast<int>(i);
+  for (std::size_t j = 0; j <= m; ++j) d[0][j] = static_cast<int>(j);
+  for (std::size_t i = 1; i <= n; ++i) {
+    for (std::size_t j = 1; j <= m; ++j) {
+      const int cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  }
+  return d[n][m];
+}
+
+// The candidate a user most plausibly meant by `word`, or nothing when none is close: a wrong
+// suggestion is worse than the list of valid names. Ties go to the earlier candidate, so the
+// suggestion does not depend on anything but the lists' order.
+std::optional<std::string> nearestName(std::string_view word,
+                                       const std::vector<std::string>& candidates) {
+  const std::string w = lower(word);
+  std::optional<std::string> best;
+  int bestDistance = std::numeric_limits<int>::max();
+  for (const std::string& c : candidates) {
+    const int d = editDistance(w, lower(c));
+    if (d < bestDistance) {
+      bestDistance = d;
+      best = c;
+    }
+  }
+  if (best && bestDistance <= std::max<int>(1, static_cast<int>(best->size()) / 3)) return best;
+  // An abbreviation ("pos" for "position") is plausible even when many letters are missing.
+  if (w.size() >= 3) {
+    for (const std::string& c : candidates) {
+      if (lower(c).starts_with(w)) return c;
+    }
+  }
+  return std::nullopt;
+}
+
+std::string joinNames(const std::vector<std::string>& names) {
+  std::string s;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) s += ", ";
+    s += names[i];
+  }
+  return s;
+}
+
+std::string formatNumber(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+std::string typeName(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::table: return "table";
+    case toml::node_type::array: return "array";
+    case toml::node_type::string: return "string";
+    case toml::node_type::integer: return "integer";
+    case toml::node_type::floating_point: return "float";
+    case toml::node_type::boolean: return "boolean";
+    case toml::node_type::date: return "date";
+    case toml::node_type::time: return "time";
+    case toml::node_type::date_time: return "date-time";
+    default: return "nothing";
+  }
+}
+
+bool before(const toml::source_region& a, const toml::source_region& b) {
+  if (a.begin.line != b.begin.line) return a.begin.line < b.begin.line;
+  return a.begin.column < b.begin.column;
+}
+
+// Reads typed, validated values out of the parsed document; every failure throws InputError at
+// the node's position. `name` is the key as the user wrote it ("duration", "jitter.seed").
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  std::string where(const toml::source_region& r) const {
+    return sourceLocation(file_, static_cast<int>(r.begin.line), static_cast<int>(r.begin.column));
+  }
+  std::string where(const toml::node& n) const { return where(n.source()); }
+
+  [[noreturn]] void fail(const toml::node& n, const std::string& message) const {
+    throw InputError(where(n), message);
+  }
+  [[noreturn]] void fail(const toml::source_region& r, const std::string& message) const {
+    throw InputError(where(r), message);
+  }
+
+  // Rejects any key of `t` not in `valid`, reporting the first one in file order.
+  void checkKeys(const toml::table& t, const std::vector<std::string>& valid,
+                 const std::string& tableLabel) const {
+    const toml::key* first = nullptr;
+    for (auto&& [k, v] : t) {
+      (void)v;
+      if (std::find(valid.begin(), valid.end(), k.str()) != valid.end()) continue;
+      if (first == nullptr || before(k.source(), first->source())) first = &k;
+    }
+    if (first == nullptr) return;
+    std::string message = "unknown key '" + std::string(first->str()) + "' in " + tableLabel;
+    if (auto guess = nearestName(first->str(), valid))
+      message += "; did you mean '" + *guess + "'?";
+    else
+      message += "; valid keys: " + joinNames(valid);
+    fail(first->source(), message);
+  }
+
+  // A required sub-table or key: missing ones are reported at the enclosing table.
+  const toml::node& require(const toml::table& t, std::string_view key,
+                            const std::string& tableLabel) const {
+    const toml::node* n = t.get(key);
+    if (n == nullptr) fail(t, "missing required key '" + std::string(key) + "' in " + tableLabel);
+    return *n;
+  }
+
+  const toml::table& table(const toml::node& n, const std::string& name) const {
+    const toml::table* t = n.as_table();
+    if (t == nullptr) fail(n, "'" + name + "' must be a table, got " + typeName(n));
+    return *t;
+  }
+
+  double number(const toml::node& n, const std::string& name) const {
+    double v = 0;
+    if (const auto* i = n.as_integer())
+      v = static_cast<double>(i->get());  // integers are fine where numbers are expected
+    else if (const auto* f = n.as_floating_point())
+      v = f->get();
+    else
+      fail(n, "'" + name + "' must be a number, got " + typeName(n));
+    if (!std::isfinite(v)) fail(n, "'" + name + "' must be a finite number, got " + formatNumber(v));
+    return v;
+  }
+
+  double positive(const toml::node& n, const std::string& name, const std::string& unit) const {
+    const double v = number(n, name);
+    if (!(v > 0)) fail(n, "'" + name + "' must be > 0" + unit + ", got " + formatNumber(v));
+    return v;
+  }
+
+  double nonNegative(const toml::node& n, const std::string& name, const std::string& unit) const {
+    const double v = number(n, name);
+    if (v < 0) fail(n, "'" + name + "' must be >= 0" + unit + ", got " + formatNumber(v));
+    return v;
+  }
+
+  double inRange(const toml::node& n, const std::string& name, double lo, double hi) const {
+    const double v = number(n, name);
+    if (v < lo || v > hi)
+      fail(n, "'" + name + "' must be between " + formatNumber(lo) + " and " + formatNumber(hi) +
+                  ", got " + formatNumber(v));
+    return v;
+  }
+
+  std::int64_t integer(const toml::node& n, const std::string& name) const {
+    const auto* i = n.as_integer();
+    if (i == nullptr) fail(n, "'" + name + "' must be an integer, got " + typeName(n));
+    return i->get();
+  }
+
+  std::int64_t integerInRange(const toml::node& n, const std::string& name, std::int64_t lo,
+                              std::int64_t hi) const {
+    const std::int64_t v = integer(n, name);
+    if (v < lo || v > hi)
+      fail(n, "'" + name + "' must be an integer from " + std::to_string(lo) + " to " +
+                  std::to_string(hi) + ", got " + std::to_string(v));
+    return v;
+  }
+
+  bool boolean(const toml::node& n, const std::string& name) const {
+    const auto* b = n.as_boolean();
+    if (b == nullptr) fail(n, "'" + name + "' must be true or false, got " + typeName(n));
+    return b->get();
+  }
+
+  std::string string(const toml::node& n, const std::string& name) const {
+    const auto* s = n.as_string();
+    if (s == nullptr) fail(n, "'" + name + "' must be a string, got " + typeName(n));
+    return s->get();
+  }
+
+  // An array of exactly `size` numbers.
+  std::vector<double> numbers(const toml::node& n, const std::string& name, std::size_t size,
+                              const std::string& what) const {
+    const toml::array* a = n.as_array();
+    if (a == nullptr) fail(n, "'" + name + "' must be " + what + ", got " + typeName(n));
+    if (a->size() != size)
+      fail(n, "'" + name + "' must be " + what + ", got an array of " + std::to_string(a->size()));
+    std::vector<double> out;
+    for (std::size_t i = 0; i < size; ++i)
+      out.push_back(number(*a->get(i), name + "[" + std::to_string(i) + "]"));
+    return out;
+  }
+
+  Vec3 vec3(const toml::node& n, const std::string& name) const {
+    const auto v = numbers(n, name, 3, "an array of 3 numbers [x, y, z]");
+    return Vec3(v[0], v[1], v[2]);
+  }
+
+  Color color(const toml::node& n, const std::string& name) const {
+    const auto v = numbers(n, name, 3, "an array of 3 numbers [r, g, b] (linear RGB, 0..1)");
+    const toml::array& a = *n.as_array();
+    Color c{};
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (v[i] < 0 || v[i] > 1)
+        fail(*a.get(i), "'" + name + "' components must be between 0 and 1 (linear RGB), got " +
+                            formatNumber(v[i]));
+      c[i] = static_cast<float>(v[i]);
+    }
+    return c;
+  }
+
+  // File order w, x, y, z; normalised, since nobody writes unit quaternions by hand exactly.
+  Quat quaternion(const toml::node& n, const std::string& name) const {
+    const auto v = numbers(n, name, 4, "an array of 4 numbers [w, x, y, z]");
+    Quat q(v[0], v[1], v[2], v[3]);
+    const double norm = q.norm();
+    if (!(norm > 1e-12) || !std::isfinite(norm))
+      fail(n, "'" + name + "' must be a non-zero quaternion [w, x, y, z] (it is normalised; "
+                  "[1, 0, 0, 0] is no rotation), got a zero quaternion");
+    q.coeffs() /= norm;
+    return q;
+  }
+
+ private:
+  std::string file_;
+};
+
+// --- [simulation] -------------------------------------------------------------------------
+
+void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
+  r.checkKeys(t, {"duration", "level", "step", "gravity", "fps"}, "[simulation]");
+  if (const auto* n = t.get("duration")) spec.duration = r.positive(*n, "duration", " s");
+  if (const auto* n = t.get("level"))
+    spec.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
+  if (const auto* n = t.get("step")) {
+    const std::string valid = "'step' must be \"auto\" (eq. 20) or a fixed step in seconds > 0";
+    if (const auto* s = n->as_string()) {
+      if (s->get() != "auto") r.fail(*n, valid + ", got \"" + s->get() + "\"");
+      spec.autoStep = true;
+      spec.fixedStep = 0;
+    } else if (n->is_number()) {
+      const double v = r.number(*n, "step");
+      if (!(v > 0)) r.fail(*n, valid + ", got " + formatNumber(v));
+      spec.autoStep = false;
+      spec.fixedStep = v;
+    } else {
+      r.fail(*n, valid + ", got " + typeName(*n));
+    }
+  }
+  if (const auto* n = t.get("gravity")) spec.gravity = r.vec3(*n, "gravity");
+  if (const auto* n = t.get("fps")) spec.fps = r.positive(*n, "fps", " frames per second");
+}
+
+// --- [contact] ----------------------------------------------------------------------------
+
+void readContact(const Reader& r, const toml::table& t, ContactMaterial& c) {
+  r.checkKeys(t, {"restitution", "friction"}, "[contact]");
+  if (const auto* n = t.get("restitution")) {
+    const toml::table& e = r.table(*n, "restitution");
+    r.checkKeys(e, {"body_body", "body_ground"}, "[contact] restitution");
+    if (const auto* v = e.get("body_body"))
+      c.restitutionBodyBody = r.inRange(*v, "restitution.body_body", 0, 1);
+    if (const auto* v = e.get("body_ground"))
+      c.restitutionBodyGround = r.inRange(*v, "restitution.body_ground", 0, 1);
+  }
+  if (const auto* n = t.get("friction")) {
+    const toml::table& f = r.table(*n, "friction");
+    r.checkKeys(f, {"body_body", "body_ground"}, "[contact] friction");
+    if (const auto* v = f.get("body_body"))
+      c.frictionBodyBody = r.nonNegative(*v, "friction.body_body", " (Coulomb coefficient)");
+    if (const auto* v = f.get("body_ground"))
+      c.frictionBodyGround = r.nonNegative(*v, "friction.body_ground", " (Coulomb coefficient)");
+  }
+}
+
+// --- [ground] -----------------------------------------------------------------------------
+
+void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
+                SceneSpec& spec) {
+  r.checkKeys(t, {"plane", "heightfield"}, "[ground]");
+  if (const auto* n = t.get("plane")) spec.groundPlane = r.number(*n, "plane");
+  if (const auto* n = t.get("heightfield")) {
+    const std::string given = r.string(*n, "heightfield");
+    fs::path resolved(given);
+    if (resolved.is_relative()) resolved = sceneFolder / resolved;
+    resolved = resolved.lexically_normal();
+    std::error_code ec;
+    if (!fs::is_regular_file(resolved, ec))
+      r.fail(*n, "terrain grid not found: '" + resolved.string() +
+                     "' (an ESRI ASCII grid; relative paths resolve against the scene file's folder)");
+    spec.terrainPath = resolved.string();
+  }
+}
+
+// --- [shapes.NAME] ------------------------------------------------------------------------
+
+// Names the resolved path, and a near-miss file in the same folder when there is one.
+[[noreturn]] void failMissingMesh(const Reader& r, const toml::node& n, const fs::path& resolved,
+                                  const std::string& given) {
+  std::string message = "mesh file not found: '" + resolved.string() + "'";
+  if (fs::path(given).is_relative()) message += " (relative paths resolve against the scene file's folder)";
+  std::error_code ec;
+  const fs::path folder = resolved.parent_path().empty() ? fs::path(".") : resolved.parent_path();
+  if (fs::is_directory(folder, ec)) {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(folder, ec)) {
+      if (entry.is_regular_file(ec)) names.push_back(entry.path().filename().string());
+    }
+    std::sort(names.begin(), names.end());  // directory order is unspecified
+    if (auto guess = nearestName(resolved.filename().string(), names))
+      message += "; did you mean '" + (resolved.parent_path() / *guess).string() + "'?";
+  }
+  r.fail(n, message);
+}
+
+ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table& t,
+                    const fs::path& sceneFolder) {
+  const std::string label = "[shapes." + name + "]";
+  r.checkKeys(t, {"mesh", "scale", "density", "level", "color"}, label);
+  ShapeSpec s;
+  s.name = name;
+  s.where = r.where(t);
+
+  const toml::node& meshNode = r.require(t, "mesh", label);
+  const std::string given = r.string(meshNode, "mesh");
+  if (given.empty()) r.fail(meshNode, "'mesh' must name a mesh file, got an empty string");
+  fs::path resolved(given);
+  if (resolved.is_relative()) resolved = sceneFolder / resolved;
+  resolved = resolved.lexically_normal();
+  std::error_code ec;
+  if (!fs::is_regular_file(resolved, ec)) failMissingMesh(r, meshNode, resolved, given);
+  s.meshPath = resolved.string();
+
+  if (const auto* n = t.get("scale")) {
+    if (n->is_number()) {
+      const double v = r.positive(*n, "scale", " (a factor on the mesh file's units)");
+      s.scale = Vec3::Constant(v);
+    } else if (n->is_array()) {
+      s.scale = r.vec3(*n, "scale");
+      for (int i = 0; i < 3; ++i) {
+        // A zero factor flattens the mesh to no volume; negative ones would mirror it.
+        if (!(s.scale[i] > 0))
+          r.fail(*n, "'scale' factors must be > 0, got " + formatNumber(s.scale[i]));
+      }
+    } else {
+      r.fail(*n, "'scale' must be a number or an array of 3 numbers [sx, sy, sz], got " +
+                     typeName(*n));
+    }
+  }
+  s.density = r.positive(r.require(t, "density", label), "density", " kg/m^3");
+  if (const auto* n = t.get("level"))
+    s.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
+  if (const auto* n = t.get("color")) s.color = r.color(*n, "color");
+  return s;
+}
+
+void readShapes(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
+                SceneSpec& spec) {
+  // Keep file order: shape indices pick default colours and must not depend on key sorting.
+  std::vector<std::pair<const toml::key*, const toml::node*>> entries;
+  for (auto&& [k, v] : t) entries.emplace_back(&k, &v);
+  std::sort(entries.begin(), entries.end(),
+            [](const auto& a, const auto& b) { return before(a.first->source(), b.first->source()); });
+  for (const auto& [k, v] : entries) {
+    const std::string name(k->str());
+    if (!v->is_table())
+      r.fail(*v, "'shapes." + name + "' must be a table ([shapes." + name +
+                     "] with mesh, scale, density), got " + typeName(*v));
+    spec.shapes.push_back(readShape(r, name, *v->as_table(), sceneFolder));
+  }
+}
+
+std::vector<std::string> shapeNames(const SceneSpec& spec) {
+  std::vector<std::string> names;
+  for (const auto& s : spec.shapes) names.push_back(s.name);
+  return names;
+}
+
+std::string readShapeReference(const Reader& r, const toml::table& t, const std::string& label,
+                               const SceneSpec& spec) {
+  const toml::node& n = r.require(t, "shape", label);
+  const std::string name = r.string(n, "shape");
+  const auto names = shapeNames(spec);
+  if (std::find(names.begin(), names.end(), name) != names.end()) return name;
+  std::string message = "unknown shape '" + name + "'";
+  if (names.empty()) {
+    message += "; no shapes are defined (add a [shapes." + (name.empty() ? "NAME" : name) +
+               "] table with mesh and density)";
+  } else if (auto guess = nearestName(name, names)) {
+    message += "; did you mean '" + *guess + "'?";
+  } else {
+    message += "; defined shapes: " + joinNames(names);
+  }
+  r.fail(n, message);
+}
+
+// Arrays of tables: `[[bodies]]`. A plain `[bodies]` table is the likely mistake.
+const toml::array& arrayOfTables(const Reader& r, const toml::node& n, const std::string& name) {
+  const toml::array* a = n.as_array();
+  if (a == nullptr || !a->is_array_of_tables())
+    r.fail(n, "'" + name + "' must be an array of tables (write each entry under [[" + name +
+                  "]]), got " + typeName(n));
+  return *a;
+}
+
+// --- [[bodies]] ---------------------------------------------------------------------------
+
+void readBodies(const Reader& r, const toml::array& bodies, SceneSpec& spec) {
+  for (const toml::node& node : bodies) {
+    const toml::table& t = *node.as_table();
+    const std::string label = "[[bodies]]";
+    r.checkKeys(t, {"shape", "position", "orientation", "velocity", "angular_velocity", "static",
+                    "color"},
+                label);
+    BodySpec b;
+    b.where = r.where(t);
+    b.shape = readShapeReference(r, t, label, spec);
+    if (const auto* n = t.get("position")) b.position = r.vec3(*n, "position");
+    if (const auto* n = t.get("orientation")) b.orientation = r.quaternion(*n, "orientation");
+    if (const auto* n = t.get("velocity")) b.velocity = r.vec3(*n, "velocity");
+    if (const auto* n = t.get("angular_velocity"))
+      b.angularVelocity = r.vec3(*n, "angular_velocity");
+    if (const auto* n = t.get("static")) b.isStatic = r.boolean(*n, "static");
+    if (const auto* n = t.get("color")) b.color = r.color(*n, "color");
+    spec.bodies.push_back(std::move(b));
+  }
+}
+
+// --- [[emitters]] -------------------------------------------------------------------------
+
+void readJitter(const Reader& r, const toml::table& t, EmitterSpec& e) {
+  r.checkKeys(t, {"position", "direction", "orientation", "seed"}, "[[emitters]] jitter");
+  if (const auto* n = t.get("position"))
+    e.positionJitter = r.nonNegative(*n, "jitter.position", " m (half-size of a cube)");
+  if (const auto* n = t.get("direction"))
+    e.directionJitter = r.inRange(*n, "jitter.direction", 0, 180);
+  if (const auto* n = t.get("orientation")) e.randomOrientation = r.boolean(*n, "jitter.orientation");
+  if (const auto* n = t.get("seed")) {
+    const std::int64_t seed = r.integer(*n, "jitter.seed");
+    if (seed < 0) r.fail(*n, "'jitter.seed' must be an integer >= 0, got " + std::to_string(seed));
+    e.seed = static_cast<std::uint64_t>(seed);
+  }
+}
+
+void readEmitters(const Reader& r, const toml::array& emitters, SceneSpec& spec) {
+  for (const toml::node& node : emitters) {
+    const toml::table& t = *node.as_table();
+    const std::string label = "[[emitters]]";
+    r.checkKeys(t, {"shape", "count", "start", "interval", "position", "positions", "velocity",
+                    "angular_velocity", "orientation", "color", "jitter"},
+                label);
+    EmitterSpec e;
+    e.where = r.where(t);
+    e.shape = readShapeReference(r, t, label, spec);
+    if (const auto* n = t.get("count"))
+      e.count = static_cast<int>(r.integerInRange(*n, "count", 1, kMaxEmitterCount));
+    if (const auto* n = t.get("start")) e.start = r.nonNegative(*n, "start", " s");
+    if (const auto* n = t.get("interval")) e.interval = r.nonNegative(*n, "interval", " s");
+
+    const toml::node* one = t.get("position");
+    const toml::node* many = t.get("positions");
+    if (one != nullptr && many != nullptr)
+      r.fail(*many, "give either 'position' or 'positions' in [[emitters]], not both");
+    if (one == nullptr && many == nullptr)
+      r.fail(t, "missing required key 'position' (or 'positions', used in turn) in [[emitters]]");
+    if (one != nullptr) {
+      e.positions.push_back(r.vec3(*one, "position"));
+    } else {
+      const toml::array* a = many->as_array();
+      if (a == nullptr || a->empty())
+        r.fail(*many, "'positions' must be a non-empty array of [x, y, z] arrays, got " +
+                          (a == nullptr ? typeName(*many) : std::string("an empty array")));
+      for (std::size_t i = 0; i < a->size(); ++i)
+        e.positions.push_back(r.vec3(*a->get(i), "positions[" + std::to_string(i) + "]"));
+    }
+
+    if (const auto* n = t.get("velocity")) e.velocity = r.vec3(*n, "velocity");
+    if (const auto* n = t.get("angular_velocity"))
+      e.angularVelocity = r.vec3(*n, "angular_velocity");
+    if (const auto* n = t.get("orientation")) e.orientation = r.quaternion(*n, "orientation");
+    if (const auto* n = t.get("color")) e.color = r.color(*n, "color");
+    if (const auto* n = t.get("jitter")) readJitter(r, r.table(*n, "jitter"), e);
+    spec.emitters.push_back(std::move(e));
+  }
+}
+
+// --- [camera], [output] -------------------------------------------------------------------
+
+void readCamera(const Reader& r, const toml::table& t, SceneSpec& spec) {
+  r.checkKeys(t, {"position", "look_at", "up", "fov", "follow"}, "[camera]");
+  CameraSpec& c = spec.camera;
+  c.given = true;
+  if (const auto* n = t.get("position")) c.position = r.vec3(*n, "position");
+  if (const auto* n = t.get("look_at")) c.lookAt = r.vec3(*n, "look_at");
+  if (const auto* n = t.get("up")) {
+    c.up = r.vec3(*n, "up");
+    if (!(c.up.norm() > 0)) r.fail(*n, "'up' must be a non-zero vector, e.g. [0, 0, 1]");
+  }
+  if (const auto* n = t.get("fov")) {
+    c.fovDegrees = r.number(*n, "fov");
+    if (!(c.fovDegrees > 0 && c.fovDegrees < 180))
+      r.fail(*n, "'fov' must be a vertical field of view in degrees, > 0 and < 180, got " +
+                     formatNumber(c.fovDegrees));
+  }
+  if (const auto* n = t.get("follow")) {
+    // Body ids: [[bodies]] in file order, then each emitter's releases in turn.
+    std::int64_t total = static_cast<std::int64_t>(spec.bodies.size());
+    for (const auto& e : spec.emitters) total += e.count;
+    const std::int64_t id = r.integer(*n, "follow");
+    if (id < 0 || id >= total)
+      r.fail(*n, "'follow' must be a body index from 0 to " + std::to_string(total - 1) +
+                     " ([[bodies]] in order, then the emitters' bodies), got " +
+                     std::to_string(id) + (total == 0 ? " (the scene has no bodies)" : ""));
+    c.followBody = static_cast<int>(id);
+  }
+  const toml::node* where = t.get("look_at") ? t.get("look_at") : t.get("position");
+  if (where != nullptr && !c.followBody) {
+    const Vec3 view = c.lookAt - c.position;
+    if (!(view.norm() > 0)) r.fail(*where, "camera 'look_at' must differ from 'position'");
+    if (!(view.normalized().cross(c.up.normalized()).norm() > 1e-9))
+      r.fail(*where, "camera 'up' must not be parallel to the view direction (look_at - position)");
+  }
+}
+
+void readOutput(const Reader& r, const toml::table& t, SceneSpec& spec) {
+  r.checkKeys(t, {"width", "height", "crf"}, "[output]");
+  // Even sizes: H.264 with 4:2:0 chroma needs them.
+  auto side = [&](const char* key, int& out) {
+    if (const auto* n = t.get(key)) {
+      const std::int64_t v = r.integer(*n, key);
+      if (v <= 0 || v > kMaxImageSide || v % 2 != 0)
+        r.fail(*n, std::string("'") + key + "' must be a positive even number of pixels up to " +
+                       std::to_string(kMaxImageSide) + ", got " + std::to_string(v));
+      out = static_cast<int>(v);
+    }
+  };
+  side("width", spec.output.width);
+  side("height", spec.output.height);
+  if (const auto* n = t.get("crf")) spec.output.crf = static_cast<int>(r.integerInRange(*n, "crf", 0, 51));
+}
+
+}  // namespace
+
+SceneSpec loadScene(const std::string& path) {
+  SceneSpec spec;
+  spec.path = path;
+  spec.name = fs::path(path).stem().string();
+
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw InputError(path, "scene file not found");
+  if (!fs::is_regular_file(path, ec)) throw InputError(path, "scene path is not a file");
+
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw InputError(sourceLocation(path, static_cast<int>(b.line), static_cast<int>(b.column)),
+                     "TOML syntax error: " + std::string(e.description()));
+  }
+
+  const Reader r(path);
+  r.checkKeys(root,
+              {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera", "output"},
+              "the scene's top level");
+  const fs::path sceneFolder = fs::path(path).parent_path();
+
+  // Shapes before bodies and emitters (which name them); bodies and emitters before the camera
+  // (whose `follow` is a body index).
+  if (const auto* n = root.get("simulation")) readSimulation(r, r.table(*n, "simulation"), spec);
+  if (const auto* n = root.get("contact")) readContact(r, r.table(*n, "contact"), spec.contact);
+  if (const auto* n = root.get("ground"))
+    readGround(r, r.table(*n, "ground"), sceneFolder, spec);
+  if (const auto* n = root.get("shapes")) readShapes(r, r.table(*n, "shapes"), sceneFolder, spec);
+  if (const auto* n = root.get("bodies")) readBodies(r, arrayOfTables(r, *n, "bodies"), spec);
+  if (const auto* n = root.get("emitters")) readEmitters(r, arrayOfTables(r, *n, "emitters"), spec);
+  if (const auto* n = root.get("camera")) readCamera(r, r.table(*n, "camera"), spec);
+  if (const auto* n = root.get("output")) readOutput(r, r.table(*n, "output"), spec);
+
+  // Frame k is at k / fps for k = 0 .. floor(duration * fps): keep that count allocatable.
+  if (spec.duration * spec.fps > kMaxFrames) {
+    const toml::node* n = root.at_path("simulation.duration").node();
+    throw InputError(n != nullptr ? r.where(*n) : path,
+                     "duration * fps = " + formatNumber(spec.duration * spec.fps) +
+                         " frames; at most " + formatNumber(kMaxFrames) + " are supported");
+  }
+  return spec;
+}
+
+}  // namespace vf

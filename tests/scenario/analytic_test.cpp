@@ -263,5 +263,44 @@ TEST(Scenario, RestingStackSettlesWithoutJitterOrCreep) {
   EXPECT_EQ(world.measure().tunnelled, 0);
 }
 
+// A box on a 30-degree planar heightfield: with mu < tan 30 it slides with acceleration
+// a = g (sin - mu cos) (Coulomb), with mu > tan 30 it sticks.
+TEST(Scenario, BoxOnTerrainInclineSlidesOrSticksAsCoulombSays) {
+  const double theta = M_PI / 6, dt = 1.0 / 240, T = 1.0;
+  auto terrain = std::make_shared<Heightfield>();
+  terrain->nx = terrain->ny = 41;
+  terrain->cell = 0.25;
+  terrain->x0 = terrain->y0 = -5;
+  for (int j = 0; j < terrain->ny; ++j)
+    for (int i = 0; i < terrain->nx; ++i)
+      terrain->z.push_back(-std::tan(theta) * (terrain->x0 + i * terrain->cell));
+  terrain->zMin = -std::tan(theta) * 5, terrain->zMax = std::tan(theta) * 5;
+  const Vec3 normal(std::sin(theta), 0, std::cos(theta)), downhill(std::cos(theta), 0, -std::sin(theta));
+  auto slide = [&](double mu) {
+    WorldDef def;
+    def.terrain = terrain;
+    def.fixedStep = dt;
+    def.contact.frictionBodyGround = mu;
+    def.contact.restitutionBodyGround = 0;
+    World world(def);
+    auto s = test::boxShape(0.3, 0.3, 0.2, 800, 4);
+    BodyDef b;
+    b.shape = s;
+    b.orientation = Quat(Eigen::AngleAxisd(theta, Vec3::UnitY()));  // bottom face on the slope
+    b.position = Vec3(-2, 0, 2 * std::tan(theta)) + normal * test::restOffset(*s);  // spheres touch
+    world.addBody(b);
+    const Vec3 start = world.state(0).x;
+    world.advanceTo(T);
+    EXPECT_EQ(world.measure().tunnelled, 0);
+    return (world.state(0).x - start).dot(downhill);
+  };
+  const double mu = 0.1, a = kG * (std::sin(theta) - mu * std::cos(theta));
+  // Euler's error a T dt / 2, plus the first step, in which the spheres only just touch and no
+  // friction acts yet (an extra g mu cos(theta) dt of speed, carried for T).
+  EXPECT_NEAR(slide(mu), a * T * T / 2, a * T * dt / 2 + kG * mu * std::cos(theta) * dt * T);
+  // Sticking: at most the first frictionless step's slide g sin(theta) dt, carried for T.
+  EXPECT_LT(std::abs(slide(0.8)), kG * std::sin(theta) * dt * T);
+}
+
 }  // namespace
 }  // namespace vf

@@ -1,0 +1,45 @@
+// Terrain on a regular XY grid (example 6, fig. 18): the paper's "real terrain data" future
+// work. Heights are samples on a grid; each grid cell is two triangles. Collision looks up the
+// cells under a sphere directly from its x, y (no scan of all cells), which is what makes
+// terrain lookup fast in the paper.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sim/core/math.h"
+#include "sim/geometry/tri_mesh.h"
+
+namespace vf {
+
+struct Heightfield {
+  int nx = 0, ny = 0;     // samples along x (columns) and y (rows)
+  double x0 = 0, y0 = 0;  // position of sample (0, 0), the south-west one, m
+  double cell = 1;        // sample spacing, m
+  std::vector<double> z;  // nx * ny heights, z[j * nx + i] for sample (i, j); NaN = no data
+  double zMin = 0, zMax = 0;  // over the samples with data
+
+  double at(int i, int j) const { return z[static_cast<std::size_t>(j) * nx + i]; }
+  // True if all four corners of cell (i, j) (samples i..i+1, j..j+1) have data.
+  bool hasCell(int i, int j) const;
+  // Height of the triangulated surface at (x, y); NaN outside the grid or over missing data.
+  double heightAt(double x, double y) const;
+  // Upward unit normal of the surface triangle under (x, y); +z where heightAt is NaN.
+  Vec3 normalAt(double x, double y) const;
+  // The cells whose squares meet [x - r, x + r] x [y - r, y + r], clamped to the grid:
+  // i in [i0, i1], j in [j0, j1]; empty (i0 > i1 or j0 > j1) when the square misses the grid.
+  void cellRange(double x, double y, double r, int& i0, int& i1, int& j0, int& j1) const;
+  // The two triangles of cell (i, j): (p00, p10, p11) and (p00, p11, p01), counter-clockwise
+  // seen from above.
+  void cellTriangles(int i, int j, Vec3 tri[2][3]) const;
+  // All cells with data as a triangle mesh (for drawing; open, so never a body).
+  TriMesh toMesh() const;
+};
+
+// Reads an ESRI ASCII grid (ncols, nrows, xllcorner|xllcenter, yllcorner|yllcenter, cellsize,
+// optional NODATA_value, then nrows rows of ncols values, the first row the northern-most).
+// With xllcorner the samples sit at cell centres (xllcorner + cellsize / 2). Throws InputError
+// "file:line: ..." for a malformed header, a wrong value count or a non-number.
+Heightfield loadEsriAsciiGrid(const std::string& path);
+
+}  // namespace vf

@@ -1,0 +1,190 @@
+// The voxfall command end to end: runs the built binary (VOXFALL_EXE) with std::system and
+// checks what a user or a script relies on: exit codes, one error line naming file:line,
+// no output file left behind by a failed run, and the shape of the CSV and JSON outputs.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kExe = VOXFALL_EXE;
+const std::string kScenes = std::string(VOXFALL_SOURCE_DIR) + "/scenes";
+
+std::string readFile(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("voxfall_cli_test_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "out");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Runs `voxfall ARGS`; stdout and stderr are kept in out_ and err_. Returns the exit code.
+  int run(const std::string& args) {
+    const fs::path outFile = dir_ / "stdout.txt", errFile = dir_ / "stderr.txt";
+    const std::string cmd = quote(kExe) + " " + args + " >" + quote(outFile.string()) + " 2>" +
+                            quote(errFile.string()) + " </dev/null";
+    const int status = std::system(cmd.c_str());
+    out_ = readFile(outFile);
+    err_ = readFile(errFile);
+    fs::remove(outFile);
+    fs::remove(errFile);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+
+  std::vector<std::string> errorLines() const {
+    std::vector<std::string> found;
+    for (const auto& l : lines(err_)) {
+      if (l.find("voxfall: error:") != std::string::npos) found.push_back(l);
+    }
+    return found;
+  }
+
+  fs::path dir_;
+  std::string out_, err_;
+};
+
+TEST_F(CliTest, Version) {
+  EXPECT_EQ(run("--version"), 0);
+  EXPECT_EQ(out_.rfind("voxfall ", 0), 0u) << out_;
+}
+
+TEST_F(CliTest, UsageErrorsExitWith2) {
+  EXPECT_EQ(run("simulate"), 2);  // missing SCENE
+  EXPECT_EQ(errorLines().size(), 1u) << err_;
+  EXPECT_EQ(run("simulate " + quote(kScenes + "/cubes.toml") + " --no-such-option"), 2);
+  EXPECT_EQ(run("simulate " + quote(kScenes + "/cubes.toml") + " --level 11"), 2);
+  EXPECT_EQ(run("simulate " + quote(kScenes + "/cubes.toml") + " --step fast"), 2);
+  EXPECT_EQ(run(""), 2);  // a subcommand is required
+}
+
+TEST_F(CliTest, BadSceneIsOneErrorLineNamingFileAndLine) {
+  const std::string scene = write("bad.toml", "[simulation]\nduration = 2.0\nfsp = 30\n");
+  EXPECT_EQ(run("simulate " + quote(scene)), 1);
+  const auto errors = errorLines();
+  ASSERT_EQ(errors.size(), 1u) << err_;
+  EXPECT_EQ(errors[0].rfind("voxfall: error: " + scene + ":3:1: unknown key 'fsp'", 0), 0u)
+      << errors[0];
+  EXPECT_NE(errors[0].find("did you mean 'fps'?"), std::string::npos) << errors[0];
+  EXPECT_TRUE(out_.empty()) << out_;
+}
+
+TEST_F(CliTest, MissingSceneFileIsAnError) {
+  EXPECT_EQ(run("simulate " + quote((dir_ / "none.toml").string())), 1);
+  EXPECT_EQ(errorLines().size(), 1u) << err_;
+}
+
+TEST_F(CliTest, UnwritableOutputFailsBeforeSimulatingAndLeavesNothing) {
+  const std::string cubes = quote(kScenes + "/cubes.toml");
+  const fs::path missingFolder = dir_ / "no_such_folder" / "run.csv";
+  EXPECT_NE(run("simulate " + cubes + " --quiet --csv " + quote(missingFolder.string())), 0);
+  ASSERT_EQ(errorLines().size(), 1u) << err_;
+  EXPECT_NE(errorLines()[0].find(missingFolder.string()), std::string::npos) << err_;
+  EXPECT_TRUE(out_.empty()) << "ran anyway: " << out_;
+  EXPECT_FALSE(fs::exists(dir_ / "no_such_folder"));
+
+  // A folder where the summary should go: the CSV, valid on its own, is not left behind either.
+  EXPECT_NE(run("simulate " + cubes + " --quiet --csv " + quote((dir_ / "out/a.csv").string()) +
+                " --summary " + quote((dir_ / "out").string())),
+            0);
+  EXPECT_EQ(errorLines().size(), 1u) << err_;
+  EXPECT_TRUE(fs::is_empty(dir_ / "out")) << "something was left in " << (dir_ / "out");
+}
+
+TEST_F(CliTest, CubesCsvAndSummary) {
+  const fs::path csv = dir_ / "out" / "cubes.csv", json = dir_ / "out" / "cubes.json";
+  ASSERT_EQ(run("simulate " + quote(kScenes + "/cubes.toml") + " --quiet --csv " +
+                quote(csv.string()) + " --summary " + quote(json.string())),
+            0)
+      << err_;
+  EXPECT_TRUE(err_.empty()) << "--quiet printed: " << err_;
+  // Only the two outputs: no temporary file remains.
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(dir_ / "out")) {
+    (void)e;
+    ++files;
+  }
+  EXPECT_EQ(files, 2);
+
+  // Summary: every key, frames = floor(2 s * 30 fps) + 1, a 16-hex-digit checksum.
+  const std::string summary = readFile(json);
+  for (const char* key :
+       {"scene", "frames", "steps", "dt_min", "dt_max", "wall_seconds", "sphere_tests",
+        "contacts", "max_penetration_body_body", "max_penetration_body_ground", "tunnelled",
+        "kinetic_energy", "potential_energy", "checksum"}) {
+    EXPECT_NE(summary.find(std::string("\"").append(key).append("\":")), std::string::npos)
+        << "missing key " << key << " in\n" << summary;
+  }
+  EXPECT_NE(summary.find("\"scene\": \"cubes\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"frames\": 61,"), std::string::npos) << summary;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(summary, m, std::regex("\"checksum\": \"([0-9a-f]{16})\"")))
+      << summary;
+  // The human summary on stdout ends with the same checksum.
+  const std::string checksumLine = std::string("checksum ").append(m[1].str());
+  EXPECT_NE(out_.find(checksumLine), std::string::npos) << out_;
+
+  // CSV: the header, then one row per active body per frame (both cubes, all 61 frames),
+  // 16 fields each, frames in order.
+  const auto rows = lines(readFile(csv));
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows[0], "frame,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz");
+  EXPECT_EQ(rows.size(), 1u + 2u * 61u);
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    EXPECT_EQ(std::count(rows[i].begin(), rows[i].end(), ','), 15) << rows[i];
+    const int frame = std::stoi(rows[i]);
+    EXPECT_EQ(frame, static_cast<int>((i - 1) / 2)) << rows[i];
+  }
+  // Frame 60 is at t = 2 s exactly.
+  EXPECT_EQ(rows.back().rfind("60,2,", 0), 0u) << rows.back();
+}
+
+TEST_F(CliTest, OverridesChangeTheRunAndRunsRepeat) {
+  const std::string cubes = quote(kScenes + "/cubes.toml");
+  auto checksum = [&](const std::string& extra) {
+    EXPECT_EQ(run("simulate " + cubes + " --quiet " + extra), 0) << err_;
+    std::smatch m;
+    std::regex_search(out_, m, std::regex("checksum ([0-9a-f]{16})"));
+    return m.size() > 1 ? m[1].str() : std::string();
+  };
+  const std::string a = checksum("--level 2");
+  EXPECT_EQ(a.size(), 16u);
+  EXPECT_EQ(checksum("--level 2"), a);  // deterministic
+  EXPECT_NE(checksum("--level 2 --step 1/600"), a);
+}
+
+}  // namespace
