@@ -63,6 +63,7 @@ int World::addBody(const BodyDef& d) {
   b.shape = d.shape;
   b.isStatic = d.isStatic;
   b.releaseTime = d.releaseTime;
+  b.dropHeight = d.dropHeight;
   b.active = d.releaseTime <= time_ + kTimeTolerance;
   BodyState y;
   y.x = d.position;
@@ -74,8 +75,10 @@ int World::addBody(const BodyDef& d) {
     y.P = d.shape->mass * d.velocity;
     y.L = R * d.shape->inertiaBody * R.transpose() * d.angularVelocity;  // L = I(t) w
   }
+  const bool placeNow = b.active && b.dropHeight >= 0;
   bodies_.push_back(std::move(b));
   states_.push_back(y);
+  if (placeNow) placeAbove(bodyCount() - 1, d.dropHeight);
   return bodyCount() - 1;
 }
 
@@ -145,11 +148,66 @@ void World::stepToward(double target) {
   totals_.add(s);
 }
 
+Eigen::AlignedBox3d World::worldBounds(int id) const {
+  Eigen::AlignedBox3d box;
+  const Mat3 R = states_[id].q.toRotationMatrix();
+  for (const Vec3& v : bodies_[id].shape->mesh.vertices) box.extend(states_[id].x + R * v);
+  return box;
+}
+
+void World::placeAbove(int id, double clearance) {
+  const auto footprint = [](const Eigen::AlignedBox3d& b) {
+    return Eigen::AlignedBox2d(b.min().head<2>(), b.max().head<2>());
+  };
+  const Eigen::AlignedBox3d box = worldBounds(id);
+  double top = -INFINITY;
+  if (def_.groundHeight) top = *def_.groundHeight;
+  if (def_.terrain) {
+    int i0, i1, j0, j1;
+    const Vec3 c = box.center();
+    def_.terrain->cellRange(c.x(), c.y(), 0.5 * box.sizes().head<2>().maxCoeff(), i0, i1, j0, j1);
+    for (int j = j0; j <= j1 + 1 && j < def_.terrain->ny; ++j)
+      for (int i = i0; i <= i1 + 1 && i < def_.terrain->nx; ++i)
+        if (!std::isnan(def_.terrain->at(i, j))) top = std::max(top, def_.terrain->at(i, j));
+  }
+  // What lies below is the pile: bodies that touched something in the last step (before the
+  // first step, every placed body). A body still falling from an earlier release touches
+  // nothing and does not lift this one, unless this one would be born inside it.
+  std::vector<char> touching(bodyCount(), totals_.steps == 0 ? 1 : 0);
+  for (const Contact& c : contacts_) {
+    touching[c.a] = 1;
+    if (c.b != kGround) touching[c.b] = 1;
+  }
+  std::vector<Eigen::AlignedBox3d> others(bodyCount());
+  for (int j = 0; j < bodyCount(); ++j) {
+    if (j == id || !bodies_[j].active) continue;
+    others[j] = worldBounds(j);
+    if (touching[j] && footprint(others[j]).intersects(footprint(box)))
+      top = std::max(top, others[j].max().z());
+  }
+  if (!std::isfinite(top)) return;
+  // Raise above airborne bodies the new one would overlap, until it overlaps none (each pass
+  // moves it above at least one more body, so this ends).
+  for (bool moved = true; moved;) {
+    moved = false;
+    const double lift = top + clearance - box.min().z();
+    const Eigen::AlignedBox3d placed(box.min() + Vec3(0, 0, lift), box.max() + Vec3(0, 0, lift));
+    for (int j = 0; j < bodyCount(); ++j)
+      if (j != id && bodies_[j].active && !touching[j] && others[j].intersects(placed) &&
+          others[j].max().z() > top) {
+        top = others[j].max().z();
+        moved = true;
+      }
+  }
+  states_[id].x.z() += top + clearance - box.min().z();
+}
+
 std::uint64_t World::releaseBodies() {
   std::uint64_t overlapping = 0;
   for (int i = 0; i < bodyCount(); ++i) {
     BodyInfo& b = bodies_[i];
     if (b.active || b.releaseTime > time_ + kTimeTolerance) continue;
+    if (b.dropHeight >= 0) placeAbove(i, b.dropHeight);
     const Collider mine = sphereTreeCollider(i, *b.shape->tree, states_[i].x, states_[i].q);
     std::vector<Contact> found;
     for (int j = 0; j < bodyCount() && found.empty(); ++j)
@@ -222,8 +280,9 @@ Diagnostics World::measure() const {
       const Pose pa{states_[a].x, states_[a].q}, pb{states_[b].x, states_[b].q};
       d.maxPenetrationBodyBody = std::max(
           {d.maxPenetrationBodyBody, meshPenetration(sa, pa, sb, pb), meshPenetration(sb, pb, sa, pa)});
-      if (bodies_[a].moves() && pointInsideBody(sb, pb, pa.x)) tunnelled[a] = 1;
-      if (bodies_[b].moves() && pointInsideBody(sa, pa, pb.x)) tunnelled[b] = 1;
+      // A centre of mass outside its own solid (a hollow body) says nothing about tunnelling.
+      if (bodies_[a].moves() && sa.centerInside && pointInsideBody(sb, pb, pa.x)) tunnelled[a] = 1;
+      if (bodies_[b].moves() && sb.centerInside && pointInsideBody(sa, pa, pb.x)) tunnelled[b] = 1;
     }
   }
   d.tunnelled = static_cast<int>(std::count(tunnelled.begin(), tunnelled.end(), 1));

@@ -34,6 +34,9 @@ struct BodyDef {
   Vec3 angularVelocity = Vec3::Zero();  // rad/s, world frame
   bool isStatic = false;                // infinite mass: never moves
   double releaseTime = 0;               // joins the world at this time, s (emitters)
+  // If >= 0, at release the body is moved vertically so that its lowest point is this far
+  // above the highest point below its footprint (other bodies, floor, terrain), m.
+  double dropHeight = -1;
 };
 
 // Restitution eps and kinetic friction mu per kind of contact pair (section 5 defaults).
@@ -129,6 +132,11 @@ class World {
   // Activates bodies whose release time has come; returns how many of them were released
   // overlapping an active body's leaf spheres (an emitter aimed into a pile).
   std::uint64_t releaseBodies();
+  // Lifts body `id` so its lowest point is `clearance` above the highest point under it:
+  // floor, terrain, and bodies that touched something in the last step (and above any falling
+  // body it would otherwise be born inside).
+  void placeAbove(int id, double clearance);
+  Eigen::AlignedBox3d worldBounds(int id) const;  // of the body's mesh in its current pose
   double nextReleaseAfter(double t) const;
 
   WorldDef def_;

@@ -424,9 +424,10 @@ def make_barrel():
 CLIFF_TOP = 9.5
 # The cliff's profile across the slope: (distance along +x from the plateau's brink, m; height, m),
 # linear in between. A 9.5 m plateau, a ~68 degree face broken by a ledge, a small bump at its
-# foot, a ~27 degree talus slope with one more bump, an ~11 degree apron and a flat run-out at 0.
+# foot, a ~27 degree talus slope with one more bump, an ~11 degree apron, a flat valley floor at
+# 0 and a ~4 degree counter-slope up to 1.5 m (the far side of the valley, where rocks stop).
 PROFILE = [(-10.0, 9.5), (0.0, 9.5), (1.4, 6.0), (2.0, 5.75), (2.9, 3.4), (3.4, 3.5), (6.0, 2.2),
-           (6.6, 2.35), (9.5, 0.9), (14.0, 0.0), (40.0, 0.0)]
+           (6.6, 2.35), (9.5, 0.9), (14.0, 0.0), (18.0, 0.0), (38.0, 1.5), (60.0, 1.5)]
 BRINK_X = 3.0  # mean x of the brink, m
 
 
@@ -439,7 +440,7 @@ def profile(s):
 
 def cliff_height(x, y):
     # The brink wanders +-0.25 m along y, so the face is not the same in every vertical slice.
-    brink = BRINK_X + 0.25 * math.sin(2 * math.pi * y / 12.0 * 1.5 + 0.3)
+    brink = BRINK_X + 0.25 * math.sin(2 * math.pi * y / 8.0 + 0.3)
     s = x - brink
     h = profile(s)
     # Roughness (sums of sines, +-0.15 m at most) on the face and the slopes, none on the plateau
@@ -454,7 +455,7 @@ def cliff_height(x, y):
 
 
 def make_cliff():
-    ncols, nrows, cell, xll, yll = 40, 24, 0.5, 0.0, 0.0
+    ncols, nrows, cell, xll, yll = 80, 48, 0.5, 0.0, 0.0
     # Samples at the cell centres (xllcorner is the lower-left CORNER of the lower-left cell).
     rows = []
     for row in range(nrows):  # the first row is the northern-most (largest y)

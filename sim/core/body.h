@@ -15,6 +15,7 @@ struct BodyInfo {
   bool isStatic = false;
   bool active = true;                   // released (emitter bodies join later)
   double releaseTime = 0;               // s
+  double dropHeight = -1;               // m; < 0: release where placed (see BodyDef)
   bool moves() const { return active && !isStatic; }
 };
 

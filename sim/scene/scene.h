@@ -52,6 +52,10 @@ struct EmitterSpec {
   double directionJitter = 0;    // degrees, rotation of the horizontal velocity about z
   bool randomOrientation = false;
   std::uint64_t seed = 1;
+  // If set, each release is lifted (z of `positions` ignored) so that its lowest point falls
+  // this far onto whatever lies below it at release time: example 4's "dropped from 0.5 m"
+  // onto a growing pile.
+  std::optional<double> dropHeight;
   std::optional<Color> color;
   std::string where;
 };

@@ -161,6 +161,7 @@ BuiltScene buildScene(const SceneSpec& spec) {
       def.velocity = velocity;
       def.angularVelocity = e.angularVelocity;
       def.releaseTime = e.start + i * e.interval;
+      if (e.dropHeight) def.dropHeight = *e.dropHeight;
       add(s, e.shape, def, e.color);
     }
   }

@@ -498,7 +498,7 @@ void readEmitters(const Reader& r, const toml::array& emitters, SceneSpec& spec)
     const toml::table& t = *node.as_table();
     const std::string label = "[[emitters]]";
     r.checkKeys(t, {"shape", "count", "start", "interval", "position", "positions", "velocity",
-                    "angular_velocity", "orientation", "color", "jitter"},
+                    "angular_velocity", "orientation", "color", "jitter", "drop_height"},
                 label);
     EmitterSpec e;
     e.where = r.where(t);
@@ -531,6 +531,8 @@ void readEmitters(const Reader& r, const toml::array& emitters, SceneSpec& spec)
     if (const auto* n = t.get("orientation")) e.orientation = r.quaternion(*n, "orientation");
     if (const auto* n = t.get("color")) e.color = r.color(*n, "color");
     if (const auto* n = t.get("jitter")) readJitter(r, r.table(*n, "jitter"), e);
+    if (const auto* n = t.get("drop_height"))
+      e.dropHeight = r.nonNegative(*n, "drop_height", " m (fall height above what lies below)");
     spec.emitters.push_back(std::move(e));
   }
 }

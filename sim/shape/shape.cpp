@@ -1,9 +1,11 @@
 #include "sim/shape/shape.h"
 
+
 #include <algorithm>
 #include <utility>
 
 #include "sim/core/error.h"
+#include "sim/geometry/mesh_query.h"
 
 namespace vf {
 namespace {
@@ -45,6 +47,7 @@ std::shared_ptr<const Shape> makeShape(std::string name, TriMesh meshFileCoords,
   double farthest = 0;
   for (const Vec3& v : shape->mesh.vertices) farthest = std::max(farthest, v.norm());
   shape->diameter = 2 * farthest;  // l of eqs. 18-20
+  shape->centerInside = pointInsideMesh(shape->mesh, Vec3::Zero());
 
   if (tree == nullptr)
     tree = std::make_shared<const SphereTree>(buildSphereTree(shape->mesh, level));

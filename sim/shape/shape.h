@@ -21,6 +21,8 @@ struct Shape {
   Mat3 inertiaBody;         // kg m^2 about the centre of mass
   Mat3 inertiaBodyInv;
   double diameter = 0;      // l of eq. 18-20: twice the largest vertex distance from the origin
+  bool centerInside = true; // the centre of mass lies inside the solid (false for a hollow
+                            // body such as the barrel): only then can it witness tunnelling
   std::shared_ptr<const SphereTree> tree;  // shared between shapes with the same mesh+scale+level
 };
 

@@ -58,6 +58,24 @@ TEST(World, ReleaseIntoAnotherBodyIsCounted) {
   EXPECT_EQ(world.totals().overlappingReleases, 1u);
 }
 
+TEST(World, DropHeightReleasesThatFarAboveWhatLiesBelow) {
+  WorldDef def;
+  def.groundHeight = 0.0;
+  World world(def);
+  auto s = test::boxShape(0.4, 0.4, 0.2, 800, 2);
+  world.addBody(bodyAt(s, Vec3(0, 0, 0.1)));      // resting box, top at z = 0.2
+  BodyDef over = bodyAt(s, Vec3(0.1, 0, 0), 0.5);  // z is ignored: placed at release
+  over.dropHeight = 0.5;
+  world.addBody(over);
+  BodyDef beside = bodyAt(s, Vec3(3, 0, 7), 0.5);  // nothing below but the floor
+  beside.dropHeight = 0.5;
+  world.addBody(beside);
+  world.advanceTo(0.5);
+  // Bottom face (z - 0.1) exactly 0.5 m above the top of what is below, before any fall.
+  EXPECT_NEAR(world.state(1).x.z() - 0.1, world.state(0).x.z() + 0.1 + 0.5, 1e-12);
+  EXPECT_NEAR(world.state(2).x.z() - 0.1, 0.0 + 0.5, 1e-12);
+}
+
 TEST(World, StateHashSeesEveryBit) {
   WorldDef def;
   auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
