@@ -104,9 +104,13 @@ SceneSpec loadScene(const std::string& path);
 // A World built from a spec, with what the renderer needs to draw it.
 struct BuiltScene {
   std::unique_ptr<World> world;
-  std::vector<Color> colors;        // per body id
+  std::vector<Color> colors;        // per body id: the body's, its shape's, or the palette
   std::vector<std::string> shapeOf; // per body id: shape name
 };
+
+// A distinct colour per body id for scenes that give none: a fixed palette of muted,
+// well-separated hues (linear RGB) that reads well under the sun and on the grey floor.
+Color defaultBodyColor(int id);
 
 // Loads meshes (each file once), validates them, builds each shape's sphere tree once per
 // (mesh, scale, level), and adds the bodies and the emitters' bodies (with release times).

@@ -22,22 +22,9 @@
 namespace vf {
 namespace {
 
-// Default body colours by shape index, linear RGB: muted, distinct hues that stay apart under
-// the renderer's shading and read well on a light floor.
-constexpr std::array<Color, 8> kPalette = {{
-    {0.80f, 0.30f, 0.20f},  // terracotta
-    {0.20f, 0.40f, 0.75f},  // steel blue
-    {0.30f, 0.60f, 0.25f},  // moss green
-    {0.85f, 0.65f, 0.20f},  // ochre
-    {0.55f, 0.30f, 0.65f},  // plum
-    {0.15f, 0.60f, 0.60f},  // teal
-    {0.85f, 0.45f, 0.55f},  // rose
-    {0.50f, 0.50f, 0.55f},  // slate
-}};
-
 struct BuiltShape {
   std::shared_ptr<const Shape> shape;
-  Color color;
+  std::optional<Color> color;
 };
 
 // Sphere trees are a pure function of the scaled, centred mesh and the level (design.md), so
@@ -67,7 +54,7 @@ std::map<std::string, BuiltShape> buildShapes(const SceneSpec& spec) {
     }
     BuiltShape b;
     b.shape = makeShape(s.name, mesh->second, s.scale, s.density, level, tree->second);
-    b.color = s.color.value_or(kPalette[i % kPalette.size()]);
+    b.color = s.color;
     shapes.emplace(s.name, std::move(b));
   }
   return shapes;
@@ -99,6 +86,24 @@ Quat uniformRotation(double u1, double u2, double u3) {
 
 }  // namespace
 
+Color defaultBodyColor(int id) {
+  // Hand-picked: hue steps far apart in order, similar lightness, saturation kept below
+  // "toy" levels so shading stays readable. Linear RGB (sRGB values in the comments).
+  static constexpr std::array<Color, 10> kPalette{{
+      {0.578f, 0.091f, 0.047f},  // brick red      #C8553D
+      {0.048f, 0.202f, 0.440f},  // steel blue     #3E7CB1
+      {0.745f, 0.352f, 0.030f},  // ochre          #E0A030
+      {0.105f, 0.323f, 0.084f},  // moss green     #5B9A52
+      {0.270f, 0.112f, 0.361f},  // plum           #8E5EA2
+      {0.027f, 0.332f, 0.323f},  // teal           #2E9C9A
+      {0.658f, 0.162f, 0.262f},  // rose           #D4708C
+      {0.332f, 0.296f, 0.238f},  // warm grey      #9C9486
+      {0.807f, 0.216f, 0.042f},  // orange         #E8803A
+      {0.156f, 0.195f, 0.332f},  // slate          #6E7A9C
+  }};
+  return kPalette[static_cast<std::size_t>(id < 0 ? -id : id) % kPalette.size()];
+}
+
 BuiltScene buildScene(const SceneSpec& spec) {
   WorldDef def;
   def.gravity = spec.gravity;
@@ -117,7 +122,7 @@ BuiltScene buildScene(const SceneSpec& spec) {
     body.shape = s.shape;
     const int id = out.world->addBody(body);
     VF_ASSERT(id == static_cast<int>(out.colors.size()));
-    out.colors.push_back(color.value_or(s.color));
+    out.colors.push_back(color.value_or(s.color.value_or(defaultBodyColor(id))));
     out.shapeOf.push_back(shapeName);
   };
 

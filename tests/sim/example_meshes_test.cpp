@@ -206,10 +206,14 @@ TEST(ExampleTerrain, CliffGridIsNinePointFiveMetresHighWithASteepFace) {
   const double degrees = std::atan(steepest / cell) * 180 / M_PI;
   EXPECT_GE(degrees, 55);
   EXPECT_LE(degrees, 80);
-  // The slope descends along +x: plateau in the west column, run-out in the east one.
+  // The slope descends along +x: plateau in the west column, the valley floor (the lowest
+  // ground) further east, then the counter-slope rising towards the east edge.
   for (int r = 0; r < nrows; ++r) {
     EXPECT_EQ(z[r].front(), hi) << "row " << r;
-    EXPECT_EQ(z[r].back(), lo) << "row " << r;
+    const auto low = std::find(z[r].begin(), z[r].end(), lo);
+    ASSERT_NE(low, z[r].end()) << "row " << r;
+    EXPECT_GT(std::distance(z[r].begin(), low), ncols / 3) << "row " << r << ": past the cliff";
+    EXPECT_GT(z[r].back(), lo) << "row " << r << ": the counter-slope rises to the east edge";
   }
 }
 

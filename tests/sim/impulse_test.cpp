@@ -111,7 +111,9 @@ TEST(Impulse, FrictionIsBoundedByCoulombAndStopsSlowSlip) {
     EXPECT_GT(jn, 0);
     EXPECT_LE(jt, mu * jn * (1 + 1e-12));
     EXPECT_LT(dP.x(), 0);  // opposes the slip
-    if (mu == 0.1) EXPECT_NEAR(jt, mu * jn, 1e-9 * jn);  // sliding: the full Coulomb bound
+    if (mu == 0.1) {
+      EXPECT_NEAR(jt, mu * jn, 1e-9 * jn);  // sliding: the full Coulomb bound
+    }
     if (mu == 5.0) {
       // Sticking: the contact point's tangential velocity is brought to zero.
       const Vec3 v = w.states[0].P / m, omega = s->inertiaBodyInv * w.states[0].L;

@@ -68,8 +68,9 @@ TEST_P(NarrowPhaseTest, DescentFindsExactlyTheBruteForceLeafPairs) {
     if (!expected.empty()) ++posesWithContacts;
     // The point of the hierarchy: fewer tests than all leaf pairs when contacts are few
     // (at levels 1-2 the leaves are too few for refinement to pay).
-    if (level >= 3 && expected.size() < 10)
+    if (level >= 3 && expected.size() < 10) {
       EXPECT_LT(tests, sa->tree->leaves().centers.size() * sb->tree->leaves().centers.size());
+    }
 
     // Swapping A and B: same pairs, opposite normals, same points.
     std::vector<Contact> swapped;

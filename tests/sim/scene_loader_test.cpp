@@ -421,7 +421,18 @@ TEST_F(SceneTest, ShapesShareTreesAndColoursFallBack) {
   EXPECT_EQ(built.shapeOf, (std::vector<std::string>{"a", "b", "c", "a"}));
   EXPECT_EQ(built.colors[0], (Color{0.1f, 0.2f, 0.3f}));  // shape colour
   EXPECT_EQ(built.colors[3], (Color{1.0f, 1.0f, 1.0f}));  // body colour wins
-  EXPECT_NE(built.colors[1], built.colors[2]);            // palette, by shape index
+  EXPECT_EQ(built.colors[1], defaultBodyColor(1));        // palette, by body id
+  EXPECT_EQ(built.colors[2], defaultBodyColor(2));
+  EXPECT_NE(built.colors[1], built.colors[2]);
+}
+
+TEST_F(SceneTest, BodiesOfOneShapeGetDistinctPaletteColours) {
+  // Example 1's two cubes share a shape: told apart only if each body gets its own colour.
+  const BuiltScene built = buildScene(loadScene(std::string(VOXFALL_SOURCE_DIR) + "/scenes/cubes.toml"));
+  ASSERT_EQ(built.colors.size(), 2u);
+  EXPECT_NE(built.colors[0], built.colors[1]);
+  for (const Color& c : built.colors)
+    for (float v : c) EXPECT_TRUE(v >= 0 && v <= 1);
 }
 
 // An emitter of `count` cubes cycling through three spots far apart, no ground.

@@ -1,0 +1,386 @@
+// voxfall render SCENE: simulates a scene from t = 0 and draws frames A..B (all by default) to
+// an MP4 or a PNG sequence.
+//
+// Order matters for the user, as in `simulate`: cheap checks first (scene file, options, output
+// path, GL context and shaders), the expensive shape building and stepping last, so a typo or a
+// missing GL library never costs a long run.
+//
+// Two passes. The whole scene is simulated first (frame k = the state at exactly t = k / fps),
+// keeping every frame's body poses and folding them into the automatic camera framing; then
+// frames A..B are drawn from the kept poses. Why not draw while stepping: the automatic camera
+// must frame every body over the whole clip to stay still (a camera that re-frames as bodies
+// fly apart zooms and pans for no reason), and frame k must look the same whether rendered in
+// a full run or alone with --frames k:k (figures, golden-frame tests). The price is simulating
+// past B when B is not the last frame; simulation is cheap next to drawing (a few ms per frame
+// against ~200 ms), and the summary then carries the same checksum as `voxfall simulate`.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "render/cli/commands.h"
+#include "render/cli/run_output.h"
+#include "render/draw_list.h"
+#include "render/gl/gl_context.h"
+#include "render/gl/renderer.h"
+#include "render/gl/shader_program.h"
+#include "render/output/frame_sink.h"
+#include "sim/core/error.h"
+#include "sim/recorder.h"
+#include "sim/scene/scene.h"
+#include "sim/shape/sphere_tree.h"
+
+namespace vf::cli {
+namespace {
+
+struct RenderOptions {
+  std::string scene;
+  std::string output;  // "": out/<scene name>.mp4
+  std::string frames;  // "A:B", "A:", ":B" or "N"
+  std::string size;    // "WxH"
+  std::optional<double> fps;
+  std::optional<int> level;
+  std::string step;
+  std::optional<int> crf;
+  std::string gl = "osmesa";
+  std::string shaders;
+  bool quiet = false;
+};
+
+struct FrameRange {
+  int first = 0;
+  int last = 0;
+};
+
+// "A:B" (inclusive), "A:" (to the end), ":B" (from 0), "N" (one frame) -> [first, last],
+// checked against the scene's frames 0 .. count - 1.
+FrameRange parseFrames(const std::string& text, int count) {
+  FrameRange r{0, count - 1};
+  if (!text.empty()) {
+    auto number = [&](const std::string& s, int fallback) {
+      if (s.empty()) return fallback;
+      std::size_t used = 0;
+      int value = -1;
+      try {
+        value = std::stoi(s, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != s.size() || value < 0) {
+        throw InputError("--frames", "'" + text + "' is not A:B with frame numbers >= 0");
+      }
+      return value;
+    };
+    const std::size_t colon = text.find(':');
+    if (colon == std::string::npos) {
+      r.first = r.last = number(text, 0);
+    } else {
+      r.first = number(text.substr(0, colon), 0);
+      r.last = number(text.substr(colon + 1), count - 1);
+    }
+  }
+  if (r.first > r.last || r.last >= count) {
+    throw InputError("--frames", "'" + text + "' is outside the scene's frames 0:" +
+                                     std::to_string(count - 1) + " (first <= last)");
+  }
+  return r;
+}
+
+// "1280x720" -> (1280, 720).
+std::string checkSize(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
+    return "size must be WxH, e.g. 1280x720";
+  }
+  if (w < 16 || h < 16 || w > 8192 || h > 8192) return "each side must be 16..8192 pixels";
+  return "";
+}
+
+// Rendering's own progress line: frames drawn, frames per second, time left. Redrawn in place on
+// a terminal, a plain line every few seconds otherwise (the same habits as Progress).
+class RenderProgress {
+ public:
+  RenderProgress(std::string label, int total, bool enabled)
+      : label_(std::move(label)),
+        total_(total),
+        enabled_(enabled),
+        tty_(::isatty(::fileno(stderr)) != 0),
+        start_(Clock::now()),
+        last_(start_) {}
+  ~RenderProgress() { finish(); }
+
+  void update(int done, int frame) {
+    if (!enabled_) return;
+    const auto now = Clock::now();
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double sinceLast = std::chrono::duration<double>(now - last_).count();
+    if (drawn_ && done < total_ && sinceLast < (tty_ ? 0.25 : 5.0)) return;
+    last_ = now;
+    const double rate = elapsed > 0 ? done / elapsed : 0;
+    char eta[48] = "";
+    if (rate > 0 && done < total_) {
+      std::snprintf(eta, sizeof eta, ", about %.0f s left", (total_ - done) / rate);
+    }
+    std::fprintf(stderr, "%s%s: frame %d (%d/%d), %.2f frames/s%s%s", tty_ ? "\r" : "",
+                 label_.c_str(), frame, done, total_, rate, eta, tty_ ? "\033[K" : "\n");
+    std::fflush(stderr);
+    drawn_ = true;
+  }
+  void finish() {
+    if (drawn_ && tty_) std::fputs("\r\033[K", stderr);
+    drawn_ = false;
+    enabled_ = false;
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  std::string label_;
+  int total_;
+  bool enabled_, tty_, drawn_ = false;
+  Clock::time_point start_, last_;
+};
+
+// SIGINT and SIGTERM during the frame loop only raise a flag: the loop stops after the frame
+// in hand and the frames so far are finalised into a playable file (an MP4 needs its index
+// written). A second signal ends the process at once, as usual. Restores the old handlers.
+std::atomic<int> gStopSignal{0};
+
+extern "C" void onStopSignal(int sig) {
+  gStopSignal.store(sig);
+  std::signal(sig, SIG_DFL);
+}
+
+class StopOnSignal {
+ public:
+  StopOnSignal() {
+    gStopSignal.store(0);
+    oldInt_ = std::signal(SIGINT, onStopSignal);
+    oldTerm_ = std::signal(SIGTERM, onStopSignal);
+  }
+  ~StopOnSignal() {
+    std::signal(SIGINT, oldInt_);
+    std::signal(SIGTERM, oldTerm_);
+  }
+  StopOnSignal(const StopOnSignal&) = delete;
+  StopOnSignal& operator=(const StopOnSignal&) = delete;
+  // The signal that arrived, 0 if none.
+  int signal() const { return gStopSignal.load(); }
+
+ private:
+  void (*oldInt_)(int) = SIG_DFL;
+  void (*oldTerm_)(int) = SIG_DFL;
+};
+
+// Where each body is at one frame: all the drawing needs from a simulated state.
+struct BodyPose {
+  Vec3 x;
+  Quat q;
+  bool active;
+};
+
+std::vector<BodyPose> capturePoses(const World& world) {
+  std::vector<BodyPose> poses;
+  poses.reserve(static_cast<std::size_t>(world.bodyCount()));
+  for (int id = 0; id < world.bodyCount(); ++id) {
+    poses.push_back(BodyPose{world.state(id).x, world.state(id).q, world.isActive(id)});
+  }
+  return poses;
+}
+
+void applyPoses(const std::vector<BodyPose>& poses, std::vector<BodyView>& bodies) {
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    bodies[i].x = poses[i].x;
+    bodies[i].q = poses[i].q;
+    bodies[i].active = poses[i].active;
+  }
+}
+
+std::string frameSpan(int first, int last) {
+  return first == last ? "frame " + std::to_string(first)
+                       : "frames " + std::to_string(first) + ".." + std::to_string(last);
+}
+
+int runRender(const RenderOptions& o) {
+  // 1. The scene and the options that change it.
+  SceneSpec spec = loadScene(o.scene);
+  if (o.level) applyLevelOverride(spec, *o.level);
+  if (!o.step.empty()) applyStepOverride(spec, o.step);
+  if (o.fps) spec.fps = *o.fps;
+  if (!o.size.empty())
+    std::sscanf(o.size.c_str(), "%dx%d", &spec.output.width, &spec.output.height);
+  if (o.crf) spec.output.crf = *o.crf;
+  const int width = spec.output.width, height = spec.output.height;
+  // The Recorder's frame count (k = 0 .. floor(T fps)), needed before the world exists.
+  const int frameCount = static_cast<int>(std::floor(spec.duration * spec.fps + 1e-9)) + 1;
+  const FrameRange range = parseFrames(o.frames, frameCount);
+
+  // 2. The output: path, kind, folder; the sink opens its temporary file now, so an unwritable
+  // destination is reported before any work.
+  const std::string path = o.output.empty() ? "out/" + spec.name + ".mp4" : o.output;
+  const OutputKind kind = outputKind(path);
+  if (kind == OutputKind::mp4 && (width % 2 || height % 2)) {
+    throw InputError(path, "MP4 needs an even frame size, not " + std::to_string(width) + "x" +
+                               std::to_string(height) + " (yuv420p); use --size");
+  }
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  if (!folder.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(folder, ec);
+    if (ec) throw InputError(folder.string(), "cannot create output folder: " + ec.message());
+  }
+
+  // 3. GL context and shaders (a missing library or a shader typo fails here, in seconds).
+  auto context = gl::createContext(gl::parseBackend(o.gl));
+  gl::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.shaderDir = gl::findShaderDir(o.shaders);
+  gl::Renderer renderer(*context, settings);
+
+  VideoSettings video;
+  video.width = width;
+  video.height = height;
+  video.fps = spec.fps;
+  video.crf = spec.output.crf;
+  // From here on a signal only raises a flag (see StopOnSignal), so the temporary file the sink
+  // creates is always removed or finalised, never left behind.
+  StopOnSignal stop;
+  std::unique_ptr<FrameSink> sink = openFrameSink(path, video, range.last - range.first + 1);
+
+  // 4. The world, simulated through every frame.
+  BuiltScene built = buildScene(spec);
+  Recorder recorder(*built.world, spec.fps, spec.duration);
+  VF_ASSERT(recorder.frameCount() == frameCount);
+  DrawListBuilder drawing(spec.camera, spec.groundPlane, static_cast<double>(width) / height);
+  if (const auto& terrain = built.world->def().terrain) {
+    // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
+    auto mesh = std::make_shared<const TriMesh>(terrain->toMesh());
+    drawing.setTerrain(mesh, std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*mesh)));
+  }
+  std::vector<BodyView> bodies = bodyViews(*built.world, built.colors);  // shapes, colours
+  std::vector<std::vector<BodyPose>> poses(static_cast<std::size_t>(frameCount));
+  {
+    Progress simulating(spec.name + " (simulating)", frameCount, !o.quiet);
+    for (int k = 0; k < frameCount; ++k) {
+      if (stop.signal()) {
+        simulating.finish();
+        std::fprintf(stderr, "voxfall: interrupted before the first frame; no output written\n");
+        return 128 + stop.signal();  // the sink's destructor removes its temporary file
+      }
+      recorder.advanceToFrame(k);
+      poses[static_cast<std::size_t>(k)] = capturePoses(*built.world);
+      applyPoses(poses[static_cast<std::size_t>(k)], bodies);
+      drawing.observe(bodies);
+      simulating.update(k + 1, recorder.frameTime(k));
+    }
+  }
+
+  // 5. Frames A..B.
+  RenderProgress progress(spec.name, range.last - range.first + 1, !o.quiet);
+  Image image;
+  double renderSeconds = 0;
+  int lastDone = range.first - 1;
+  try {
+    for (int k = range.first; k <= range.last && !stop.signal(); ++k) {
+      const auto start = std::chrono::steady_clock::now();
+      applyPoses(poses[static_cast<std::size_t>(k)], bodies);
+      renderer.render(drawing.build(bodies), image);
+      sink->write(k, image);
+      renderSeconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      lastDone = k;
+      progress.update(k - range.first + 1, k);
+    }
+    progress.finish();
+    if (stop.signal() && sink->framesWritten() == 0) {
+      std::fprintf(stderr, "voxfall: interrupted before the first frame; no output written\n");
+      return 128 + stop.signal();  // the sink's destructor removes its temporary file
+    }
+    sink->finish();
+  } catch (const std::exception&) {
+    // Keep what was made: the sink finalises the frames so far (an MP4 stays playable), and
+    // main() reports the error itself with exit code 1.
+    progress.finish();
+    if (sink->framesWritten() > 0) {
+      try {
+        sink->finish();
+        std::fprintf(stderr, "voxfall: incomplete output: %s written to %s\n",
+                     frameSpan(range.first, lastDone).c_str(), sink->path().c_str());
+      } catch (const std::exception&) {
+      }
+    }
+    throw;
+  }
+  if (stop.signal()) {
+    std::fprintf(stderr, "voxfall: interrupted; %s written to %s (playable, incomplete)\n",
+                 frameSpan(range.first, lastDone).c_str(), sink->path().c_str());
+    printSummary(stdout, spec.name, recorder.summary());
+    return 128 + stop.signal();  // 130 for SIGINT, 143 for SIGTERM, as the shell would say
+  }
+
+  const int drawn = range.last - range.first + 1;
+  printSummary(stdout, spec.name, recorder.summary());
+  std::printf("  rendered %s (%dx%d, %s, %s) in %.2f s: %.2f frames/s\n",
+              frameSpan(range.first, range.last).c_str(), width, height,
+              renderer.antialiasing().c_str(), gl::backendName(gl::parseBackend(o.gl)),
+              renderSeconds, renderSeconds > 0 ? drawn / renderSeconds : 0.0);
+  std::printf("  output %s\n", sink->path().c_str());
+  return 0;
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, int& exitCode) {
+  // Owned by the callback: CLI11 fills it during parse, after this function has returned.
+  auto o = std::make_shared<RenderOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "render", "Simulate a scene and render its frames to an MP4 or a PNG sequence");
+  sub->add_option("SCENE", o->scene, "scene file (TOML)")->required()->type_name("");
+  sub->add_option("-o,--output", o->output,
+                  "OUT.mp4 (H.264), or a PNG pattern whose '#' run becomes the frame number, "
+                  "e.g. out/cubes/frame_####.png (default: out/<scene name>.mp4)")
+      ->type_name("OUT");
+  sub->add_option("--frames", o->frames,
+                  "frames to draw, A:B inclusive (30:30 is one frame; the simulation still "
+                  "starts at t = 0)")
+      ->type_name("A:B");
+  sub->add_option("--size", o->size, "frame size in pixels (default: the scene's, 1280x720)")
+      ->check(CLI::Validator([](std::string& text) { return checkSize(text); }, "", "WxH"))
+      ->type_name("WxH");
+  sub->add_option("--fps", o->fps, "frames per second (overrides [simulation] fps)")
+      ->check(CLI::Range(0.001, 1000.0))
+      ->type_name("N");
+  sub->add_option("--level", o->level,
+                  "voxel level Lv for every shape (overrides the scene's levels)")
+      ->type_name("N")
+      ->check(CLI::Range(kMinLevel, kMaxLevel));
+  sub->add_option(
+         "--step", o->step,
+         "time step: 'auto' (eq. 20) or seconds, e.g. 0.005 or 1/120 (overrides the scene)")
+      ->check(CLI::Validator([](std::string& text) { return checkStepOption(text); }, "", "STEP"))
+      ->type_name("S|auto");
+  sub->add_option("--crf", o->crf, "H.264 quality, 0..51, lower is better (default: 18)")
+      ->check(CLI::Range(0, 51))
+      ->type_name("N");
+  sub->add_option("--gl", o->gl, "OpenGL backend: osmesa (default) or egl (surfaceless)")
+      ->check(CLI::IsMember({"osmesa", "egl"}))
+      ->type_name("osmesa|egl");
+  sub->add_option("--shaders", o->shaders,
+                  "folder of the GLSL sources (default: next to the binary, else the source "
+                  "tree's shaders/)")
+      ->type_name("DIR");
+  sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
+  sub->callback([o, &exitCode] { exitCode = runRender(*o); });
+}
+
+}  // namespace vf::cli

@@ -1,0 +1,154 @@
+// World state -> what to draw, as plain data (no GL): meshes, instances with model matrices
+// and colours, the ground, the camera and the sun. The renderer reads a DrawList and nothing
+// else, so everything decided here (framing, colours, what casts shadows) is unit-testable.
+#pragma once
+
+#include <array>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "render/camera.h"
+#include "sim/scene/scene.h"
+#include "sim/world.h"
+
+namespace vf {
+
+// A triangle mesh to draw, shared, not copied: the renderer uploads each key once.
+struct DrawMesh {
+  const void* key = nullptr;            // identity in the GPU cache: the Shape, or the terrain
+  std::shared_ptr<const TriMesh> mesh;  // body frame (centre of mass at the origin) or world
+  std::shared_ptr<const std::vector<Vec3>> normals;  // per-vertex smooth normals; null: faceted
+};
+
+// How an instance is shaded.
+enum class Surface {
+  body,     // colour lit by sun (with shadow), sky and fill light
+  terrain,  // as body, with the colour turned towards rock on steep slopes
+  unlit,    // the flat colour, no light, no shadow (overlays and read-back tests)
+};
+
+struct DrawInstance {
+  int mesh = 0;                   // index into DrawList::meshes
+  Mat4 model = Mat4::Identity();  // mesh frame -> world: [R(q) x; 0 1] for a body
+  Color color{0.8f, 0.8f, 0.8f};  // linear RGB albedo
+  Surface surface = Surface::body;
+  bool castsShadow = true;
+};
+
+struct DrawList {
+  std::vector<DrawMesh> meshes;
+  std::vector<DrawInstance> instances;
+  std::optional<double> groundHeight;  // z of the floor plane, m; none: no floor drawn
+  CameraView camera;
+  Vec3 sunDirection = Vec3(0.3, -0.4, 0.87).normalized();  // unit, towards the sun
+  // Sphere around everything that casts a shadow: what the shadow map has to cover.
+  Vec3 casterCentre = Vec3::Zero();
+  double casterRadius = 1;
+  // The floor fades into the sky between these distances from the camera (m); its grid
+  // lines are 1 m apart with 0.1 m minor lines, so the picture shows scale.
+  double groundFadeStart = 20;
+  double groundFadeEnd = 60;
+};
+
+// What the draw list needs from one body: a World-free view, so tests can build one directly.
+struct BodyView {
+  std::shared_ptr<const Shape> shape;
+  Vec3 x = Vec3::Zero();      // centre of mass, m
+  Quat q = Quat::Identity();  // body -> world
+  bool active = true;         // released (emitters); inactive bodies are not drawn
+  Color color{0.8f, 0.8f, 0.8f};
+};
+
+// The bodies of a world with their colours; a body without a colour in `colors` gets
+// defaultBodyColor(id).
+std::vector<BodyView> bodyViews(const World& world, const std::vector<Color>& colors);
+
+
+// Per-vertex normals of a mesh with shared vertices: the mean of the normals of the triangles
+// around each vertex, weighted by their angles there (for smooth shading of terrain grids). A
+// vertex in no triangle gets +z.
+std::vector<Vec3> smoothVertexNormals(const TriMesh& mesh);
+
+// Model matrix of a body: rotation R(q) and translation x.
+Mat4 bodyModelMatrix(const Vec3& x, const Quat& q);
+
+// A bounding sphere.
+struct Sphere {
+  Vec3 centre = Vec3::Zero();
+  double radius = 0;
+};
+// Smallest sphere around both (exact for two spheres).
+Sphere enclose(const Sphere& a, const Sphere& b);
+// A sphere around all of them (the centre of their bounding box; not minimal, but simple and
+// order-independent). An empty list gives a unit sphere at the origin.
+Sphere encloseAll(std::span<const Sphere> spheres);
+
+// The automatic camera: a fixed orientation (looking 13 degrees down, from the azimuth of the
+// default CameraSpec position, so floor, shadows and the horizon show) and the position closest
+// to the scene from which every sphere added so far projects inside a view of the given
+// vertical field of view and aspect ratio, with a little air around. Exact per sphere, not via
+// one enclosing sphere, so a scene spread flat on the floor fills the picture.
+class AutoFraming {
+ public:
+  AutoFraming(double fovYDegrees, double aspect);
+  // Includes a sphere (the framing only ever grows).
+  void add(const Sphere& s);
+  bool empty() const { return empty_; }
+  // A sphere around everything added (for depth range and fade distances).
+  const Sphere& region() const { return region_; }
+  // The camera; with nothing added, one that frames a unit sphere at the origin.
+  CameraView camera() const;
+
+ private:
+  static constexpr double kMargin = 1.05;  // radii grow 5%: rounding never clips a body
+  double fovYDegrees_, halfX_ = 0, halfY_ = 0;
+  Vec3 forward_, right_, up_;
+  std::array<Vec3, 4> normals_;     // inward side-plane normals: right, left, top, bottom
+  std::array<double, 4> limits_{};  // n_j . P <= limits_[j] keeps every sphere in view
+  Sphere region_;
+  bool empty_ = true;
+};
+
+// Builds draw lists frame after frame for one run. Holds what persists between frames: the
+// camera settings, the terrain, the per-shape radii, and the region the automatic camera has
+// to frame: every body position observe()d so far (the framing only grows). `voxfall render`
+// observes every frame of the scene before drawing any, so the automatic camera holds still for
+// the whole clip and frame k looks the same whatever range is rendered; build() also observes
+// its own frame, so a lone build() frames the bodies it is given.
+class DrawListBuilder {
+ public:
+  DrawListBuilder(const CameraSpec& camera, std::optional<double> groundHeight, double aspect);
+
+  // A static terrain mesh in world coordinates, drawn with slope shading and casting shadows.
+  // It is not part of the automatic framing (see observe()).
+  void setTerrain(std::shared_ptr<const TriMesh> mesh,
+                  std::shared_ptr<const std::vector<Vec3>> normals = nullptr,
+                  Color color = Color{0.16f, 0.22f, 0.09f});
+
+  // Folds this frame's active bodies into the automatic framing.
+  void observe(std::span<const BodyView> bodies);
+  // The draw list of this frame (calls observe() first).
+  DrawList build(std::span<const BodyView> bodies);
+
+  // Radius of a shape's mesh about its centre of mass (m), cached per shape.
+  double shapeRadius(const std::shared_ptr<const Shape>& shape);
+
+ private:
+  std::vector<Sphere> bodySpheres(std::span<const BodyView> bodies, bool withGround);
+
+  CameraSpec spec_;
+  std::optional<double> ground_;
+  double aspect_;
+  AutoFraming framing_;
+  // Keyed by address; the shared_ptr keeps the shape alive so an address is never reused.
+  std::map<const Shape*, std::pair<std::shared_ptr<const Shape>, double>> radii_;
+  std::shared_ptr<const TriMesh> terrain_;
+  std::shared_ptr<const std::vector<Vec3>> terrainNormals_;
+  Color terrainColor_{};
+  Sphere terrainSphere_;
+};
+
+}  // namespace vf

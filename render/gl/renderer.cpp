@@ -1,0 +1,371 @@
+#include "render/gl/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <unordered_map>
+
+#include "render/gl/gl_api.h"
+#include "render/gl/gl_context.h"
+#include "render/gl/gpu_mesh.h"
+#include "render/gl/shader_program.h"
+
+namespace vf::gl {
+namespace {
+
+void setMatrix(const Api& gl, int location, const Mat4& m) {
+  const Eigen::Matrix4f f = m.cast<float>();  // column-major, as GL expects
+  gl.UniformMatrix4fv(location, 1, GL_FALSE, f.data());
+}
+
+void setMatrix3(const Api& gl, int location, const Mat3& m) {
+  const Eigen::Matrix3f f = m.cast<float>();
+  gl.UniformMatrix3fv(location, 1, GL_FALSE, f.data());
+}
+
+void setVec3(const Api& gl, int location, const Vec3& v) {
+  gl.Uniform3f(location, static_cast<float>(v.x()), static_cast<float>(v.y()),
+               static_cast<float>(v.z()));
+}
+
+void checkFramebuffer(const Api& gl, const char* what) {
+  const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    char code[16];
+    std::snprintf(code, sizeof code, "0x%04X", status);
+    throw GlError(std::string("could not make the ") + what + " framebuffer (status " + code + ")");
+  }
+}
+
+// Fill light: opposite the sun's azimuth, 25 degrees high, no shadow. It keeps the faces
+// turned from the sun from going flat grey, so their facets still read.
+Vec3 fillDirection(const Vec3& sun) {
+  Vec3 horizontal(-sun.x(), -sun.y(), 0);
+  if (horizontal.norm() < 1e-6) horizontal = Vec3(1, 0, 0);
+  horizontal.normalize();
+  const double elevation = 25 * std::numbers::pi / 180;
+  return (horizontal * std::cos(elevation) + Vec3::UnitZ() * std::sin(elevation)).normalized();
+}
+
+}  // namespace
+
+struct Renderer::Impl {
+  Context& context;
+  const Api& gl;
+  RenderSettings settings;
+  int samples = 1;      // MSAA samples of the scene target
+  int supersample = 1;  // scene target is this many times the frame size per axis
+  int sceneWidth = 0, sceneHeight = 0;
+
+  std::unique_ptr<ShaderProgram> sceneProgram, groundProgram, skyProgram, shadowProgram,
+      presentProgram;
+  unsigned emptyVao = 0;  // core profile needs a bound VAO even for attribute-less draws
+  unsigned shadowFbo = 0, shadowTexture = 0;
+  unsigned sceneFbo = 0, sceneColor = 0, sceneDepth = 0;
+  unsigned resolveFbo = 0, resolveTexture = 0;
+  unsigned presentFbo = 0, presentColor = 0;
+
+  struct MeshEntry {
+    std::shared_ptr<const TriMesh> pin;  // keeps the key's owner alive: keys are never reused
+    std::unique_ptr<GpuMesh> mesh;
+  };
+  std::unordered_map<const void*, MeshEntry> meshes;  // lookup only, never iterated
+  std::vector<std::uint8_t> readback;
+
+  Impl(Context& c, const RenderSettings& s) : context(c), gl(c.api()), settings(s) {}
+  ~Impl();
+  void createTargets();
+  const GpuMesh& mesh(const DrawMesh& m);
+  void shadowPass(const DrawList& list, const ShadowProjection& shadow);
+  void scenePass(const DrawList& list, const ShadowProjection& shadow);
+  void presentPass();
+};
+
+Renderer::Impl::~Impl() {
+  meshes.clear();
+  gl.DeleteFramebuffers(1, &shadowFbo);
+  gl.DeleteTextures(1, &shadowTexture);
+  gl.DeleteFramebuffers(1, &sceneFbo);
+  gl.DeleteRenderbuffers(1, &sceneColor);
+  gl.DeleteRenderbuffers(1, &sceneDepth);
+  gl.DeleteFramebuffers(1, &resolveFbo);
+  gl.DeleteTextures(1, &resolveTexture);
+  gl.DeleteFramebuffers(1, &presentFbo);
+  gl.DeleteRenderbuffers(1, &presentColor);
+  gl.DeleteVertexArrays(1, &emptyVao);
+}
+
+void Renderer::Impl::createTargets() {
+  GLint maxSamples = 0;
+  gl.GetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+  if (settings.samples > 1 && maxSamples >= settings.samples) {
+    samples = settings.samples;
+  } else if (settings.samples > 1) {
+    supersample = 2;  // no multisampling to be had: render 4x the pixels and average
+  }
+  sceneWidth = settings.width * supersample;
+  sceneHeight = settings.height * supersample;
+
+  // Shadow map: 32-bit float depth, compared in the sampler (hardware 2x2 PCF with linear
+  // filtering); outside the map counts as lit.
+  gl.GenTextures(1, &shadowTexture);
+  gl.BindTexture(GL_TEXTURE_2D, shadowTexture);
+  gl.TexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, settings.shadowMapSize,
+                settings.shadowMapSize, 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+  const float border[4] = {1, 1, 1, 1};
+  gl.TexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, border);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  gl.GenFramebuffers(1, &shadowFbo);
+  gl.BindFramebuffer(GL_FRAMEBUFFER, shadowFbo);
+  gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, shadowTexture, 0);
+  gl.DrawBuffer(GL_NONE);
+  gl.ReadBuffer(GL_NONE);
+  checkFramebuffer(gl, "shadow-map");
+
+  // Scene: linear light in half floats (no banding in dark shadows before encoding), 32-bit
+  // float depth (bodies resting on the floor do not z-fight with it).
+  gl.GenRenderbuffers(1, &sceneColor);
+  gl.BindRenderbuffer(GL_RENDERBUFFER, sceneColor);
+  gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples > 1 ? samples : 0, GL_RGBA16F,
+                                    sceneWidth, sceneHeight);
+  gl.GenRenderbuffers(1, &sceneDepth);
+  gl.BindRenderbuffer(GL_RENDERBUFFER, sceneDepth);
+  gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples > 1 ? samples : 0,
+                                    GL_DEPTH_COMPONENT32F, sceneWidth, sceneHeight);
+  gl.GenFramebuffers(1, &sceneFbo);
+  gl.BindFramebuffer(GL_FRAMEBUFFER, sceneFbo);
+  gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, sceneColor);
+  gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, sceneDepth);
+  checkFramebuffer(gl, "scene");
+
+  // Resolved scene, read by the present pass.
+  gl.GenTextures(1, &resolveTexture);
+  gl.BindTexture(GL_TEXTURE_2D, resolveTexture);
+  gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA16F, sceneWidth, sceneHeight, 0, GL_RGBA, GL_FLOAT,
+                nullptr);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  gl.GenFramebuffers(1, &resolveFbo);
+  gl.BindFramebuffer(GL_FRAMEBUFFER, resolveFbo);
+  gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, resolveTexture, 0);
+  checkFramebuffer(gl, "resolve");
+
+  // Output: 8-bit sRGB-encoded values (the encoding is done in present.frag).
+  gl.GenRenderbuffers(1, &presentColor);
+  gl.BindRenderbuffer(GL_RENDERBUFFER, presentColor);
+  gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, 0, GL_RGBA8, settings.width, settings.height);
+  gl.GenFramebuffers(1, &presentFbo);
+  gl.BindFramebuffer(GL_FRAMEBUFFER, presentFbo);
+  gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, presentColor);
+  checkFramebuffer(gl, "output");
+
+  gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl.GenVertexArrays(1, &emptyVao);
+}
+
+const GpuMesh& Renderer::Impl::mesh(const DrawMesh& m) {
+  auto it = meshes.find(m.key);
+  if (it == meshes.end()) {
+    MeshEntry entry{m.mesh, std::make_unique<GpuMesh>(gl, *m.mesh, m.normals.get())};
+    it = meshes.emplace(m.key, std::move(entry)).first;
+  }
+  return *it->second.mesh;
+}
+
+void Renderer::Impl::shadowPass(const DrawList& list, const ShadowProjection& shadow) {
+  gl.BindFramebuffer(GL_FRAMEBUFFER, shadowFbo);
+  gl.Viewport(0, 0, settings.shadowMapSize, settings.shadowMapSize);
+  gl.ClearDepth(1.0);
+  gl.Clear(GL_DEPTH_BUFFER_BIT);
+  gl.Enable(GL_DEPTH_TEST);
+  gl.DepthFunc(GL_LESS);
+  gl.DepthMask(GL_TRUE);
+  shadowProgram->use();
+  setMatrix(gl, shadowProgram->uniform("uLightViewProjection"), shadow.viewProjection);
+  for (const DrawInstance& inst : list.instances) {
+    if (!inst.castsShadow || inst.surface == Surface::unlit) continue;
+    setMatrix(gl, shadowProgram->uniform("uModel"), inst.model);
+    mesh(list.meshes[static_cast<std::size_t>(inst.mesh)]).draw();
+  }
+}
+
+void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& shadow) {
+  const double aspect = static_cast<double>(settings.width) / settings.height;
+  const Mat4 view = list.camera.viewMatrix();
+  const Mat4 projection = list.camera.projectionMatrix(aspect);
+  const Mat4 viewProjection = projection * view;
+  const Vec3 sun = list.sunDirection.normalized();
+  const Vec3 fill = fillDirection(sun);
+
+  gl.BindFramebuffer(GL_FRAMEBUFFER, sceneFbo);
+  gl.Viewport(0, 0, sceneWidth, sceneHeight);
+  gl.ClearColor(0, 0, 0, 1);
+  gl.ClearDepth(1.0);
+  gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  gl.Enable(GL_DEPTH_TEST);
+  gl.DepthFunc(GL_LESS);
+  gl.DepthMask(GL_TRUE);
+  gl.ActiveTexture(GL_TEXTURE0);
+  gl.BindTexture(GL_TEXTURE_2D, shadowTexture);
+
+  // Uniforms of common.glsl, the same in every program that includes it.
+  auto setCommon = [&](ShaderProgram& p) {
+    p.use();
+    setMatrix(gl, p.uniform("uViewProjection"), viewProjection);
+    setVec3(gl, p.uniform("uCameraPos"), list.camera.position);
+    setVec3(gl, p.uniform("uSunDir"), sun);
+    setVec3(gl, p.uniform("uFillDir"), fill);
+    gl.Uniform1f(p.uniform("uFadeStart"), static_cast<float>(list.groundFadeStart));
+    gl.Uniform1f(p.uniform("uFadeEnd"), static_cast<float>(list.groundFadeEnd));
+    gl.Uniform1i(p.uniform("uShadowMap"), 0);
+    setMatrix(gl, p.uniform("uLightViewProjection"), shadow.viewProjection);
+    gl.Uniform1f(p.uniform("uShadowTexel"), static_cast<float>(shadow.texelSize));
+    // Half a texel of constant depth bias; the normal offset in common.glsl does the rest.
+    gl.Uniform1f(p.uniform("uShadowBias"),
+                 static_cast<float>(0.5 * shadow.texelSize / shadow.depthRange));
+    gl.Uniform1f(p.uniform("uShadowFilter"), 1.6f / static_cast<float>(settings.shadowMapSize));
+  };
+
+  // Bodies and terrain first: the floor and the sky then only shade what is still visible.
+  setCommon(*sceneProgram);
+  for (const DrawInstance& inst : list.instances) {
+    setMatrix(gl, sceneProgram->uniform("uModel"), inst.model);
+    const Mat3 normalMatrix = inst.model.block<3, 3>(0, 0).inverse().transpose();
+    setMatrix3(gl, sceneProgram->uniform("uNormalMatrix"), normalMatrix);
+    gl.Uniform3f(sceneProgram->uniform("uColor"), inst.color[0], inst.color[1], inst.color[2]);
+    gl.Uniform1i(sceneProgram->uniform("uSurface"), static_cast<int>(inst.surface));
+    mesh(list.meshes[static_cast<std::size_t>(inst.mesh)]).draw();
+  }
+
+  gl.BindVertexArray(emptyVao);
+  if (list.groundHeight) {
+    setCommon(*groundProgram);
+    // A square around the camera reaching past the fade distance: beyond it the floor has
+    // faded into the sky colour, which the sky pass continues seamlessly.
+    const double half = list.groundFadeEnd * 1.02;
+    const Eigen::Vector2d c = list.camera.position.head<2>();
+    gl.Uniform1f(groundProgram->uniform("uGroundHeight"), static_cast<float>(*list.groundHeight));
+    gl.Uniform2f(groundProgram->uniform("uGroundMin"), static_cast<float>(c.x() - half),
+                 static_cast<float>(c.y() - half));
+    gl.Uniform2f(groundProgram->uniform("uGroundMax"), static_cast<float>(c.x() + half),
+                 static_cast<float>(c.y() + half));
+    // Pushed back a little in depth: where a terrain lies exactly at the floor's level (a
+    // valley floor), the terrain wins instead of the two z-fighting in stripes.
+    gl.Enable(GL_POLYGON_OFFSET_FILL);
+    gl.PolygonOffset(1.0f, 4.0f);
+    gl.DrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    gl.Disable(GL_POLYGON_OFFSET_FILL);
+  }
+
+  // Sky: a full-screen triangle at the far plane, drawn only where nothing else was.
+  setCommon(*skyProgram);
+  Mat4 viewRotation = view;
+  viewRotation.block<3, 1>(0, 3).setZero();
+  setMatrix(gl, skyProgram->uniform("uInverseViewProjection"),
+            (projection * viewRotation).inverse());
+  gl.Uniform2f(skyProgram->uniform("uViewportSize"), static_cast<float>(sceneWidth),
+               static_cast<float>(sceneHeight));
+  gl.DepthFunc(GL_LEQUAL);
+  gl.DepthMask(GL_FALSE);
+  gl.DrawArrays(GL_TRIANGLES, 0, 3);
+  gl.DepthMask(GL_TRUE);
+  gl.DepthFunc(GL_LESS);
+
+  // Resolve the samples (averaging linear light, which is what makes edges look right).
+  gl.BindFramebuffer(GL_READ_FRAMEBUFFER, sceneFbo);
+  gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, resolveFbo);
+  gl.BlitFramebuffer(0, 0, sceneWidth, sceneHeight, 0, 0, sceneWidth, sceneHeight,
+                     GL_COLOR_BUFFER_BIT, GL_NEAREST);
+}
+
+void Renderer::Impl::presentPass() {
+  gl.BindFramebuffer(GL_FRAMEBUFFER, presentFbo);
+  gl.Viewport(0, 0, settings.width, settings.height);
+  gl.Disable(GL_DEPTH_TEST);
+  presentProgram->use();
+  gl.ActiveTexture(GL_TEXTURE0);
+  gl.BindTexture(GL_TEXTURE_2D, resolveTexture);
+  gl.Uniform1i(presentProgram->uniform("uImage"), 0);
+  gl.Uniform1i(presentProgram->uniform("uSupersample"), supersample);
+  gl.Uniform1i(presentProgram->uniform("uDither"), settings.dither ? 1 : 0);
+  gl.BindVertexArray(emptyVao);
+  gl.DrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+Renderer::Renderer(Context& context, const RenderSettings& settings)
+    : impl_(std::make_unique<Impl>(context, settings)) {
+  if (settings.width < 1 || settings.height < 1 || settings.width > 16384 ||
+      settings.height > 16384) {
+    throw GlError("frame size " + std::to_string(settings.width) + "x" +
+                  std::to_string(settings.height) + " is out of range (1..16384 per side)");
+  }
+  Impl& r = *impl_;
+  const std::string& dir = settings.shaderDir;
+  r.sceneProgram = std::make_unique<ShaderProgram>(r.gl, dir, "scene.vert", "scene.frag");
+  r.groundProgram = std::make_unique<ShaderProgram>(r.gl, dir, "ground.vert", "ground.frag");
+  r.skyProgram = std::make_unique<ShaderProgram>(r.gl, dir, "fullscreen.vert", "sky.frag");
+  r.shadowProgram = std::make_unique<ShaderProgram>(r.gl, dir, "shadow.vert", "shadow.frag");
+  r.presentProgram = std::make_unique<ShaderProgram>(r.gl, dir, "fullscreen.vert", "present.frag");
+  r.createTargets();
+  const GLenum error = r.gl.GetError();
+  if (error != GL_NO_ERROR) {
+    throw GlError("OpenGL error " + std::to_string(error) + " while setting up the renderer");
+  }
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::render(const DrawList& list, Image& out) {
+  Impl& r = *impl_;
+  const Api& gl = r.gl;
+  const ShadowProjection shadow =
+      fitShadowProjection(list.sunDirection, list.casterCentre, list.casterRadius,
+                          list.groundHeight.value_or(list.casterCentre.z() - list.casterRadius),
+                          r.settings.shadowMapSize);
+  r.shadowPass(list, shadow);
+  r.scenePass(list, shadow);
+  r.presentPass();
+
+  const int w = r.settings.width, h = r.settings.height;
+  r.readback.resize(static_cast<std::size_t>(w) * h * 4);
+  gl.BindFramebuffer(GL_READ_FRAMEBUFFER, r.presentFbo);
+  gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+  gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+  gl.ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, r.readback.data());
+  const GLenum error = gl.GetError();
+  if (error != GL_NO_ERROR) {
+    throw GlError("OpenGL error " + std::to_string(error) + " while rendering a frame");
+  }
+  // GL's rows run bottom to top; images run top to bottom.
+  if (out.width != w || out.height != h) out = Image(w, h);
+  for (int y = 0; y < h; ++y) {
+    const std::uint8_t* src = r.readback.data() + static_cast<std::size_t>(h - 1 - y) * w * 4;
+    std::uint8_t* dst = out.pixel(0, y);
+    for (int x = 0; x < w; ++x) {
+      dst[3 * x + 0] = src[4 * x + 0];
+      dst[3 * x + 1] = src[4 * x + 1];
+      dst[3 * x + 2] = src[4 * x + 2];
+    }
+  }
+}
+
+Image Renderer::render(const DrawList& list) {
+  Image image;
+  render(list, image);
+  return image;
+}
+
+std::string Renderer::antialiasing() const {
+  if (impl_->samples > 1) return std::to_string(impl_->samples) + "x MSAA";
+  if (impl_->supersample > 1) return "2x2 supersampling";
+  return "none";
+}
+
+const RenderSettings& Renderer::settings() const { return impl_->settings; }
+
+}  // namespace vf::gl

@@ -1,0 +1,54 @@
+// Draws a DrawList off-screen and reads the frame back. One Renderer per context and frame
+// size; it keeps the GPU copies of meshes (one per DrawMesh key) between frames.
+//
+// A frame: shadow map from the sun (orthographic, fitted to the casters) -> scene into a
+// multisampled linear-light HDR target (bodies, floor with grid, sky) -> resolve -> present
+// (highlight shoulder, sRGB encoding, ordered dither) into 8 bits -> read back top row first.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "render/draw_list.h"
+#include "render/image.h"
+
+namespace vf::gl {
+
+class Context;
+
+struct RenderSettings {
+  int width = 1280;  // pixels
+  int height = 720;
+  // Multisample anti-aliasing samples; where the context offers fewer than asked (and more
+  // than 1 was asked), 2x2 supersampling is used instead.
+  int samples = 4;
+  int shadowMapSize = 2048;  // texels per side
+  // Ordered (Bayer) dither of +-0.5 of an 8-bit step before quantising, against banding in the
+  // sky gradient and soft shadows. Deterministic: a fixed pattern of the pixel position.
+  bool dither = true;
+  std::string shaderDir;  // from findShaderDir()
+};
+
+class Renderer {
+ public:
+  // Compiles the shaders and makes the framebuffers. The context must be current and outlive
+  // the renderer. Throws InputError for shader problems, GlError for GL ones.
+  Renderer(Context& context, const RenderSettings& settings);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Draws one frame into `out` (resized to width x height): RGB8, sRGB, top row first.
+  void render(const DrawList& list, Image& out);
+  Image render(const DrawList& list);
+
+  // "4x MSAA" or "2x2 supersampling": what anti-aliasing the context allowed.
+  std::string antialiasing() const;
+  const RenderSettings& settings() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vf::gl

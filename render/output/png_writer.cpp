@@ -1,0 +1,62 @@
+#include "render/output/png_writer.h"
+
+#include <png.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "sim/core/error.h"
+
+namespace vf {
+
+std::string expandFramePattern(const std::string& pattern, int frame) {
+  const std::size_t last = pattern.find_last_of('#');
+  if (last == std::string::npos) return pattern;
+  std::size_t first = last;
+  while (first > 0 && pattern[first - 1] == '#') --first;
+  const std::size_t width = last - first + 1;
+  std::string number = std::to_string(frame < 0 ? -frame : frame);
+  if (number.size() < width) number.insert(0, width - number.size(), '0');
+  if (frame < 0) number.insert(0, 1, '-');
+  return pattern.substr(0, first) + number + pattern.substr(last + 1);
+}
+
+void writePng(const std::string& path, const Image& image) {
+  const std::string temporary = path + ".part";
+  std::FILE* file = std::fopen(temporary.c_str(), "wb");
+  if (!file) {
+    throw InputError(path, std::string("cannot write PNG: ") + std::strerror(errno) +
+                               " (does the folder exist and is it writable?)");
+  }
+  // libpng's simplified API: errors come back as a return value and a message instead of a
+  // longjmp through C++ frames. It tags 8-bit non-linear data as sRGB.
+  png_image png;
+  std::memset(&png, 0, sizeof png);
+  png.version = PNG_IMAGE_VERSION;
+  png.width = static_cast<png_uint_32>(image.width);
+  png.height = static_cast<png_uint_32>(image.height);
+  png.format = PNG_FORMAT_RGB;
+  const bool encoded =
+      png_image_write_to_stdio(&png, file, 0, image.rgb.data(), image.width * 3, nullptr) != 0;
+  const std::string pngMessage = png.message;
+  png_image_free(&png);
+  const bool closed = std::fclose(file) == 0;
+  if (!encoded || !closed) {
+    const std::string why = !encoded ? pngMessage : std::strerror(errno);
+    std::remove(temporary.c_str());
+    throw InputError(path, "cannot write PNG: " + why);
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    std::remove(temporary.c_str());
+    throw InputError(path, "cannot rename finished PNG into place: " + why);
+  }
+}
+
+void PngSequenceWriter::write(int index, const Image& image) {
+  writePng(expandFramePattern(pattern_, index), image);
+  ++frames_;
+}
+
+}  // namespace vf

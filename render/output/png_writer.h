@@ -1,0 +1,33 @@
+// PNG output through libpng (the only file that includes png.h is png_writer.cpp).
+#pragma once
+
+#include <string>
+
+#include "render/output/frame_sink.h"
+
+namespace vf {
+
+// Blender's frame-number convention: the last run of '#' in `pattern` becomes `frame`
+// zero-padded to the run's length ("f_####.png", 7 -> "f_0007.png"; a number wider than the
+// run is written whole). A pattern without '#' is returned unchanged.
+std::string expandFramePattern(const std::string& pattern, int frame);
+
+// Writes an 8-bit RGB PNG (tagged sRGB) to `path` via `path.part` and a rename. On failure
+// throws InputError(path, reason) and leaves neither file behind.
+void writePng(const std::string& path, const Image& image);
+
+// One PNG per frame: expandFramePattern(pattern, index).
+class PngSequenceWriter final : public FrameSink {
+ public:
+  explicit PngSequenceWriter(std::string pattern) : pattern_(std::move(pattern)) {}
+  void write(int index, const Image& image) override;
+  void finish() override {}  // every frame is complete once written
+  int framesWritten() const override { return frames_; }
+  std::string path() const override { return pattern_; }
+
+ private:
+  std::string pattern_;
+  int frames_ = 0;
+};
+
+}  // namespace vf

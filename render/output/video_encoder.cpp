@@ -1,0 +1,237 @@
+#include "render/output/video_encoder.h"
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/imgutils.h>
+#include <libavutil/opt.h>
+#include <libswscale/swscale.h>
+}
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+#include "sim/core/error.h"
+
+namespace vf {
+namespace {
+
+std::string avError(int code) {
+  char text[AV_ERROR_MAX_STRING_SIZE] = {0};
+  av_strerror(code, text, sizeof text);
+  return text;
+}
+
+}  // namespace
+
+struct VideoEncoder::Impl {
+  std::string path;
+  std::string temporary;
+  VideoSettings settings;
+  AVRational rate{30, 1};
+  AVFormatContext* format = nullptr;
+  AVCodecContext* codec = nullptr;
+  AVStream* stream = nullptr;
+  AVFrame* frame = nullptr;
+  AVPacket* packet = nullptr;
+  SwsContext* scaler = nullptr;
+  int frames = 0;
+  int lastIndex = -1;
+  bool finished = false;
+
+  ~Impl() { release(); }
+  void release();
+  void fail(const std::string& what, int code) {
+    throw InputError(path, what + (code < 0 ? ": " + avError(code) : std::string()));
+  }
+  void drain();  // moves every packet the encoder has ready into the file
+};
+
+void VideoEncoder::Impl::release() {
+  sws_freeContext(scaler);
+  scaler = nullptr;
+  av_packet_free(&packet);
+  av_frame_free(&frame);
+  avcodec_free_context(&codec);
+  if (format) {
+    if (format->pb) avio_closep(&format->pb);
+    avformat_free_context(format);
+    format = nullptr;
+  }
+}
+
+void VideoEncoder::Impl::drain() {
+  for (;;) {
+    const int got = avcodec_receive_packet(codec, packet);
+    if (got == AVERROR(EAGAIN) || got == AVERROR_EOF) return;
+    if (got < 0) fail("H.264 encoding failed", got);
+    av_packet_rescale_ts(packet, codec->time_base, stream->time_base);
+    packet->stream_index = stream->index;
+    const int written = av_interleaved_write_frame(format, packet);
+    if (written < 0) fail("cannot write video data", written);
+  }
+}
+
+VideoEncoder::VideoEncoder(const std::string& path, const VideoSettings& settings)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& e = *impl_;
+  e.path = path;
+  e.temporary = path + ".part";
+  e.settings = settings;
+  if (settings.width < 2 || settings.height < 2 || settings.width % 2 || settings.height % 2) {
+    throw InputError(path, "MP4 frame size " + std::to_string(settings.width) + "x" +
+                               std::to_string(settings.height) +
+                               " must be even in both directions (yuv420p halves the colour "
+                               "resolution); use e.g. --size " +
+                               std::to_string(settings.width + settings.width % 2) + "x" +
+                               std::to_string(settings.height + settings.height % 2));
+  }
+  if (!(settings.fps > 0) || settings.fps > 1000) {
+    throw InputError(path, "MP4 frame rate must be in (0, 1000] frames per second");
+  }
+  if (settings.crf < 0 || settings.crf > 51) {
+    throw InputError(path, "H.264 crf must be in 0..51 (lower is better; 18 looks lossless)");
+  }
+  // The libraries' informational chatter ("using cpu capabilities ...") is not for users.
+  av_log_set_level(AV_LOG_ERROR);
+
+  // 30 -> 30/1, 29.97 -> 2997/100: exact for the rates people use.
+  e.rate = av_d2q(settings.fps, 100000);
+  const AVCodec* x264 = avcodec_find_encoder_by_name("libx264");
+  if (!x264) {
+    throw InputError(path,
+                     "this libavcodec has no libx264 encoder (Debian: apt install "
+                     "libavcodec-extra or a build with --enable-libx264)");
+  }
+  int status = avformat_alloc_output_context2(&e.format, nullptr, "mp4", e.temporary.c_str());
+  if (status < 0 || !e.format) e.fail("cannot set up the MP4 muxer", status);
+  e.format->flags |= AVFMT_FLAG_BITEXACT;  // no "Lavf" version string in the file
+
+  e.stream = avformat_new_stream(e.format, nullptr);
+  e.codec = avcodec_alloc_context3(x264);
+  e.frame = av_frame_alloc();
+  e.packet = av_packet_alloc();
+  if (!e.stream || !e.codec || !e.frame || !e.packet) e.fail("out of memory", 0);
+
+  AVCodecContext& c = *e.codec;
+  c.width = settings.width;
+  c.height = settings.height;
+  c.pix_fmt = AV_PIX_FMT_YUV420P;
+  c.time_base = av_inv_q(e.rate);
+  c.framerate = e.rate;
+  c.gop_size = std::max(1, static_cast<int>(settings.fps * 2 + 0.5));  // a keyframe every 2 s
+  c.thread_count = 1;  // determinism: x264's output depends on its thread count
+  c.color_range = AVCOL_RANGE_MPEG;
+  c.color_primaries = AVCOL_PRI_BT709;
+  c.color_trc = AVCOL_TRC_BT709;
+  c.colorspace = AVCOL_SPC_BT709;
+  c.flags |= AV_CODEC_FLAG_BITEXACT;
+  if (e.format->oformat->flags & AVFMT_GLOBALHEADER) c.flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+  AVDictionary* codecOptions = nullptr;
+  av_dict_set(&codecOptions, "preset", "medium", 0);
+  av_dict_set_int(&codecOptions, "crf", settings.crf, 0);
+  status = avcodec_open2(e.codec, x264, &codecOptions);
+  av_dict_free(&codecOptions);
+  if (status < 0) e.fail("cannot open the H.264 encoder", status);
+  status = avcodec_parameters_from_context(e.stream->codecpar, e.codec);
+  if (status < 0) e.fail("cannot set up the video stream", status);
+  e.stream->time_base = c.time_base;
+  e.stream->avg_frame_rate = e.rate;
+
+  e.frame->format = c.pix_fmt;
+  e.frame->width = c.width;
+  e.frame->height = c.height;
+  e.frame->color_range = c.color_range;
+  e.frame->colorspace = c.colorspace;
+  status = av_frame_get_buffer(e.frame, 0);
+  if (status < 0) e.fail("out of memory", status);
+
+  // RGB (sRGB-encoded, full range) -> BT.709 limited-range YUV 4:2:0, bit-exact rounding.
+  e.scaler =
+      sws_getContext(c.width, c.height, AV_PIX_FMT_RGB24, c.width, c.height, AV_PIX_FMT_YUV420P,
+                     SWS_BICUBIC | SWS_ACCURATE_RND | SWS_BITEXACT, nullptr, nullptr, nullptr);
+  if (!e.scaler) e.fail("cannot set up the RGB to YUV conversion", 0);
+  sws_setColorspaceDetails(e.scaler, sws_getCoefficients(SWS_CS_ITU709), 1,
+                           sws_getCoefficients(SWS_CS_ITU709), 0, 0, 1 << 16, 1 << 16);
+
+  status = avio_open(&e.format->pb, e.temporary.c_str(), AVIO_FLAG_WRITE);
+  if (status < 0) {
+    e.fail("cannot write " + e.temporary + " (does the folder exist and is it writable?)", status);
+  }
+  AVDictionary* muxOptions = nullptr;
+  // Index at the front (plays while downloading); track timescale = fps numerator, so the
+  // file's timestamps are the frame numbers themselves (times den) and not a rescaled 1/15360.
+  av_dict_set(&muxOptions, "movflags", "+faststart", 0);
+  av_dict_set_int(&muxOptions, "video_track_timescale", e.rate.num, 0);
+  status = avformat_write_header(e.format, &muxOptions);
+  av_dict_free(&muxOptions);
+  if (status < 0) {
+    e.release();
+    std::remove(e.temporary.c_str());
+    throw InputError(path, "cannot write the MP4 header: " + avError(status));
+  }
+}
+
+VideoEncoder::~VideoEncoder() {
+  Impl& e = *impl_;
+  if (e.finished) return;
+  if (e.frames > 0) {
+    // Interrupted or failed: keep what was made, as a playable file.
+    try {
+      finish();
+      return;
+    } catch (...) {
+    }
+  }
+  e.release();
+  std::remove(e.temporary.c_str());
+}
+
+void VideoEncoder::write(int index, const Image& image) {
+  Impl& e = *impl_;
+  if (e.finished) throw std::logic_error("VideoEncoder::write after finish");
+  if (index <= e.lastIndex) throw std::logic_error("VideoEncoder: frame indices must increase");
+  if (image.width != e.settings.width || image.height != e.settings.height) {
+    throw std::logic_error("VideoEncoder: frame size differs from the video's");
+  }
+  int status = av_frame_make_writable(e.frame);
+  if (status < 0) e.fail("out of memory", status);
+  const std::uint8_t* source[1] = {image.rgb.data()};
+  const int sourceStride[1] = {image.width * 3};
+  sws_scale(e.scaler, source, sourceStride, 0, image.height, e.frame->data, e.frame->linesize);
+  e.frame->pts = index;  // in 1/fps: frame k at t = k / fps
+  status = avcodec_send_frame(e.codec, e.frame);
+  if (status < 0) e.fail("H.264 encoding failed", status);
+  e.drain();
+  e.lastIndex = index;
+  ++e.frames;
+}
+
+void VideoEncoder::finish() {
+  Impl& e = *impl_;
+  if (e.finished) return;
+  e.finished = true;  // whatever happens below, the destructor must not try again
+  try {
+    int status = avcodec_send_frame(e.codec, nullptr);  // flush the delayed frames
+    if (status < 0) e.fail("H.264 encoding failed", status);
+    e.drain();
+    status = av_write_trailer(e.format);
+    if (status < 0) e.fail("cannot finish the MP4 file", status);
+    status = avio_closep(&e.format->pb);
+    if (status < 0) e.fail("cannot close the MP4 file", status);
+    e.release();
+    if (std::rename(e.temporary.c_str(), e.path.c_str()) != 0) {
+      e.fail("cannot rename " + e.temporary + " into place", 0);
+    }
+  } catch (...) {
+    e.release();
+    std::remove(e.temporary.c_str());
+    throw;
+  }
+}
+
+int VideoEncoder::framesWritten() const { return impl_->frames; }
+std::string VideoEncoder::path() const { return impl_->path; }
+
+}  // namespace vf

@@ -1,0 +1,81 @@
+// Shared by the scene, ground and sky fragment shaders (included with #include "common.glsl"):
+// the sky gradient, the distance fade into it, and the lighting model. Colours are linear RGB;
+// present.frag applies the highlight shoulder and the sRGB encoding.
+
+uniform vec3 uCameraPos;             // m
+uniform vec3 uSunDir;                // unit, towards the sun
+uniform vec3 uFillDir;               // unit, towards the fill light (casts no shadow)
+uniform float uFadeStart;            // m from the camera: things start fading into the sky...
+uniform float uFadeEnd;              // ...and are sky from here on
+uniform sampler2DShadow uShadowMap;  // sun depth, compared in the sampler
+uniform mat4 uLightViewProjection;   // world -> sun clip space
+uniform float uShadowTexel;          // m per shadow-map texel
+uniform float uShadowBias;           // constant depth bias, shadow-map depth units
+uniform float uShadowFilter;         // radius of the filter footprint, shadow-map uv units
+
+// Sky gradient. The formula is restated in tests/render/readback_test.cpp: change both.
+const vec3 kZenith = vec3(0.170, 0.320, 0.660);
+const vec3 kHorizon = vec3(0.700, 0.760, 0.840);
+const vec3 kBelowHorizon = vec3(0.560, 0.590, 0.620);
+
+// Light. Sun about 2.3x the sky's ambient: crisp shadows that are still not black.
+const vec3 kSunColor = vec3(1.75, 1.68, 1.55);
+const vec3 kSkyLight = vec3(0.40, 0.46, 0.57);     // ambient arriving from above
+const vec3 kGroundLight = vec3(0.17, 0.16, 0.15);  // ambient bounced up from the floor
+const vec3 kFillColor = vec3(0.16, 0.17, 0.20);
+
+// Sky colour along unit direction d: only its elevation matters. Above the horizon a cubic
+// ease from haze to deep blue; below it the haze darkens quickly to the colour the floor fades
+// into.
+vec3 skyColor(vec3 d) {
+  float e = clamp(d.z, -1.0, 1.0);
+  if (e >= 0.0) {
+    float u = 1.0 - e;
+    return mix(kHorizon, kZenith, 1.0 - u * u * u);
+  }
+  return mix(kHorizon, kBelowHorizon, min(-e * 8.0, 1.0));
+}
+
+// Aerial perspective: far surfaces dissolve into the sky behind them, so the floor has no
+// hard edge and its grid fades with distance.
+vec3 fadeIntoSky(vec3 color, vec3 worldPos) {
+  vec3 d = worldPos - uCameraPos;
+  float dist = length(d);
+  return mix(color, skyColor(d / dist), smoothstep(uFadeStart, uFadeEnd, dist));
+}
+
+// A fixed Poisson disc: 12 well-spread taps, each itself a 2x2 bilinear comparison.
+const vec2 kPoisson[12] = vec2[](
+    vec2(-0.326, -0.406), vec2(-0.840, -0.074), vec2(-0.696, 0.457), vec2(-0.203, 0.621),
+    vec2(0.962, -0.195), vec2(0.473, -0.480), vec2(0.519, 0.767), vec2(0.185, -0.893),
+    vec2(0.507, 0.064), vec2(0.896, 0.412), vec2(-0.322, -0.933), vec2(-0.792, -0.598));
+
+// Fraction of the sun visible from surface point p with unit normal n (cosine = n . sun > 0).
+float sunVisibility(vec3 p, vec3 n, float cosine) {
+  // Normal offset instead of a large depth bias: the lookup point moves off the surface by
+  // about a texel, more at grazing angles where one texel spans a long stretch of surface.
+  // That removes acne without pushing shadows away from where bodies touch the floor
+  // (peter-panning), which a depth bias of the same strength would.
+  float tangent = sqrt(max(1.0 - cosine * cosine, 0.0)) / max(cosine, 0.05);
+  vec3 q = p + n * uShadowTexel * (1.0 + min(tangent, 3.0));
+  vec3 s = (uLightViewProjection * vec4(q, 1.0)).xyz * 0.5 + 0.5;
+  if (s.z >= 1.0) return 1.0;
+  float lit = 0.0;
+  for (int i = 0; i < 12; ++i) {
+    lit += texture(uShadowMap, vec3(s.xy + kPoisson[i] * uShadowFilter, s.z - uShadowBias));
+  }
+  return lit / 12.0;
+}
+
+// Lit colour of a surface with linear albedo at p, unit normal n: sun (shadowed), sky
+// ambient by hemisphere, an unshadowed fill from the other side, a faint sun highlight.
+vec3 shade(vec3 albedo, vec3 p, vec3 n) {
+  float cosine = dot(n, uSunDir);
+  float sun = 0.0;
+  if (cosine > 0.0) sun = cosine * sunVisibility(p, n, cosine);
+  vec3 ambient = mix(kGroundLight, kSkyLight, 0.5 + 0.5 * n.z);
+  float fill = max(dot(n, uFillDir), 0.0);
+  vec3 h = normalize(uSunDir + normalize(uCameraPos - p));
+  float highlight = sun > 0.0 ? 0.10 * pow(max(dot(n, h), 0.0), 40.0) * (sun / cosine) : 0.0;
+  return albedo * (kSunColor * sun + ambient + kFillColor * fill) + kSunColor * highlight;
+}
