@@ -51,11 +51,22 @@ struct Motion {  // velocities during the solve
   double invMass = 0;
 };
 
+// One direction d of a contact (the normal or a tangent), prepared once per step so that a
+// pass costs dot products and additions only: the relative velocity along d is
+// d.(v_a - v_b) + (r_a x d).w_a - (r_b x d).w_b, and an impulse j d changes w_a by
+// j I_a^-1 (r_a x d) and w_b by -j I_b^-1 (r_b x d).
+struct Axis {
+  Vec3 d;
+  Vec3 raXd, rbXd;          // lever-arm cross products
+  Vec3 dwA, dwB;            // I_a^-1 (r_a x d), I_b^-1 (r_b x d): spin per unit impulse
+  double k = 0;             // effective mass 1 / (eq. 15's denominator)
+};
+
 struct Row {  // one contact, prepared
   ContactKey key;
   int a, b;   // motion indices; b may be the ground slot
-  Vec3 ra, rb, n, t1, t2;
-  double kn, kt1, kt2;  // 1 / inverse effective masses
+  Vec3 ra, rb;
+  Axis n, t1, t2;
   double target;        // wanted normal velocity
   double mu;
   double jn = 0, jt1 = 0, jt2 = 0;  // accumulated impulses
@@ -70,11 +81,29 @@ void tangents(const Vec3& n, Vec3& t1, Vec3& t2) {
 
 Vec3 pointVelocity(const Motion& m, const Vec3& r) { return m.v + m.w.cross(r); }
 
-void applyImpulse(Motion& a, Motion& b, const Row& row, const Vec3& J) {
-  a.v += a.invMass * J;
-  a.w += a.invI * row.ra.cross(J);
-  b.v -= b.invMass * J;
-  b.w -= b.invI * row.rb.cross(J);
+Axis makeAxis(const Vec3& d, const Vec3& ra, const Vec3& rb, const Motion& A, const Motion& B) {
+  Axis x;
+  x.d = d;
+  x.raXd = ra.cross(d);
+  x.rbXd = rb.cross(d);
+  x.dwA = A.invI * x.raXd;
+  x.dwB = B.invI * x.rbXd;
+  // Eq. 15's denominator: 1/M1 + 1/M2 + (r1 x d).I1^-1 (r1 x d) + (r2 x d).I2^-1 (r2 x d).
+  x.k = 1.0 / (A.invMass + B.invMass + x.raXd.dot(x.dwA) + x.rbXd.dot(x.dwB));
+  return x;
+}
+
+// Relative velocity of the contact point along the axis (body a minus body b).
+double along(const Axis& x, const Motion& A, const Motion& B) {
+  return x.d.dot(A.v - B.v) + x.raXd.dot(A.w) - x.rbXd.dot(B.w);
+}
+
+// Applies the impulse j along the axis: +j on body a, -j on body b.
+void push(const Axis& x, double j, Motion& A, Motion& B) {
+  A.v += (j * A.invMass) * x.d;
+  A.w += j * x.dwA;
+  B.v -= (j * B.invMass) * x.d;
+  B.w -= j * x.dwB;
 }
 
 }  // namespace
@@ -111,21 +140,18 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
     r.b = c.b == kGround ? groundSlot : c.b;
     r.ra = c.point - states[c.a].x;
     r.rb = c.b == kGround ? Vec3::Zero() : Vec3(c.point - states[c.b].x);
-    r.n = c.normal;
-    tangents(r.n, r.t1, r.t2);
+    Vec3 t1, t2;
+    tangents(c.normal, t1, t2);
     const Motion& A = motion[r.a];
     const Motion& B = motion[r.b];
-    auto k = [&](const Vec3& d) {
-      return 1.0 / inverseEffectiveMass(A.invMass, A.invI, r.ra, B.invMass, B.invI, r.rb, d);
-    };
-    r.kn = k(r.n);
-    r.kt1 = k(r.t1);
-    r.kt2 = k(r.t2);
-    if (!std::isfinite(r.kn)) continue;  // both sides immovable
+    r.n = makeAxis(c.normal, r.ra, r.rb, A, B);
+    r.t1 = makeAxis(t1, r.ra, r.rb, A, B);
+    r.t2 = makeAxis(t2, r.ra, r.rb, A, B);
+    if (!std::isfinite(r.n.k)) continue;  // both sides immovable
     const bool ground = c.b == kGround || bodies[c.a].isStatic || bodies[c.b].isStatic;
     const double eps = ground ? mat.restitutionBodyGround : mat.restitutionBodyBody;
     r.mu = ground ? mat.frictionBodyGround : mat.frictionBodyBody;
-    const double vRel = r.n.dot(pointVelocity(A, r.ra) - pointVelocity(B, r.rb));
+    const double vRel = c.normal.dot(pointVelocity(A, r.ra) - pointVelocity(B, r.rb));
     r.target = vRel < -settings.restingSpeed ? -eps * vRel : 0.0;  // v_rel+ = -eps v_rel-
     rows.push_back(r);
   }
@@ -140,7 +166,9 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
     r.jn = it->normal * scale;
     r.jt1 = it->tangent1 * scale;
     r.jt2 = it->tangent2 * scale;
-    applyImpulse(motion[r.a], motion[r.b], r, r.jn * r.n + r.jt1 * r.t1 + r.jt2 * r.t2);
+    push(r.n, r.jn, motion[r.a], motion[r.b]);
+    push(r.t1, r.jt1, motion[r.a], motion[r.b]);
+    push(r.t2, r.jt2, motion[r.a], motion[r.b]);
   }
 
   const int count = static_cast<int>(rows.size());
@@ -150,16 +178,14 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
       Motion& A = motion[r.a];
       Motion& B = motion[r.b];
       // Normal: eq. 15 towards the target, accumulated impulse kept >= 0.
-      const Vec3 dv = pointVelocity(A, r.ra) - pointVelocity(B, r.rb);
-      const double vn = r.n.dot(dv);
-      const double jn = std::max(r.jn + (r.target - vn) * r.kn, 0.0);
+      const double vn = along(r.n, A, B);
+      const double jn = std::max(r.jn + (r.target - vn) * r.n.k, 0.0);
       const double djn = jn - r.jn;
       r.jn = jn;
-      if (djn != 0.0) applyImpulse(A, B, r, djn * r.n);
+      if (djn != 0.0) push(r.n, djn, A, B);
       // Friction: stop the tangential slip, within the Coulomb disc of the current jn.
-      const Vec3 dvt = pointVelocity(A, r.ra) - pointVelocity(B, r.rb);
-      double jt1 = r.jt1 - r.t1.dot(dvt) * r.kt1;
-      double jt2 = r.jt2 - r.t2.dot(dvt) * r.kt2;
+      double jt1 = r.jt1 - along(r.t1, A, B) * r.t1.k;
+      double jt2 = r.jt2 - along(r.t2, A, B) * r.t2.k;
       const double limit = r.mu * r.jn;
       const double jt = std::sqrt(jt1 * jt1 + jt2 * jt2);
       if (jt > limit) {
@@ -167,10 +193,10 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
         jt1 *= s;
         jt2 *= s;
       }
-      const Vec3 J = (jt1 - r.jt1) * r.t1 + (jt2 - r.jt2) * r.t2;
+      push(r.t1, jt1 - r.jt1, A, B);
+      push(r.t2, jt2 - r.jt2, A, B);
       r.jt1 = jt1;
       r.jt2 = jt2;
-      applyImpulse(A, B, r, J);
     }
   }
 
@@ -185,7 +211,7 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
 
   // P1 += J, L1 += r1 x J for the total impulse of every contact (and the opposite on body 2).
   for (const Row& r : rows) {
-    const Vec3 J = r.jn * r.n + r.jt1 * r.t1 + r.jt2 * r.t2;
+    const Vec3 J = r.jn * r.n.d + r.jt1 * r.t1.d + r.jt2 * r.t2.d;
     if (r.a < n && bodies[r.a].moves()) {
       states[r.a].P += J;
       states[r.a].L += r.ra.cross(J);

@@ -2,7 +2,7 @@
 //   cmake --build build --target sim_bench && build/tests/bench/sim_bench
 // Rows:
 //   Scene/<name>/<level>: a whole run of scenes/<name>.toml (the same scene files the CLI and
-//     the tests use) at voxel level Lv with the eq.-20 step. Counters: wall seconds per
+//     the tests use) at voxel level Lv (every shape) with the eq.-20 step. Counters: wall seconds per
 //     simulated second (sec_per_sim_s), steps, sphere tests, contacts; the label carries the
 //     trajectory checksum, so every benchmark run is also a determinism check.
 //   TreeBuild/<level>: voxel sphere tree of a 100k-triangle closed mesh (a bumpy sphere).
@@ -24,6 +24,7 @@ std::string scenePath(const std::string& name) {
 void runScene(benchmark::State& state, const std::string& name) {
   vf::SceneSpec spec = vf::loadScene(scenePath(name));
   spec.level = static_cast<int>(state.range(0));
+  for (vf::ShapeSpec& shape : spec.shapes) shape.level.reset();  // as `--level` does
   vf::RunSummary summary;
   for (auto _ : state) {
     state.PauseTiming();
@@ -89,6 +90,16 @@ BENCHMARK_CAPTURE(runScene, cubes, std::string("cubes"))
     ->Name("Scene/cubes")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(runScene, blocks, std::string("blocks"))
     ->Name("Scene/blocks")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(runScene, highpoly, std::string("highpoly"))
+    ->Name("Scene/highpoly")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(runScene, stack, std::string("stack"))
+    ->Name("Scene/stack")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(runScene, crosses, std::string("crosses"))
+    ->Name("Scene/crosses")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(runScene, barrel, std::string("barrel"))
+    ->Name("Scene/barrel")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(runScene, cliff, std::string("cliff"))
+    ->Name("Scene/cliff")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(treeBuild)->Name("TreeBuild")->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();
