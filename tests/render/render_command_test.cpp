@@ -40,7 +40,9 @@ class RenderCommand : public ::testing::Test {
   RenderCommand() : dir_("render_cmd") {}
   void SetUp() override {
     int code = -1;
-    vf::test::runCommand("'" + exe() + "' render --help >/dev/null 2>&1", &code);
+    std::string command = "'";  // built by appending: GCC 12 warns falsely on "lit" + string&&
+    command.append(exe()).append("' render --help >/dev/null 2>&1");
+    vf::test::runCommand(command, &code);
     ASSERT_EQ(code, 0) << "`voxfall render` is not available: register it in render/cli/main.cpp "
                           "(vf::cli::addRenderCommand)";
   }

@@ -11,6 +11,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "sim/geometry/mesh_checks.h"
+#include "sim/geometry/mesh_import.h"
 #include "sim/world.h"
 #include "tests/support/test_world.h"
 
@@ -300,6 +302,39 @@ TEST(Scenario, BoxOnTerrainInclineSlidesOrSticksAsCoulombSays) {
   EXPECT_NEAR(slide(mu), a * T * T / 2, a * T * dt / 2 + kG * mu * std::cos(theta) * dt * T);
   // Sticking: at most the first frictionless step's slide g sin(theta) dt, carried for T.
   EXPECT_LT(std::abs(slide(0.8)), kG * std::sin(theta) * dt * T);
+}
+
+// A static, non-convex mesh: a block dropped flat into a fixed barrel comes to rest on the
+// barrel's inner floor, inside the cavity (a convex hull would hold it up at the rim).
+TEST(Scenario, BlockDroppedIntoAStaticBarrelRestsOnItsInnerFloor) {
+  TriMesh cup = importMesh(test::sourcePath("scenes/meshes/barrel.obj"));
+  validateClosedMesh(cup, "barrel.obj");
+  WorldDef def;
+  def.groundHeight = 0.0;
+  World world(def);
+  auto barrelShape = makeShape("barrel", cup, Vec3::Ones(), 800, 5);
+  auto block = test::boxShape(0.387, 0.25, 0.194, 800, 4);
+  BodyDef barrel;
+  barrel.shape = barrelShape;
+  barrel.isStatic = true;
+  barrel.position = -barrelShape->meshOrigin;  // mesh origin (the barrel's bottom) at z = 0
+  world.addBody(barrel);
+  BodyDef drop;
+  drop.shape = block;
+  drop.position = Vec3(0.05, -0.03, 0.8);
+  world.addBody(drop);
+  world.advanceTo(2.0);
+  const Vec3 x = world.state(1).x;
+  // Inner floor at z = 0.06 (meshes/barrel.obj), block half-height 0.097. Resting on spheres,
+  // the block floats above the floor by at most one leaf radius of each body.
+  const double rest = 0.06 + 0.194 / 2;
+  const double slack = block->tree->leaves().radius + barrelShape->tree->leaves().radius;
+  EXPECT_GE(x.z(), rest - 1e-9);
+  EXPECT_LE(x.z(), rest + slack);
+  EXPECT_LT(x.head<2>().norm(), 0.44) << "inside the cavity";
+  EXPECT_EQ(world.state(0).x, barrel.position) << "a static body never moves";
+  EXPECT_LT(world.velocity(1).norm(), kG * world.totals().dtMax) << "at rest";
+  EXPECT_LE(world.measure().maxPenetrationBodyBody, block->tree->leaves().edge);
 }
 
 }  // namespace
