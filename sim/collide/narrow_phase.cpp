@@ -103,119 +103,100 @@ class TreeTreeDescent {
   std::uint64_t tests_ = 0;
 };
 
-// Sphere tree against a plane: the same descent, with a half-space in place of B's spheres.
-class TreePlaneDescent {
- public:
-  TreePlaneDescent(const Collider& a, const Collider& plane, std::vector<Contact>& out)
-      : a_(a), p_(plane), t_(*a.tree), out_(out) {}
-
-  std::uint64_t run() {
-    if (height(a_.x) < t_.boundingRadius) visit(NodeRef{0, 0, a_.x}, /*tested=*/true);
-    return tests_ + 1;
-  }
-
- private:
-  double height(const Vec3& c) const { return p_.normal.dot(c) - p_.offset; }
-
-  void visit(const NodeRef& n, bool tested) {
-    const SphereTreeLevel& lv = t_.levels[n.level];
-    if (!tested) {
-      ++tests_;
-      if (height(n.center) >= lv.radius) return;
-    }
-    if (n.level == t_.leafLevel()) {
-      const double h = height(n.center);
-      Contact c;
-      c.a = a_.body;
-      c.b = p_.body;
-      c.normal = p_.normal;
-      c.point = n.center - h * p_.normal;  // the sphere centre projected onto the plane
-      c.depth = lv.radius - h;
-      c.leafA = n.index;
-      out_.push_back(c);
-      return;
-    }
-    const SphereTreeLevel& next = t_.levels[n.level + 1];
-    for (std::uint32_t i = lv.childBegin[n.index]; i < lv.childBegin[n.index + 1]; ++i)
-      visit(NodeRef{n.level + 1, i, a_.x + a_.R * next.centers[i]}, false);
-  }
-
-  const Collider& a_;
-  const Collider& p_;
-  const SphereTree& t_;
-  std::vector<Contact>& out_;
-  std::uint64_t tests_ = 0;
-};
-
-// Sphere tree against terrain. A node is tested conservatively: it is dropped only if its
-// sphere lies entirely above the highest sample under its footprint (a child's sphere lies in
-// its parent's, so this never drops a node with colliding leaves). A leaf sphere collides if
-// its centre is below the surface or the nearest surface triangle is closer than its radius;
-// its contact point is that nearest surface point, its normal points from there to the centre
-// (the surface normal when the centre is below the surface).
-class TreeHeightfieldDescent {
- public:
-  TreeHeightfieldDescent(const Collider& a, const Collider& t, std::vector<Contact>& out)
-      : a_(a), t_(t), field_(*t.terrain), tree_(*a.tree), out_(out) {}
-
-  std::uint64_t run() {
-    ++tests_;
-    if (mayTouch(a_.x, tree_.boundingRadius)) visit(NodeRef{0, 0, a_.x}, /*tested=*/true);
-    return tests_;
-  }
-
- private:
-  bool mayTouch(const Vec3& c, double r) const {
-    int i0, i1, j0, j1;
-    field_.cellRange(c.x(), c.y(), r, i0, i1, j0, j1);
-    double top = -INFINITY;
-    for (int j = j0; j <= j1 + 1 && j < field_.ny; ++j)
-      for (int i = i0; i <= i1 + 1 && i < field_.nx; ++i)
-        if (!std::isnan(field_.at(i, j))) top = std::max(top, field_.at(i, j));
-    return c.z() - r < top;
-  }
-
-  void visit(const NodeRef& n, bool tested) {
-    const SphereTreeLevel& lv = tree_.levels[n.level];
-    if (!tested) {
-      ++tests_;
-      if (!mayTouch(n.center, lv.radius)) return;
-    }
-    if (n.level == tree_.leafLevel()) {
+// Descends body a's sphere tree alone against something that is not a tree (the floor plane,
+// the terrain), as fig. 3 does for two trees: the bounding sphere first, then level 1, then the
+// children of every node that may touch. `mayTouch(centre, radius)` may answer yes wrongly but
+// never no wrongly (so no colliding leaf is missed); `leaf(node, radius)` emits the contact of a
+// leaf sphere that passed, if it really collides. Returns the sphere tests made.
+template <class MayTouch, class Leaf>
+std::uint64_t descendAlone(const Collider& a, MayTouch mayTouch, Leaf leaf) {
+  const SphereTree& tree = *a.tree;
+  std::uint64_t tests = 1;
+  if (!mayTouch(a.x, tree.boundingRadius)) return tests;
+  // The level-0 voxel is skipped: the bounding sphere above stands in for it.
+  auto visit = [&](auto& self, const NodeRef& n) -> void {
+    const SphereTreeLevel& lv = tree.levels[n.level];
+    if (n.level == tree.leafLevel()) {
       leaf(n, lv.radius);
       return;
     }
-    const SphereTreeLevel& next = tree_.levels[n.level + 1];
-    for (std::uint32_t i = lv.childBegin[n.index]; i < lv.childBegin[n.index + 1]; ++i)
-      visit(NodeRef{n.level + 1, i, a_.x + a_.R * next.centers[i]}, false);
-  }
+    const SphereTreeLevel& next = tree.levels[n.level + 1];
+    for (std::uint32_t i = lv.childBegin[n.index]; i < lv.childBegin[n.index + 1]; ++i) {
+      const NodeRef child{n.level + 1, i, a.x + a.R * next.centers[i]};
+      ++tests;
+      if (mayTouch(child.center, next.radius)) self(self, child);
+    }
+  };
+  visit(visit, NodeRef{0, 0, a.x});
+  return tests;
+}
 
-  void leaf(const NodeRef& n, double r) {
+Contact groundContact(const Collider& a, const Collider& ground, const NodeRef& n) {
+  Contact c;
+  c.a = a.body;
+  c.b = ground.body;
+  c.leafA = n.index;
+  return c;
+}
+
+// Sphere tree against a plane: a sphere touches when its centre is less than its radius above
+// the plane (exact, so leaves need no second test). Contact point: the centre projected onto
+// the plane.
+std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector<Contact>& out) {
+  auto height = [&](const Vec3& c) { return p.normal.dot(c) - p.offset; };
+  return descendAlone(
+      a, [&](const Vec3& c, double r) { return height(c) < r; },
+      [&](const NodeRef& n, double r) {
+        const double h = height(n.center);
+        Contact c = groundContact(a, p, n);
+        c.normal = p.normal;
+        c.point = n.center - h * p.normal;
+        c.depth = r - h;
+        out.push_back(c);
+      });
+}
+
+// Sphere tree against terrain. A node may touch unless its sphere lies entirely above the
+// highest sample under its footprint (a child's sphere lies in its parent's, so this never
+// drops a node with colliding leaves). A leaf sphere collides if its centre is below the
+// surface or the nearest surface triangle is closer than its radius; its contact point is that
+// nearest surface point, its normal points from there to the centre (the surface normal when
+// the centre is below the surface).
+std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
+                                     std::vector<Contact>& out) {
+  const Heightfield& field = *t.terrain;
+  auto mayTouch = [&](const Vec3& c, double r) {
+    int i0, i1, j0, j1;
+    field.cellRange(c.x(), c.y(), r, i0, i1, j0, j1);
+    double top = -INFINITY;
+    for (int j = j0; j <= j1 + 1 && j < field.ny; ++j)
+      for (int i = i0; i <= i1 + 1 && i < field.nx; ++i)
+        if (!std::isnan(field.at(i, j))) top = std::max(top, field.at(i, j));
+    return c.z() - r < top;
+  };
+  auto leaf = [&](const NodeRef& n, double r) {
     const Vec3& c = n.center;
-    Contact k;
-    k.a = a_.body;
-    k.b = t_.body;
-    k.leafA = n.index;
-    const double h = field_.heightAt(c.x(), c.y());
+    Contact k = groundContact(a, t, n);
+    const double h = field.heightAt(c.x(), c.y());
     if (!std::isnan(h) && c.z() < h) {  // centre inside the terrain
-      k.normal = field_.normalAt(c.x(), c.y());
+      k.normal = field.normalAt(c.x(), c.y());
       k.point = Vec3(c.x(), c.y(), h);
       k.depth = r + (h - c.z()) * k.normal.z();
-      out_.push_back(k);
+      out.push_back(k);
       return;
     }
     int i0, i1, j0, j1;
-    field_.cellRange(c.x(), c.y(), r, i0, i1, j0, j1);
+    field.cellRange(c.x(), c.y(), r, i0, i1, j0, j1);
     double best = r * r;
     Vec3 nearest;
     bool found = false;
     Vec3 tri[2][3];
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) {
-        if (!field_.hasCell(i, j)) continue;
-        field_.cellTriangles(i, j, tri);
-        for (const auto& t : tri) {
-          const Vec3 q = closestPointOnTriangle(c, t[0], t[1], t[2]);
+        if (!field.hasCell(i, j)) continue;
+        field.cellTriangles(i, j, tri);
+        for (const auto& tr : tri) {
+          const Vec3 q = closestPointOnTriangle(c, tr[0], tr[1], tr[2]);
           const double d2 = (c - q).squaredNorm();
           if (d2 < best) best = d2, nearest = q, found = true;
         }
@@ -226,29 +207,16 @@ class TreeHeightfieldDescent {
     k.normal = (c - nearest) / d;
     k.point = nearest;
     k.depth = r - d;
-    out_.push_back(k);
-  }
-
-  const Collider& a_;
-  const Collider& t_;
-  const Heightfield& field_;
-  const SphereTree& tree_;
-  std::vector<Contact>& out_;
-  std::uint64_t tests_ = 0;
-};
+    out.push_back(k);
+  };
+  return descendAlone(a, mayTouch, leaf);
+}
 
 std::uint64_t collideTreeTree(const Collider& a, const Collider& b, std::vector<Contact>& out) {
   return TreeTreeDescent(a, b, out).run();
 }
 
-std::uint64_t collideTreePlane(const Collider& a, const Collider& b, std::vector<Contact>& out) {
-  return TreePlaneDescent(a, b, out).run();
-}
 
-std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& b,
-                                     std::vector<Contact>& out) {
-  return TreeHeightfieldDescent(a, b, out).run();
-}
 
 using CollideFn = std::uint64_t (*)(const Collider&, const Collider&, std::vector<Contact>&);
 
