@@ -29,6 +29,9 @@ int main(int argc, char** argv) {
   int exitCode = 0;
   vf::cli::addSimulateCommand(app, exitCode);
   vf::cli::addRenderCommand(app, exitCode);  // RENDER-COMMAND (render/cli/render_command.cpp)
+  // Visual regression tests: render/cli/diff_command.cpp and regress_command.cpp.
+  vf::cli::addDiffCommand(app, exitCode);
+  vf::cli::addRegressCommand(app, exitCode);
 
   try {
     app.parse(argc, argv);

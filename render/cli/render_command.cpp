@@ -13,6 +13,8 @@
 // a full run or alone with --frames k:k (figures, golden-frame tests). The price is simulating
 // past B when B is not the last frame; simulation is cheap next to drawing (a few ms per frame
 // against ~200 ms), and the summary then carries the same checksum as `voxfall simulate`.
+// ScenePlayback (commands.h) holds the two passes; `voxfall regress` draws its frames through
+// it too (renderSceneFrames), so a golden frame is byte for byte what `render` writes.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -22,6 +24,7 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -210,6 +213,11 @@ std::string frameSpan(int first, int last) {
                        : "frames " + std::to_string(first) + ".." + std::to_string(last);
 }
 
+// The Recorder's frame count (k = 0 .. floor(T fps)), needed before the world exists.
+int sceneFrameCount(const SceneSpec& spec) {
+  return static_cast<int>(std::floor(spec.duration * spec.fps + 1e-9)) + 1;
+}
+
 int runRender(const RenderOptions& o) {
   // 1. The scene and the options that change it.
   SceneSpec spec = loadScene(o.scene);
@@ -220,8 +228,7 @@ int runRender(const RenderOptions& o) {
     std::sscanf(o.size.c_str(), "%dx%d", &spec.output.width, &spec.output.height);
   if (o.crf) spec.output.crf = *o.crf;
   const int width = spec.output.width, height = spec.output.height;
-  // The Recorder's frame count (k = 0 .. floor(T fps)), needed before the world exists.
-  const int frameCount = static_cast<int>(std::floor(spec.duration * spec.fps + 1e-9)) + 1;
+  const int frameCount = sceneFrameCount(spec);
   const FrameRange range = parseFrames(o.frames, frameCount);
 
   // 2. The output: path, kind, folder; the sink opens its temporary file now, so an unwritable
@@ -258,31 +265,11 @@ int runRender(const RenderOptions& o) {
   std::unique_ptr<FrameSink> sink = openFrameSink(path, video, range.last - range.first + 1);
 
   // 4. The world, simulated through every frame.
-  BuiltScene built = buildScene(spec);
-  Recorder recorder(*built.world, spec.fps, spec.duration);
-  VF_ASSERT(recorder.frameCount() == frameCount);
-  DrawListBuilder drawing(spec.camera, spec.groundPlane, static_cast<double>(width) / height);
-  if (const auto& terrain = built.world->def().terrain) {
-    // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
-    auto mesh = std::make_shared<const TriMesh>(terrain->toMesh());
-    drawing.setTerrain(mesh, std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*mesh)));
-  }
-  std::vector<BodyView> bodies = bodyViews(*built.world, built.colors);  // shapes, colours
-  std::vector<std::vector<BodyPose>> poses(static_cast<std::size_t>(frameCount));
-  {
-    Progress simulating(spec.name + " (simulating)", frameCount, !o.quiet);
-    for (int k = 0; k < frameCount; ++k) {
-      if (stop.signal()) {
-        simulating.finish();
-        std::fprintf(stderr, "voxfall: interrupted before the first frame; no output written\n");
-        return 128 + stop.signal();  // the sink's destructor removes its temporary file
-      }
-      recorder.advanceToFrame(k);
-      poses[static_cast<std::size_t>(k)] = capturePoses(*built.world);
-      applyPoses(poses[static_cast<std::size_t>(k)], bodies);
-      drawing.observe(bodies);
-      simulating.update(k + 1, recorder.frameTime(k));
-    }
+  ScenePlayback playback(spec, width, height);
+  VF_ASSERT(playback.frameCount() == frameCount);
+  if (!playback.simulate(!o.quiet, [&stop] { return stop.signal() != 0; })) {
+    std::fprintf(stderr, "voxfall: interrupted before the first frame; no output written\n");
+    return 128 + stop.signal();  // the sink's destructor removes its temporary file
   }
 
   // 5. Frames A..B.
@@ -293,8 +280,7 @@ int runRender(const RenderOptions& o) {
   try {
     for (int k = range.first; k <= range.last && !stop.signal(); ++k) {
       const auto start = std::chrono::steady_clock::now();
-      applyPoses(poses[static_cast<std::size_t>(k)], bodies);
-      renderer.render(drawing.build(bodies), image);
+      renderer.render(playback.drawList(k), image);
       sink->write(k, image);
       renderSeconds +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -324,12 +310,12 @@ int runRender(const RenderOptions& o) {
   if (stop.signal()) {
     std::fprintf(stderr, "voxfall: interrupted; %s written to %s (playable, incomplete)\n",
                  frameSpan(range.first, lastDone).c_str(), sink->path().c_str());
-    printSummary(stdout, spec.name, recorder.summary());
+    printSummary(stdout, spec.name, playback.summary());
     return 128 + stop.signal();  // 130 for SIGINT, 143 for SIGTERM, as the shell would say
   }
 
   const int drawn = range.last - range.first + 1;
-  printSummary(stdout, spec.name, recorder.summary());
+  printSummary(stdout, spec.name, playback.summary());
   std::printf("  rendered %s (%dx%d, %s, %s) in %.2f s: %.2f frames/s\n",
               frameSpan(range.first, range.last).c_str(), width, height,
               renderer.antialiasing().c_str(), gl::backendName(gl::parseBackend(o.gl)),
@@ -339,6 +325,96 @@ int runRender(const RenderOptions& o) {
 }
 
 }  // namespace
+
+// --- ScenePlayback: the two passes ----------------------------------------------------------
+
+struct ScenePlayback::Impl {
+  Impl(const SceneSpec& s, int width, int height)
+      : spec(s),
+        built(buildScene(spec)),
+        recorder(*built.world, spec.fps, spec.duration),
+        drawing(spec.camera, spec.groundPlane, static_cast<double>(width) / height),
+        bodies(bodyViews(*built.world, built.colors)) {
+    if (const auto& terrain = built.world->def().terrain) {
+      // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
+      auto mesh = std::make_shared<const TriMesh>(terrain->toMesh());
+      drawing.setTerrain(mesh,
+                         std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*mesh)));
+    }
+  }
+
+  SceneSpec spec;
+  BuiltScene built;
+  Recorder recorder;
+  DrawListBuilder drawing;
+  std::vector<BodyView> bodies;              // shapes and colours; poses set per frame
+  std::vector<std::vector<BodyPose>> poses;  // per simulated frame
+};
+
+ScenePlayback::ScenePlayback(const SceneSpec& spec, int width, int height)
+    : impl_(std::make_unique<Impl>(spec, width, height)) {}
+
+ScenePlayback::~ScenePlayback() = default;
+
+int ScenePlayback::frameCount() const { return impl_->recorder.frameCount(); }
+
+const RunSummary& ScenePlayback::summary() const { return impl_->recorder.summary(); }
+
+bool ScenePlayback::simulate(bool progress, const std::function<bool()>& stop) {
+  Impl& p = *impl_;
+  const int count = p.recorder.frameCount();
+  p.poses.assign(static_cast<std::size_t>(count), {});
+  Progress simulating(p.spec.name + " (simulating)", count, progress);
+  for (int k = 0; k < count; ++k) {
+    if (stop && stop()) return false;
+    p.recorder.advanceToFrame(k);
+    p.poses[static_cast<std::size_t>(k)] = capturePoses(*p.built.world);
+    applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
+    p.drawing.observe(p.bodies);
+    simulating.update(k + 1, p.recorder.frameTime(k));
+  }
+  return true;
+}
+
+DrawList ScenePlayback::drawList(int k) {
+  Impl& p = *impl_;
+  VF_ASSERT(k >= 0 && static_cast<std::size_t>(k) < p.poses.size());
+  applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
+  return p.drawing.build(p.bodies);
+}
+
+RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& frames,
+                                 gl::Context& context, const std::string& shaderDir,
+                                 const std::function<void(DrawList&)>& adjust) {
+  const int width = spec.output.width, height = spec.output.height;
+  // Checked before the expensive shape building, as `render` does.
+  const int frameCount = sceneFrameCount(spec);
+  for (const int k : frames) {
+    if (k < 0 || k >= frameCount) {
+      throw InputError(spec.path,
+                       "frame " + std::to_string(k) +
+                           " is outside the scene's frames 0:" + std::to_string(frameCount - 1));
+    }
+  }
+  context.makeCurrent();
+  gl::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.shaderDir = shaderDir;
+  gl::Renderer renderer(context, settings);
+
+  ScenePlayback playback(spec, width, height);
+  playback.simulate(false);
+  RenderedFrames out;
+  out.images.reserve(frames.size());
+  for (const int k : frames) {
+    DrawList list = playback.drawList(k);
+    if (adjust) adjust(list);
+    out.images.push_back(renderer.render(list));
+  }
+  out.summary = playback.summary();
+  return out;
+}
 
 void addRenderCommand(CLI::App& app, int& exitCode) {
   // Owned by the callback: CLI11 fills it during parse, after this function has returned.

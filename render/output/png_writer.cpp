@@ -54,6 +54,38 @@ void writePng(const std::string& path, const Image& image) {
   }
 }
 
+Image readPng(const std::string& path) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (!file) throw InputError(path, std::string("cannot read PNG: ") + std::strerror(errno));
+  // The simplified API again (no longjmp); it converts every colour type and bit depth to the
+  // format asked for, with sRGB encoding for 8-bit output.
+  png_image png;
+  std::memset(&png, 0, sizeof png);
+  png.version = PNG_IMAGE_VERSION;
+  Image image;
+  bool ok = png_image_begin_read_from_stdio(&png, file) != 0;
+  // A corrupt or hostile header must not become a multi-gigabyte allocation.
+  constexpr png_uint_32 kMaxSide = 16384;
+  const bool tooLarge = ok && (png.width > kMaxSide || png.height > kMaxSide);
+  if (tooLarge) {
+    ok = false;
+    std::snprintf(png.message, sizeof png.message, "%ux%u pixels is larger than %ux%u",
+                  static_cast<unsigned>(png.width), static_cast<unsigned>(png.height),
+                  static_cast<unsigned>(kMaxSide), static_cast<unsigned>(kMaxSide));
+  }
+  if (ok) {
+    png.format = PNG_FORMAT_RGB;
+    image = Image(static_cast<int>(png.width), static_cast<int>(png.height));
+    // With background null, alpha is composited onto the buffer's contents: black.
+    ok = png_image_finish_read(&png, nullptr, image.rgb.data(), image.width * 3, nullptr) != 0;
+  }
+  const std::string pngMessage = png.message;
+  png_image_free(&png);
+  std::fclose(file);
+  if (!ok) throw InputError(path, "cannot read PNG: " + pngMessage);
+  return image;
+}
+
 void PngSequenceWriter::write(int index, const Image& image) {
   writePng(expandFramePattern(pattern_, index), image);
   ++frames_;

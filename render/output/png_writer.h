@@ -1,4 +1,5 @@
-// PNG output through libpng (the only file that includes png.h is png_writer.cpp).
+// PNG files through libpng (the only file that includes png.h is png_writer.cpp): frames out,
+// and golden or user frames back in for `voxfall diff` and `voxfall regress`.
 #pragma once
 
 #include <string>
@@ -15,6 +16,11 @@ std::string expandFramePattern(const std::string& pattern, int frame);
 // Writes an 8-bit RGB PNG (tagged sRGB) to `path` via `path.part` and a rename. On failure
 // throws InputError(path, reason) and leaves neither file behind.
 void writePng(const std::string& path, const Image& image);
+
+// Reads any PNG (grey, palette, RGB, with or without alpha, 8 or 16 bits) as 8-bit sRGB RGB,
+// so frames from other tools compare with voxfall's own; alpha is composited onto black.
+// Throws InputError(path, reason) when the file is missing or not a readable PNG.
+Image readPng(const std::string& path);
 
 // One PNG per frame: expandFramePattern(pattern, index).
 class PngSequenceWriter final : public FrameSink {
