@@ -16,11 +16,14 @@ std::string RunSummary::checksumHex() const {
   return buf;
 }
 
+int Recorder::frameCountFor(double fps, double duration) {
+  return static_cast<int>(std::floor(duration * fps + 1e-9)) + 1;
+}
+
 Recorder::Recorder(World& world, double fps, double duration)
     : world_(world),
       fps_(fps),
-      // k = 0 .. floor(T fps); the 1e-9 absorbs T*fps landing a hair below an integer.
-      frameCount_(static_cast<int>(std::floor(duration * fps + 1e-9)) + 1),
+      frameCount_(frameCountFor(fps, duration)),
       hashState_(Hasher().value()) {
   VF_ASSERT(fps > 0 && duration >= 0);
 }

@@ -28,6 +28,9 @@ class Recorder {
  public:
   Recorder(World& world, double fps, double duration);
 
+  // Frames k = 0 .. floor(duration * fps) (the 1e-9 absorbs duration * fps landing a hair
+  // below an integer); known before any world exists.
+  static int frameCountFor(double fps, double duration);
   int frameCount() const { return frameCount_; }
   double frameTime(int k) const { return static_cast<double>(k) / fps_; }
   // Advances the world to frame k (k must not go backwards) and records it.

@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "render/cli/commands.h"
+#include "render/cli/scene_playback.h"
 #include "render/cli/run_output.h"
 #include "render/gl/gl_context.h"
 #include "render/gl/shader_program.h"
@@ -535,22 +536,26 @@ int runRegress(const RegressOptions& o) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const bool passed =
       counts.framesFailed == 0 && counts.checksumsFailed == 0 && counts.casesFailed == 0;
+  const auto plural = [](int n, const char* word) {
+    return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+  };
   const std::string notRun =
-      counts.casesFailed ? ", " + std::to_string(counts.casesFailed) + " cases could not run" : "";
+      counts.casesFailed ? ", " + plural(counts.casesFailed, "case") + " could not run" : "";
+  const std::string cases = plural(casesRun, "case");
   char tail[320];
   if (o.update) {
     std::snprintf(
         tail, sizeof tail,
-        "%s: %d cases, %d goldens written, %d frames kept (within tolerance)%s, in "
+        "%s: %s, %d goldens written, %d frames kept (within tolerance)%s, in "
         "%.1f s%s",
-        passed ? "UPDATED" : "FAIL", casesRun, counts.goldensWritten, counts.framesPassed,
+        passed ? "UPDATED" : "FAIL", cases.c_str(), counts.goldensWritten, counts.framesPassed,
         notRun.c_str(), seconds,
         counts.goldensWritten > 0 ? ". Look at the written PNGs before committing them." : "");
   } else {
     std::snprintf(tail, sizeof tail,
-                  "%s: %d cases, %d of %d frames passed, %d checksums changed or missing%s, in "
+                  "%s: %s, %d of %d frames passed, %d checksums changed or missing%s, in "
                   "%.1f s",
-                  passed ? "PASS" : "FAIL", casesRun, counts.framesPassed,
+                  passed ? "PASS" : "FAIL", cases.c_str(), counts.framesPassed,
                   counts.framesPassed + counts.framesFailed, counts.checksumsFailed, notRun.c_str(),
                   seconds);
   }

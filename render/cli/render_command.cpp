@@ -5,16 +5,8 @@
 // path, GL context and shaders), the expensive shape building and stepping last, so a typo or a
 // missing GL library never costs a long run.
 //
-// Two passes. The whole scene is simulated first (frame k = the state at exactly t = k / fps),
-// keeping every frame's body poses and folding them into the automatic camera framing; then
-// frames A..B are drawn from the kept poses. Why not draw while stepping: the automatic camera
-// must frame every body over the whole clip to stay still (a camera that re-frames as bodies
-// fly apart zooms and pans for no reason), and frame k must look the same whether rendered in
-// a full run or alone with --frames k:k (figures, golden-frame tests). The price is simulating
-// past B when B is not the last frame; simulation is cheap next to drawing (a few ms per frame
-// against ~200 ms), and the summary then carries the same checksum as `voxfall simulate`.
-// ScenePlayback (commands.h) holds the two passes; `voxfall regress` draws its frames through
-// it too (renderSceneFrames), so a golden frame is byte for byte what `render` writes.
+// The frames come from a ScenePlayback (scene_playback.h): the scene is simulated whole,
+// then drawn.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -31,6 +23,7 @@
 #include <vector>
 
 #include "render/cli/commands.h"
+#include "render/cli/scene_playback.h"
 #include "render/cli/run_output.h"
 #include "render/draw_list.h"
 #include "render/gl/gl_context.h"
@@ -109,49 +102,6 @@ std::string checkSize(const std::string& text) {
   return "";
 }
 
-// Rendering's own progress line: frames drawn, frames per second, time left. Redrawn in place on
-// a terminal, a plain line every few seconds otherwise (the same habits as Progress).
-class RenderProgress {
- public:
-  RenderProgress(std::string label, int total, bool enabled)
-      : label_(std::move(label)),
-        total_(total),
-        enabled_(enabled),
-        tty_(::isatty(::fileno(stderr)) != 0),
-        start_(Clock::now()),
-        last_(start_) {}
-  ~RenderProgress() { finish(); }
-
-  void update(int done, int frame) {
-    if (!enabled_) return;
-    const auto now = Clock::now();
-    const double elapsed = std::chrono::duration<double>(now - start_).count();
-    const double sinceLast = std::chrono::duration<double>(now - last_).count();
-    if (drawn_ && done < total_ && sinceLast < (tty_ ? 0.25 : 5.0)) return;
-    last_ = now;
-    const double rate = elapsed > 0 ? done / elapsed : 0;
-    char eta[48] = "";
-    if (rate > 0 && done < total_) {
-      std::snprintf(eta, sizeof eta, ", about %.0f s left", (total_ - done) / rate);
-    }
-    std::fprintf(stderr, "%s%s: frame %d (%d/%d), %.2f frames/s%s%s", tty_ ? "\r" : "",
-                 label_.c_str(), frame, done, total_, rate, eta, tty_ ? "\033[K" : "\n");
-    std::fflush(stderr);
-    drawn_ = true;
-  }
-  void finish() {
-    if (drawn_ && tty_) std::fputs("\r\033[K", stderr);
-    drawn_ = false;
-    enabled_ = false;
-  }
-
- private:
-  using Clock = std::chrono::steady_clock;
-  std::string label_;
-  int total_;
-  bool enabled_, tty_, drawn_ = false;
-  Clock::time_point start_, last_;
-};
 
 // SIGINT and SIGTERM during the frame loop only raise a flag: the loop stops after the frame
 // in hand and the frames so far are finalised into a playable file (an MP4 needs its index
@@ -184,38 +134,9 @@ class StopOnSignal {
   void (*oldTerm_)(int) = SIG_DFL;
 };
 
-// Where each body is at one frame: all the drawing needs from a simulated state.
-struct BodyPose {
-  Vec3 x;
-  Quat q;
-  bool active;
-};
-
-std::vector<BodyPose> capturePoses(const World& world) {
-  std::vector<BodyPose> poses;
-  poses.reserve(static_cast<std::size_t>(world.bodyCount()));
-  for (int id = 0; id < world.bodyCount(); ++id) {
-    poses.push_back(BodyPose{world.state(id).x, world.state(id).q, world.isActive(id)});
-  }
-  return poses;
-}
-
-void applyPoses(const std::vector<BodyPose>& poses, std::vector<BodyView>& bodies) {
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    bodies[i].x = poses[i].x;
-    bodies[i].q = poses[i].q;
-    bodies[i].active = poses[i].active;
-  }
-}
-
 std::string frameSpan(int first, int last) {
   return first == last ? "frame " + std::to_string(first)
                        : "frames " + std::to_string(first) + ".." + std::to_string(last);
-}
-
-// The Recorder's frame count (k = 0 .. floor(T fps)), needed before the world exists.
-int sceneFrameCount(const SceneSpec& spec) {
-  return static_cast<int>(std::floor(spec.duration * spec.fps + 1e-9)) + 1;
 }
 
 int runRender(const RenderOptions& o) {
@@ -228,7 +149,7 @@ int runRender(const RenderOptions& o) {
     std::sscanf(o.size.c_str(), "%dx%d", &spec.output.width, &spec.output.height);
   if (o.crf) spec.output.crf = *o.crf;
   const int width = spec.output.width, height = spec.output.height;
-  const int frameCount = sceneFrameCount(spec);
+  const int frameCount = Recorder::frameCountFor(spec.fps, spec.duration);
   const FrameRange range = parseFrames(o.frames, frameCount);
 
   // 2. The output: path, kind, folder; the sink opens its temporary file now, so an unwritable
@@ -273,7 +194,8 @@ int runRender(const RenderOptions& o) {
   }
 
   // 5. Frames A..B.
-  RenderProgress progress(spec.name, range.last - range.first + 1, !o.quiet);
+  Progress progress(spec.name + " (drawing)", range.last - range.first + 1, !o.quiet);
+  const auto drawStart = std::chrono::steady_clock::now();
   Image image;
   double renderSeconds = 0;
   int lastDone = range.first - 1;
@@ -285,7 +207,13 @@ int runRender(const RenderOptions& o) {
       renderSeconds +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       lastDone = k;
-      progress.update(k - range.first + 1, k);
+      const int drawn = k - range.first + 1;
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - drawStart).count();
+      char detail[64];
+      std::snprintf(detail, sizeof detail, "frame %d, %.2f frames/s", k,
+                    seconds > 0 ? drawn / seconds : 0.0);
+      progress.update(drawn, detail);
     }
     progress.finish();
     if (stop.signal() && sink->framesWritten() == 0) {
@@ -325,96 +253,6 @@ int runRender(const RenderOptions& o) {
 }
 
 }  // namespace
-
-// --- ScenePlayback: the two passes ----------------------------------------------------------
-
-struct ScenePlayback::Impl {
-  Impl(const SceneSpec& s, int width, int height)
-      : spec(s),
-        built(buildScene(spec)),
-        recorder(*built.world, spec.fps, spec.duration),
-        drawing(spec.camera, spec.groundPlane, static_cast<double>(width) / height),
-        bodies(bodyViews(*built.world, built.colors)) {
-    if (const auto& terrain = built.world->def().terrain) {
-      // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
-      auto mesh = std::make_shared<const TriMesh>(terrain->toMesh());
-      drawing.setTerrain(mesh,
-                         std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*mesh)));
-    }
-  }
-
-  SceneSpec spec;
-  BuiltScene built;
-  Recorder recorder;
-  DrawListBuilder drawing;
-  std::vector<BodyView> bodies;              // shapes and colours; poses set per frame
-  std::vector<std::vector<BodyPose>> poses;  // per simulated frame
-};
-
-ScenePlayback::ScenePlayback(const SceneSpec& spec, int width, int height)
-    : impl_(std::make_unique<Impl>(spec, width, height)) {}
-
-ScenePlayback::~ScenePlayback() = default;
-
-int ScenePlayback::frameCount() const { return impl_->recorder.frameCount(); }
-
-const RunSummary& ScenePlayback::summary() const { return impl_->recorder.summary(); }
-
-bool ScenePlayback::simulate(bool progress, const std::function<bool()>& stop) {
-  Impl& p = *impl_;
-  const int count = p.recorder.frameCount();
-  p.poses.assign(static_cast<std::size_t>(count), {});
-  Progress simulating(p.spec.name + " (simulating)", count, progress);
-  for (int k = 0; k < count; ++k) {
-    if (stop && stop()) return false;
-    p.recorder.advanceToFrame(k);
-    p.poses[static_cast<std::size_t>(k)] = capturePoses(*p.built.world);
-    applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
-    p.drawing.observe(p.bodies);
-    simulating.update(k + 1, p.recorder.frameTime(k));
-  }
-  return true;
-}
-
-DrawList ScenePlayback::drawList(int k) {
-  Impl& p = *impl_;
-  VF_ASSERT(k >= 0 && static_cast<std::size_t>(k) < p.poses.size());
-  applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
-  return p.drawing.build(p.bodies);
-}
-
-RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& frames,
-                                 gl::Context& context, const std::string& shaderDir,
-                                 const std::function<void(DrawList&)>& adjust) {
-  const int width = spec.output.width, height = spec.output.height;
-  // Checked before the expensive shape building, as `render` does.
-  const int frameCount = sceneFrameCount(spec);
-  for (const int k : frames) {
-    if (k < 0 || k >= frameCount) {
-      throw InputError(spec.path,
-                       "frame " + std::to_string(k) +
-                           " is outside the scene's frames 0:" + std::to_string(frameCount - 1));
-    }
-  }
-  context.makeCurrent();
-  gl::RenderSettings settings;
-  settings.width = width;
-  settings.height = height;
-  settings.shaderDir = shaderDir;
-  gl::Renderer renderer(context, settings);
-
-  ScenePlayback playback(spec, width, height);
-  playback.simulate(false);
-  RenderedFrames out;
-  out.images.reserve(frames.size());
-  for (const int k : frames) {
-    DrawList list = playback.drawList(k);
-    if (adjust) adjust(list);
-    out.images.push_back(renderer.render(list));
-  }
-  out.summary = playback.summary();
-  return out;
-}
 
 void addRenderCommand(CLI::App& app, int& exitCode) {
   // Owned by the callback: CLI11 fills it during parse, after this function has returned.

@@ -258,6 +258,12 @@ Progress::Progress(std::string label, int totalFrames, bool enabled)
 Progress::~Progress() { finish(); }
 
 void Progress::update(int framesDone, double simTime) {
+  char detail[48];
+  std::snprintf(detail, sizeof detail, "t = %.3f s", simTime);
+  update(framesDone, std::string(detail));
+}
+
+void Progress::update(int framesDone, const std::string& detail) {
   if (!enabled_) return;
   const auto now = Clock::now();
   const double elapsed = seconds(now - start_);
@@ -268,9 +274,9 @@ void Progress::update(int framesDone, double simTime) {
   char eta[32] = "";
   if (fraction > 0 && fraction < 1)
     std::snprintf(eta, sizeof eta, ", about %.0f s left", elapsed * (1 - fraction) / fraction);
-  std::fprintf(stderr, "%s%s: frame %d/%d, t = %.3f s, %3.0f%%, %.0f s elapsed%s%s",
-               tty_ ? "\r" : "", label_.c_str(), framesDone, total_, simTime, 100 * fraction,
-               elapsed, eta, tty_ ? "\033[K" : "\n");
+  std::fprintf(stderr, "%s%s: %d/%d, %s, %3.0f%%, %.0f s elapsed%s%s", tty_ ? "\r" : "",
+               label_.c_str(), framesDone, total_, detail.c_str(), 100 * fraction, elapsed, eta,
+               tty_ ? "\033[K" : "\n");
   std::fflush(stderr);
   drawn_ = true;
 }

@@ -68,6 +68,9 @@ class Progress {
   ~Progress();  // finish()
   // Frames done so far (1..total) and the simulated time reached, s.
   void update(int framesDone, double simTime);
+  // Frames done so far (1..total) and what to say about the latest one, e.g. "frame 30,
+  // 8.40 frames/s". The line adds the share done, the time elapsed and the time left.
+  void update(int framesDone, const std::string& detail);
   // Clears the in-place line, if one was drawn.
   void finish();
 

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "render/cli/commands.h"
+#include "render/cli/scene_playback.h"
 #include "render/gl/gl_context.h"
 #include "render/gl/shader_program.h"
 #include "render/output/image_diff.h"

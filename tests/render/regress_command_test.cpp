@@ -122,7 +122,7 @@ TEST_F(RegressCommand, ABodyMovedByOneLeafVoxelFailsAgainstTheGoldens) {
   }
   const std::string report = readFile(path("report/report.txt"));
   EXPECT_NE(report.find("frame_0000.png: FAIL"), std::string::npos) << report;
-  EXPECT_NE(report.find("FAIL: 1 cases, 0 of 3 frames passed, 1 checksums changed or missing"),
+  EXPECT_NE(report.find("FAIL: 1 case, 0 of 3 frames passed, 1 checksums changed or missing"),
             std::string::npos)
       << report;
 

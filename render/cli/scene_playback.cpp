@@ -1,0 +1,135 @@
+// Two passes. The whole scene is simulated first (frame k = the state at exactly t = k / fps),
+// keeping every frame's body poses and folding them into the automatic camera framing; then
+// frames A..B are drawn from the kept poses. Why not draw while stepping: the automatic camera
+// must frame every body over the whole clip to stay still (a camera that re-frames as bodies
+// fly apart zooms and pans for no reason), and frame k must look the same whether rendered in
+// a full run or alone with --frames k:k (figures, golden-frame tests). The price is simulating
+// past B when B is not the last frame; simulation is cheap next to drawing (a few ms per frame
+// against ~200 ms), and the summary then carries the same checksum as `voxfall simulate`.
+// `voxfall regress` draws its frames through this too (renderSceneFrames), so a golden frame
+// is byte for byte what `render` writes.
+#include "render/cli/scene_playback.h"
+
+#include "render/cli/run_output.h"
+#include "render/gl/gl_context.h"
+#include "render/gl/renderer.h"
+#include "sim/core/error.h"
+
+namespace vf::cli {
+namespace {
+
+// Where each body is at one frame: all the drawing needs from a simulated state.
+struct BodyPose {
+  Vec3 x;
+  Quat q;
+  bool active;
+};
+
+std::vector<BodyPose> capturePoses(const World& world) {
+  std::vector<BodyPose> poses;
+  poses.reserve(static_cast<std::size_t>(world.bodyCount()));
+  for (int id = 0; id < world.bodyCount(); ++id) {
+    poses.push_back(BodyPose{world.state(id).x, world.state(id).q, world.isActive(id)});
+  }
+  return poses;
+}
+
+void applyPoses(const std::vector<BodyPose>& poses, std::vector<BodyView>& bodies) {
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    bodies[i].x = poses[i].x;
+    bodies[i].q = poses[i].q;
+    bodies[i].active = poses[i].active;
+  }
+}
+
+}  // namespace
+
+struct ScenePlayback::Impl {
+  Impl(const SceneSpec& s, int width, int height)
+      : spec(s),
+        built(buildScene(spec)),
+        recorder(*built.world, spec.fps, spec.duration),
+        drawing(spec.camera, spec.groundPlane, static_cast<double>(width) / height),
+        bodies(bodyViews(*built.world, built.colors)) {
+    if (const auto& terrain = built.world->def().terrain) {
+      // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
+      auto mesh = std::make_shared<const TriMesh>(terrain->toMesh());
+      drawing.setTerrain(mesh,
+                         std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*mesh)));
+    }
+  }
+
+  SceneSpec spec;
+  BuiltScene built;
+  Recorder recorder;
+  DrawListBuilder drawing;
+  std::vector<BodyView> bodies;              // shapes and colours; poses set per frame
+  std::vector<std::vector<BodyPose>> poses;  // per simulated frame
+};
+
+ScenePlayback::ScenePlayback(const SceneSpec& spec, int width, int height)
+    : impl_(std::make_unique<Impl>(spec, width, height)) {}
+
+ScenePlayback::~ScenePlayback() = default;
+
+int ScenePlayback::frameCount() const { return impl_->recorder.frameCount(); }
+
+const RunSummary& ScenePlayback::summary() const { return impl_->recorder.summary(); }
+
+bool ScenePlayback::simulate(bool progress, const std::function<bool()>& stop) {
+  Impl& p = *impl_;
+  const int count = p.recorder.frameCount();
+  p.poses.assign(static_cast<std::size_t>(count), {});
+  Progress simulating(p.spec.name + " (simulating)", count, progress);
+  for (int k = 0; k < count; ++k) {
+    if (stop && stop()) return false;
+    p.recorder.advanceToFrame(k);
+    p.poses[static_cast<std::size_t>(k)] = capturePoses(*p.built.world);
+    applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
+    p.drawing.observe(p.bodies);
+    simulating.update(k + 1, p.recorder.frameTime(k));
+  }
+  return true;
+}
+
+DrawList ScenePlayback::drawList(int k) {
+  Impl& p = *impl_;
+  VF_ASSERT(k >= 0 && static_cast<std::size_t>(k) < p.poses.size());
+  applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
+  return p.drawing.build(p.bodies);
+}
+
+RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& frames,
+                                 gl::Context& context, const std::string& shaderDir,
+                                 const std::function<void(DrawList&)>& adjust) {
+  const int width = spec.output.width, height = spec.output.height;
+  // Checked before the expensive shape building, as `render` does.
+  const int frameCount = Recorder::frameCountFor(spec.fps, spec.duration);
+  for (const int k : frames) {
+    if (k < 0 || k >= frameCount) {
+      throw InputError(spec.path,
+                       "frame " + std::to_string(k) +
+                           " is outside the scene's frames 0:" + std::to_string(frameCount - 1));
+    }
+  }
+  context.makeCurrent();
+  gl::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.shaderDir = shaderDir;
+  gl::Renderer renderer(context, settings);
+
+  ScenePlayback playback(spec, width, height);
+  playback.simulate(false);
+  RenderedFrames out;
+  out.images.reserve(frames.size());
+  for (const int k : frames) {
+    DrawList list = playback.drawList(k);
+    if (adjust) adjust(list);
+    out.images.push_back(renderer.render(list));
+  }
+  out.summary = playback.summary();
+  return out;
+}
+
+}  // namespace vf::cli
