@@ -110,7 +110,7 @@ void World::stepToward(double target) {
   // rounding from producing one extra tiny step.
   const double remaining = target - time_;
   double rule = def_.fixedStep > 0 ? def_.fixedStep : stableStep();
-  if (rule < def_.minStep) {
+  if (def_.fixedStep <= 0 && rule < def_.minStep) {  // a runaway body, not the user's choice
     rule = def_.minStep;
     s.floored = 1;
   }
@@ -163,12 +163,9 @@ void World::placeAbove(int id, double clearance) {
   double top = -INFINITY;
   if (def_.groundHeight) top = *def_.groundHeight;
   if (def_.terrain) {
-    int i0, i1, j0, j1;
     const Vec3 c = box.center();
-    def_.terrain->cellRange(c.x(), c.y(), 0.5 * box.sizes().head<2>().maxCoeff(), i0, i1, j0, j1);
-    for (int j = j0; j <= j1 + 1 && j < def_.terrain->ny; ++j)
-      for (int i = i0; i <= i1 + 1 && i < def_.terrain->nx; ++i)
-        if (!std::isnan(def_.terrain->at(i, j))) top = std::max(top, def_.terrain->at(i, j));
+    top = std::max(top, def_.terrain->maxHeightNear(c.x(), c.y(),
+                                                    0.5 * box.sizes().head<2>().maxCoeff()));
   }
   // What lies below is the pile: bodies that touched something in the last step (before the
   // first step, every placed body). A body still falling from an earlier release touches

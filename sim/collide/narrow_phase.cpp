@@ -166,13 +166,7 @@ std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
                                      std::vector<Contact>& out) {
   const Heightfield& field = *t.terrain;
   auto mayTouch = [&](const Vec3& c, double r) {
-    int i0, i1, j0, j1;
-    field.cellRange(c.x(), c.y(), r, i0, i1, j0, j1);
-    double top = -INFINITY;
-    for (int j = j0; j <= j1 + 1 && j < field.ny; ++j)
-      for (int i = i0; i <= i1 + 1 && i < field.nx; ++i)
-        if (!std::isnan(field.at(i, j))) top = std::max(top, field.at(i, j));
-    return c.z() - r < top;
+    return c.z() - r < field.maxHeightNear(c.x(), c.y(), r);
   };
   auto leaf = [&](const NodeRef& n, double r) {
     const Vec3& c = n.center;

@@ -59,6 +59,16 @@ void Heightfield::cellRange(double x, double y, double r, int& i0, int& i1, int&
   j1 = lo(gy1, ny);
 }
 
+double Heightfield::maxHeightNear(double x, double y, double r) const {
+  int i0, i1, j0, j1;
+  cellRange(x, y, r, i0, i1, j0, j1);
+  double top = -INFINITY;
+  for (int j = j0; j <= j1 + 1 && j < ny; ++j)  // a cell's samples run to i + 1, j + 1
+    for (int i = i0; i <= i1 + 1 && i < nx; ++i)
+      if (!std::isnan(at(i, j))) top = std::max(top, at(i, j));
+  return top;
+}
+
 void Heightfield::cellTriangles(int i, int j, Vec3 tri[2][3]) const {
   const Vec3 p00(x0 + i * cell, y0 + j * cell, at(i, j));
   const Vec3 p10(x0 + (i + 1) * cell, y0 + j * cell, at(i + 1, j));

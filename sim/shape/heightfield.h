@@ -29,6 +29,9 @@ struct Heightfield {
   // The cells whose squares meet [x - r, x + r] x [y - r, y + r], clamped to the grid:
   // i in [i0, i1], j in [j0, j1]; empty (i0 > i1 or j0 > j1) when the square misses the grid.
   void cellRange(double x, double y, double r, int& i0, int& i1, int& j0, int& j1) const;
+  // The highest sample of the cells that meet [x - r, x + r] x [y - r, y + r] (the surface
+  // there is no higher); -infinity when the square misses the grid or has no data.
+  double maxHeightNear(double x, double y, double r) const;
   // The two triangles of cell (i, j): (p00, p10, p11) and (p00, p11, p01), counter-clockwise
   // seen from above.
   void cellTriangles(int i, int j, Vec3 tri[2][3]) const;
