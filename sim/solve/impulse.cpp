@@ -34,8 +34,9 @@ namespace vf {
 double inverseEffectiveMass(double invMassA, const Mat3& invInertiaA, const Vec3& ra,
                             double invMassB, const Mat3& invInertiaB, const Vec3& rb,
                             const Vec3& d) {
-  return invMassA + invMassB +
-         d.dot((invInertiaA * ra.cross(d)).cross(ra) + (invInertiaB * rb.cross(d)).cross(rb));
+  // d . [(I1^-1 (r1 x d)) x r1] = (r1 x d) . I1^-1 (r1 x d): the paper's form, rearranged.
+  const Vec3 raXd = ra.cross(d), rbXd = rb.cross(d);
+  return invMassA + invMassB + raXd.dot(invInertiaA * raXd) + rbXd.dot(invInertiaB * rbXd);
 }
 
 double restitutionImpulse(double vRel, double eps, double inverseEffectiveMass) {
@@ -88,8 +89,7 @@ Axis makeAxis(const Vec3& d, const Vec3& ra, const Vec3& rb, const Motion& A, co
   x.rbXd = rb.cross(d);
   x.dwA = A.invI * x.raXd;
   x.dwB = B.invI * x.rbXd;
-  // Eq. 15's denominator: 1/M1 + 1/M2 + (r1 x d).I1^-1 (r1 x d) + (r2 x d).I2^-1 (r2 x d).
-  x.k = 1.0 / (A.invMass + B.invMass + x.raXd.dot(x.dwA) + x.rbXd.dot(x.dwB));
+  x.k = 1.0 / inverseEffectiveMass(A.invMass, A.invI, ra, B.invMass, B.invI, rb, d);
   return x;
 }
 
