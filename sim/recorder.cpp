@@ -6,7 +6,6 @@
 #include <cstdio>
 
 #include "sim/core/error.h"
-#include "sim/core/hash.h"
 
 namespace vf {
 
@@ -21,37 +20,41 @@ int Recorder::frameCountFor(double fps, double duration) {
 }
 
 Recorder::Recorder(World& world, double fps, double duration)
-    : world_(world),
-      fps_(fps),
-      frameCount_(frameCountFor(fps, duration)),
-      hashState_(Hasher().value()) {
+    : world_(world), fps_(fps), duration_(duration), frameCount_(frameCountFor(fps, duration)) {
   VF_ASSERT(fps > 0 && duration >= 0);
 }
 
 void Recorder::advanceToFrame(int k) {
   VF_ASSERT(k >= nextFrame_ && k < frameCount_);
   const auto start = std::chrono::steady_clock::now();
-  // Frames skipped over still count in the checksum: it covers every frame up to k, so a
+  // Frames skipped over are still measured: the diagnostics cover every frame up to k, so a
   // partial render (--frames A:B) and a full run agree on their common prefix.
   for (int f = nextFrame_; f <= k; ++f) {
-    world_.advanceTo(frameTime(f));
-    last_ = world_.measure();
+    const double t = frameTime(f);
+    world_.advanceTo(t, afterStep_);
+    frame_ = world_.statesAt(t);
+    last_ = world_.measure(frame_);
     summary_.maxPenetrationBodyBody =
         std::max(summary_.maxPenetrationBodyBody, last_.maxPenetrationBodyBody);
     summary_.maxPenetrationBodyGround =
         std::max(summary_.maxPenetrationBodyGround, last_.maxPenetrationBodyGround);
     summary_.tunnelled = std::max(summary_.tunnelled, last_.tunnelled);
-    Hasher h;
-    h.add(hashState_);
-    h.add(world_.stateHash());
-    hashState_ = h.value();
+  }
+  // The run's steps end at the duration whatever the frame rate (the last frame time
+  // floor(duration * fps) / fps depends on fps).
+  // The final energies are the last step's (a simulated state, the same at every fps), not
+  // the last frame's, whose free motion adds gravity's increment to bodies at rest.
+  Diagnostics end = last_;
+  if (k == frameCount_ - 1) {
+    world_.advanceTo(std::max(duration_, frameTime(k)), afterStep_);
+    end = world_.measure();
   }
   nextFrame_ = k + 1;
   summary_.frames = nextFrame_;
   summary_.totals = world_.totals();
-  summary_.kineticEnergy = last_.kineticEnergy;
-  summary_.potentialEnergy = last_.potentialEnergy;
-  summary_.checksum = hashState_;
+  summary_.kineticEnergy = end.kineticEnergy;
+  summary_.potentialEnergy = end.potentialEnergy;
+  summary_.checksum = world_.stepsHash();
   summary_.wallSeconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

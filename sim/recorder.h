@@ -1,11 +1,16 @@
-// Drives a World through the output frames of a run: frame k is the state at exactly
-// t = k / fps (k = 0 .. floor(duration * fps)). At every frame it measures the true-mesh
-// diagnostics and folds the state hash into the trajectory checksum. The simulation and the
-// renderer both read frames through it, so `simulate` and `render` report the same checksum.
+// Reads a World at the output frames of a run: frame k is the state at exactly t = k / fps
+// (k = 0 .. floor(duration * fps)). The world takes its own steps (World::advanceTo never
+// shortens a step to meet a frame), and the frame is a copy of the last step's state moved by
+// free motion to t (World::statesAt), so the frame rate never changes the physics. At every
+// frame it measures the true-mesh diagnostics; the checksum is the world's hash over its
+// steps up to the scene's duration, the same at every fps. The simulation and the renderer
+// both read frames through it, so `simulate` and `render` report the same checksum.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "sim/world.h"
 
@@ -18,9 +23,9 @@ struct RunSummary {
   double maxPenetrationBodyBody = 0;    // m, max over frames
   double maxPenetrationBodyGround = 0;  // m, max over frames
   int tunnelled = 0;                    // max over frames
-  double kineticEnergy = 0;             // J, at the last frame
-  double potentialEnergy = 0;           // J, at the last frame
-  std::uint64_t checksum = 0;           // hash of the state hashes of every visited frame
+  double kineticEnergy = 0;             // J, after the run's last step (see advanceToFrame)
+  double potentialEnergy = 0;           // J, after the run's last step
+  std::uint64_t checksum = 0;           // World::stepsHash() over the steps of the run
   std::string checksumHex() const;      // 16 lowercase hex digits
 };
 
@@ -33,20 +38,28 @@ class Recorder {
   static int frameCountFor(double fps, double duration);
   int frameCount() const { return frameCount_; }
   double frameTime(int k) const { return static_cast<double>(k) / fps_; }
-  // Advances the world to frame k (k must not go backwards) and records it.
+  // Advances the world through its steps up to frame k's time (k must not go backwards) and
+  // records frame k. The last frame also takes the steps up to the duration, so the summary's
+  // step count and checksum do not depend on fps.
   void advanceToFrame(int k);
+  // Every body's state at the last recorded frame (body id order), see World::statesAt.
+  const std::vector<BodyState>& frameStates() const { return frame_; }
   const RunSummary& summary() const { return summary_; }
   const Diagnostics& lastDiagnostics() const { return last_; }
+  // Called after every step the recorder makes the world take (e.g. to record a bake).
+  void setAfterStep(std::function<void()> afterStep) { afterStep_ = std::move(afterStep); }
   World& world() { return world_; }
 
  private:
   World& world_;
   double fps_;
+  double duration_;
   int frameCount_;
   int nextFrame_ = 0;
   RunSummary summary_;
   Diagnostics last_;
-  std::uint64_t hashState_;
+  std::vector<BodyState> frame_;
+  std::function<void()> afterStep_;
 };
 
 }  // namespace vf

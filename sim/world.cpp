@@ -1,4 +1,4 @@
-// World::step() reads as the table of contents of one step (design.md):
+// World::step() reads as the table of contents of one step (README: How a step works):
 //   step size (eq. 20)        solve/time_step.cpp
 //   gravity                   solve/integrate.cpp
 //   broad phase               collide/broad_phase.cpp
@@ -23,10 +23,6 @@
 namespace vf {
 
 namespace {
-
-// Times closer than this are the same instant: release times are computed as start + i * interval
-// and frame times as k / fps, which can differ in the last bit where they are meant to agree.
-constexpr double kTimeTolerance = 1e-9;  // s
 
 using Clock = std::chrono::steady_clock;
 
@@ -55,7 +51,7 @@ void RunStats::add(const StepStats& s) {
   secondsIntegrate += s.secondsIntegrate;
 }
 
-World::World(WorldDef def) : def_(std::move(def)) {}
+World::World(WorldDef def) : def_(std::move(def)), stepsHash_(Hasher().value()) {}
 
 int World::addBody(const BodyDef& d) {
   VF_ASSERT(d.shape && d.shape->tree && d.shape->mass > 0);
@@ -85,16 +81,47 @@ int World::addBody(const BodyDef& d) {
 const StepStats& World::step(double maxDt) {
   VF_ASSERT(maxDt > 0);
   stepToward(time_ + maxDt);
+  foldStepHash();
   return last_;
 }
 
-void World::advanceTo(double t) {
-  VF_ASSERT(t >= time_);
-  while (time_ < t) {
-    // A release time within kTimeTolerance of t is taken at t: no sliver steps.
-    const double release = nextReleaseAfter(time_);
-    stepToward(release < t - kTimeTolerance ? release : t);
+double World::nextStepEnd() const {
+  const double target = nextReleaseAfter(time_);
+  const StepPlan plan = planStep(target);
+  return plan.lands ? target : time_ + plan.dt;
+}
+
+const StepStats& World::stepNext() {
+  stepToward(nextReleaseAfter(time_));
+  foldStepHash();
+  return last_;
+}
+
+void World::advanceTo(double t, const std::function<void()>& afterStep) {
+  // Frame times are k / fps and release times start + i * interval: where they are meant to
+  // agree they can differ in the last bit, so a step ending a hair after t is taken too.
+  while (nextStepEnd() <= t + kTimeTolerance) {
+    stepNext();
+    if (afterStep) afterStep();
   }
+}
+
+// Frames between steps (README: Frames and steps; frame k is the state at exactly t = k / fps, and
+// output never steers the simulation). The copy moves as the next step would move it with no
+// contacts (freeMotion: gravity's increment, then explicit Euler on x and q). So a body in flight
+// is exactly where a step of length t - time() would put it, and a body resting on the ground shows
+// at most gravity's sag |g| dt'^2 <= r (eq. 17).
+std::vector<BodyState> World::statesAt(double t) const {
+  std::vector<BodyState> states = states_;
+  freeMotion(bodies_, states, def_.gravity, t - time_);
+  return states;
+}
+
+void World::foldStepHash() {
+  Hasher h;
+  h.add(stepsHash_);
+  h.add(stateHash());
+  stepsHash_ = h.value();
 }
 
 double World::stableStep() const {
@@ -105,18 +132,10 @@ void World::stepToward(double target) {
   StepStats s;
   Clock::time_point clock = Clock::now();
 
-  // Step size: eq. 20 (or the fixed step), split so that `target` is reached in equal steps
-  // none longer than the rule. The 1e-9 keeps a fixed step that divides the interval up to
-  // rounding from producing one extra tiny step.
-  const double remaining = target - time_;
-  double rule = def_.fixedStep > 0 ? def_.fixedStep : stableStep();
-  if (def_.fixedStep <= 0 && rule < def_.minStep) {  // a runaway body, not the user's choice
-    rule = def_.minStep;
-    s.floored = 1;
-  }
-  const double n = std::max(1.0, std::ceil(remaining / rule - 1e-9));
-  const bool lands = n == 1.0;
-  s.dt = lands ? remaining : remaining / n;
+  const StepPlan plan = planStep(target);
+  const bool lands = plan.lands;
+  s.dt = plan.dt;
+  s.floored = plan.floored ? 1 : 0;
 
   applyGravity(bodies_, states_, def_.gravity, s.dt);
 
@@ -148,6 +167,27 @@ void World::stepToward(double target) {
   totals_.add(s);
 }
 
+World::StepPlan World::planStep(double target) const {
+  // Step size: eq. 20 (or the fixed step), split so that `target` is reached in equal steps
+  // none longer than the rule. The 1e-9 keeps a fixed step that divides the interval up to
+  // rounding from producing one extra tiny step. No target (infinity): the rule's step.
+  StepPlan plan;
+  double rule = def_.fixedStep > 0 ? def_.fixedStep : stableStep();
+  if (def_.fixedStep <= 0 && rule < def_.minStep) {  // a runaway body, not the user's choice
+    rule = def_.minStep;
+    plan.floored = true;
+  }
+  if (!std::isfinite(target)) {
+    plan.dt = rule;
+    return plan;
+  }
+  const double remaining = target - time_;
+  const double n = std::max(1.0, std::ceil(remaining / rule - 1e-9));
+  plan.lands = n == 1.0;
+  plan.dt = plan.lands ? remaining : remaining / n;
+  return plan;
+}
+
 Eigen::AlignedBox3d World::worldBounds(int id) const {
   Eigen::AlignedBox3d box;
   const Mat3 R = states_[id].q.toRotationMatrix();
@@ -164,8 +204,8 @@ void World::placeAbove(int id, double clearance) {
   if (def_.groundHeight) top = *def_.groundHeight;
   if (def_.terrain) {
     const Vec3 c = box.center();
-    top = std::max(top, def_.terrain->maxHeightNear(c.x(), c.y(),
-                                                    0.5 * box.sizes().head<2>().maxCoeff()));
+    top = std::max(
+        top, def_.terrain->maxHeightNear(c.x(), c.y(), 0.5 * box.sizes().head<2>().maxCoeff()));
   }
   // What lies below is the pile: bodies that touched something in the last step (before the
   // first step, every placed body). A body still falling from an earlier release touches
@@ -224,11 +264,15 @@ double World::nextReleaseAfter(double t) const {
   return next;
 }
 
-Vec3 World::velocity(int id) const { return states_[id].P * bodies_[id].invMass; }
+Vec3 World::velocity(int id) const { return velocity(id, states_[id]); }
 
-Vec3 World::angularVelocity(int id) const {
-  const Mat3 R = states_[id].q.toRotationMatrix();
-  return R * bodies_[id].inertiaBodyInv * R.transpose() * states_[id].L;
+Vec3 World::angularVelocity(int id) const { return angularVelocity(id, states_[id]); }
+
+Vec3 World::velocity(int id, const BodyState& y) const { return y.P * bodies_[id].invMass; }
+
+Vec3 World::angularVelocity(int id, const BodyState& y) const {
+  const Mat3 R = y.q.toRotationMatrix();
+  return R * bodies_[id].inertiaBodyInv * R.transpose() * y.L;
 }
 
 std::uint64_t World::stateHash() const {
@@ -244,16 +288,19 @@ std::uint64_t World::stateHash() const {
   return h.value();
 }
 
-Diagnostics World::measure() const {
+Diagnostics World::measure() const { return measure(states_); }
+
+Diagnostics World::measure(const std::vector<BodyState>& states) const {
+  VF_ASSERT(static_cast<int>(states.size()) == bodyCount());
   Diagnostics d;
   const int n = bodyCount();
   std::vector<char> tunnelled(n, 0);
   for (int i = 0; i < n; ++i) {
     const BodyInfo& b = bodies_[i];
     if (!b.moves()) continue;
-    const BodyState& y = states_[i];
+    const BodyState& y = states[i];
     const double mass = b.shape->mass;
-    d.kineticEnergy += 0.5 * y.P.dot(velocity(i)) + 0.5 * y.L.dot(angularVelocity(i));
+    d.kineticEnergy += 0.5 * y.P.dot(velocity(i, y)) + 0.5 * y.L.dot(angularVelocity(i, y));
     d.potentialEnergy -= mass * def_.gravity.dot(y.x);
     if (def_.groundHeight) {
       d.maxPenetrationBodyGround = std::max(
@@ -273,10 +320,11 @@ Diagnostics World::measure() const {
       const Shape& sa = *bodies_[a].shape;
       const Shape& sb = *bodies_[b].shape;
       const double reach = 0.5 * (sa.diameter + sb.diameter);
-      if ((states_[a].x - states_[b].x).squaredNorm() >= reach * reach) continue;
-      const Pose pa{states_[a].x, states_[a].q}, pb{states_[b].x, states_[b].q};
-      d.maxPenetrationBodyBody = std::max(
-          {d.maxPenetrationBodyBody, meshPenetration(sa, pa, sb, pb), meshPenetration(sb, pb, sa, pa)});
+      if ((states[a].x - states[b].x).squaredNorm() >= reach * reach) continue;
+      const Pose pa{states[a].x, states[a].q}, pb{states[b].x, states[b].q};
+      d.maxPenetrationBodyBody =
+          std::max({d.maxPenetrationBodyBody, meshPenetration(sa, pa, sb, pb),
+                    meshPenetration(sb, pb, sa, pa)});
       // A centre of mass outside its own solid (a hollow body) says nothing about tunnelling.
       if (bodies_[a].moves() && sa.centerInside && pointInsideBody(sb, pb, pa.x)) tunnelled[a] = 1;
       if (bodies_[b].moves() && sb.centerInside && pointInsideBody(sa, pa, pb.x)) tunnelled[b] = 1;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -15,6 +16,11 @@
 #include "sim/shape/shape.h"
 
 namespace vf {
+
+// Times closer than this are the same instant, s: release times are computed as
+// start + i * interval and frame times as k / fps, which can differ in the last bit where they
+// are meant to agree.
+inline constexpr double kTimeTolerance = 1e-9;
 
 // Rigid-body state y = {x, q, P, L} (eqs. 1-7): centre of mass (m), unit orientation
 // quaternion (body -> world), linear momentum (kg m/s), angular momentum (kg m^2/s).
@@ -48,15 +54,15 @@ struct ContactMaterial {
 };
 
 struct WorldDef {
-  Vec3 gravity = Vec3(0, 0, -9.81);      // m/s^2
-  double fixedStep = 0;                  // s; 0 selects the eq.-20 rule every step
-  double maxStep = 1.0 / 60.0;           // s; upper bound of the eq.-20 step (bodies at rest)
-  double minStep = 1e-6;                 // s; floor of the eq.-20 step, so a runaway body (speeds
-                                         // over ~1e4 m/s) cannot stall a run; counted in stats
-  std::optional<double> groundHeight;    // floor plane z = h; none: no floor
+  Vec3 gravity = Vec3(0, 0, -9.81);    // m/s^2
+  double fixedStep = 0;                // s; 0 selects the eq.-20 rule every step
+  double maxStep = 1.0 / 60.0;         // s; upper bound of the eq.-20 step (bodies at rest)
+  double minStep = 1e-6;               // s; floor of the eq.-20 step, so a runaway body (speeds
+                                       // over ~1e4 m/s) cannot stall a run; counted in stats
+  std::optional<double> groundHeight;  // floor plane z = h; none: no floor
   std::shared_ptr<const Heightfield> terrain;  // heightfield ground; none: no terrain
   ContactMaterial contact;
-  int solverIterations = 12;             // sequential-impulse passes over the contacts
+  int solverIterations = 12;  // sequential-impulse passes over the contacts
 };
 
 // What one step did. Counters are deterministic; the stage times are wall-clock and are never
@@ -101,8 +107,29 @@ class World {
   // Advances by one step of at most maxDt seconds (the eq.-20 or fixed step, whichever is
   // smaller). Never throws; numerical trouble is counted in the returned stats.
   const StepStats& step(double maxDt);
-  // Steps until time() == t exactly (t >= time()). Release times on the way are hit exactly.
-  void advanceTo(double t);
+
+  // The scene's own step sequence. Output never steers the simulation (README: Frames and steps):
+  // each step is the eq.-20 (or fixed) step, split only so that release times are hit exactly, so
+  // the steps depend on the bodies, their release times and the step rule alone, never on a frame
+  // rate. Time at which the next step of that sequence ends, s.
+  double nextStepEnd() const;
+  // Takes the next step of the sequence.
+  const StepStats& stepNext();
+  // Takes the steps of the sequence that end at or before t (a step ending within 1e-9 s after
+  // t counts as ending at t). Never shortens a step to land on t: afterwards
+  // time() <= t + 1e-9 < nextStepEnd(). Use statesAt(t) for the state at exactly t.
+  // `afterStep`, when given, is called after every step (a bake records each one).
+  void advanceTo(double t, const std::function<void()>& afterStep = {});
+  // Every body's state at time t, for t from time() up to nextStepEnd(): a COPY of the current
+  // states moved by the step's own free motion over t - time() (gravity, then explicit Euler
+  // on x and q; no contacts). The simulated state is not touched. Eq. 17 bounds what this can
+  // show: under the eq.-20 rule no point of a body moves more than one leaf-sphere radius in a
+  // whole step, so a partial step can neither carry a body through another nor sink it by more
+  // than that radius. For t <= time() the current states are returned.
+  std::vector<BodyState> statesAt(double t) const;
+  // Hash of the state after every step taken so far (each folded in order): the trajectory
+  // checksum. It depends on the steps only, so it is the same whatever frames are drawn.
+  std::uint64_t stepsHash() const { return stepsHash_; }
 
   double time() const { return time_; }
   int bodyCount() const { return static_cast<int>(states_.size()); }
@@ -114,6 +141,9 @@ class World {
   bool isActive(int id) const { return bodies_[id].active; }
   Vec3 velocity(int id) const;         // m/s
   Vec3 angularVelocity(int id) const;  // rad/s, world frame
+  // The same for body id in state y (e.g. one of statesAt(t)).
+  Vec3 velocity(int id, const BodyState& y) const;         // m/s
+  Vec3 angularVelocity(int id, const BodyState& y) const;  // rad/s, world frame
   const WorldDef& def() const { return def_; }
   const RunStats& totals() const { return totals_; }
   const StepStats& lastStep() const { return last_; }
@@ -124,11 +154,22 @@ class World {
   std::uint64_t stateHash() const;
   // True-mesh diagnostics of the current state: O(bodies^2 * mesh size); call per frame.
   Diagnostics measure() const;
+  // The same for other states of these bodies (one per body, e.g. statesAt(t)).
+  Diagnostics measure(const std::vector<BodyState>& states) const;
 
  private:
   // Steps once towards `target` (> time_), never past it; lands on it exactly when the step
   // rule allows reaching it in one step.
   void stepToward(double target);
+  // The step stepToward(target) would take: its length, whether it lands on `target`, and
+  // whether eq. 20 asked for less than the floor.
+  struct StepPlan {
+    double dt = 0;
+    bool lands = false;
+    bool floored = false;
+  };
+  StepPlan planStep(double target) const;
+  void foldStepHash();
   // Activates bodies whose release time has come; returns how many of them were released
   // overlapping an active body's leaf spheres (an emitter aimed into a pile).
   std::uint64_t releaseBodies();
@@ -145,9 +186,10 @@ class World {
   std::vector<BodyState> states_;
   RunStats totals_;
   StepStats last_;
-  std::vector<BodyPair> pairs_;     // scratch, reused every step
-  std::vector<Contact> contacts_;   // scratch, reused every step
-  ContactCache contactCache_;       // last step's contact impulses (warm starting)
+  std::vector<BodyPair> pairs_;    // scratch, reused every step
+  std::vector<Contact> contacts_;  // scratch, reused every step
+  ContactCache contactCache_;      // last step's contact impulses (warm starting)
+  std::uint64_t stepsHash_;        // see stepsHash()
 };
 
 }  // namespace vf

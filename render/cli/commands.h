@@ -12,6 +12,8 @@ namespace vf::cli {
 void addSimulateCommand(CLI::App& app, int& exitCode);
 // voxfall render SCENE [-o OUT] [--frames A:B] [--size WxH] [--fps N] [--level N] [--crf N]
 void addRenderCommand(CLI::App& app, int& exitCode);
+// voxfall export SCENE|BAKE [-o FILE.glb] [--fps N] [-y|-n]
+void addExportCommand(CLI::App& app, int& exitCode);
 // voxfall diff EXPECTED ACTUAL [--threshold T] [--max-fraction F] [--out DIFF]
 void addDiffCommand(CLI::App& app, int& exitCode);
 // voxfall regress SUITE_DIR [-o REPORT_DIR] [--update]

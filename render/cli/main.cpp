@@ -3,7 +3,6 @@
 //   0 success, 1 bad input or failed run, 2 usage error. SIGINT/SIGTERM end the process as
 // usual (shell status 130/143) after removing unfinished outputs (run_output.h).
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -17,9 +16,10 @@
 #endif
 
 int main(int argc, char** argv) {
-  CLI::App app{"voxfall: rigid bodies with voxel sphere-tree collisions "
-               "(Suzuki, Kubota & Ohtsubo 2003)",
-               "voxfall"};
+  CLI::App app{
+      "voxfall: rigid bodies with voxel sphere-tree collisions "
+      "(Suzuki, Kubota & Ohtsubo 2003)",
+      "voxfall"};
   app.set_version_flag("--version", std::string("voxfall ") + VOXFALL_VERSION);
   app.require_subcommand(1);
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   int exitCode = 0;
   vf::cli::addSimulateCommand(app, exitCode);
   vf::cli::addRenderCommand(app, exitCode);  // RENDER-COMMAND (render/cli/render_command.cpp)
+  vf::cli::addExportCommand(app, exitCode);
   // Visual regression tests: render/cli/diff_command.cpp and regress_command.cpp.
   vf::cli::addDiffCommand(app, exitCode);
   vf::cli::addRegressCommand(app, exitCode);

@@ -17,10 +17,7 @@
 // looking at the PNGs) shows only what really changed. To regenerate a case from scratch,
 // delete its folder and run --update.
 //
-// suite.toml is read by a small reader of a TOML subset (below) rather than toml++: the style
-// guide keeps toml++ in the scene loader alone, and a suite needs only `[[case]]` tables of
-// `key = value` lines with strings, numbers and one-line number arrays. Anything else is an
-// error naming file:line:column, as scene errors do, so the file stays valid TOML.
+// suite.toml is read by toml++ (render/regress_suite.h), as the golden tests read it.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
@@ -38,12 +35,13 @@
 #include <vector>
 
 #include "render/cli/commands.h"
-#include "render/cli/scene_playback.h"
 #include "render/cli/run_output.h"
+#include "render/cli/scene_playback.h"
 #include "render/gl/gl_context.h"
 #include "render/gl/shader_program.h"
 #include "render/output/image_diff.h"
 #include "render/output/png_writer.h"
+#include "render/regress_suite.h"
 #include "sim/core/error.h"
 #include "sim/scene/scene.h"
 
@@ -55,267 +53,6 @@ namespace fs = std::filesystem;
 constexpr const char* kSuiteFile = "suite.toml";
 constexpr const char* kGoldenPattern = "frame_####.png";
 constexpr const char* kChecksumFile = "checksum.txt";
-
-// --- suite.toml -----------------------------------------------------------------------------
-
-struct SuiteCase {
-  std::string name;          // folder of its goldens; default: the scene file's stem
-  std::string scene;         // resolved against the suite folder
-  std::vector<int> frames;   // frame numbers k (t = k / fps), in the order given
-  std::optional<int> width;  // default: the scene's [output] size
-  std::optional<int> height;
-  DiffTolerance tolerance;
-  std::string where;  // "suite.toml:LINE" of its [[case]] header
-};
-
-struct Suite {
-  fs::path dir;
-  std::vector<SuiteCase> cases;
-};
-
-// A parsed right-hand side: a string, a number, or a one-line array of numbers.
-struct Value {
-  enum class Kind { string, number, array } kind = Kind::number;
-  std::string text;
-  double number = 0;
-  std::vector<double> numbers;
-  bool integral = false;  // number (or every array element) written as an integer
-};
-
-class SuiteReader {
- public:
-  explicit SuiteReader(fs::path file) : file_(std::move(file)) {}
-
-  Suite read() {
-    std::ifstream in(file_);
-    if (!in) {
-      throw InputError(file_.string(),
-                       "cannot read the suite file (a suite folder holds suite.toml)");
-    }
-    Suite suite;
-    suite.dir = file_.parent_path();
-    DiffTolerance defaults;  // top-level threshold / max_fraction apply to later cases
-    std::string raw;
-    std::set<std::string> keysSeen;  // in the current table
-    while (std::getline(in, raw)) {
-      ++line_;
-      const std::string text = stripComment(raw);
-      const std::size_t start = text.find_first_not_of(" \t\r");
-      if (start == std::string::npos) continue;
-      const std::string body = trim(text);
-      if (body[0] == '[') {
-        if (body != "[[case]]") {
-          fail(start, "only [[case]] tables may appear in a suite file, not '" + body + "'");
-        }
-        finishCase(suite);
-        current_ = SuiteCase{};
-        current_->tolerance = defaults;
-        current_->where = sourceLocation(file_.string(), line_);
-        keysSeen.clear();
-        continue;
-      }
-      const std::size_t eq = text.find('=');
-      if (eq == std::string::npos) fail(start, "expected 'key = value' or [[case]]");
-      const std::string key = trim(text.substr(0, eq));
-      if (key.empty() || !std::all_of(key.begin(), key.end(), [](unsigned char c) {
-            return std::isalnum(c) || c == '_' || c == '-';
-          })) {
-        fail(start, "'" + key + "' is not a key");
-      }
-      if (!keysSeen.insert(key).second) fail(start, "'" + key + "' is given twice");
-      const std::size_t valueStart = text.find_first_not_of(" \t", eq + 1);
-      if (valueStart == std::string::npos) fail(eq, "'" + key + "' has no value");
-      const Value value = parseValue(text, valueStart);
-      if (current_) {
-        readCaseKey(*current_, key, value, start, valueStart);
-      } else {
-        readTopKey(defaults, key, value, start, valueStart);
-      }
-    }
-    finishCase(suite);
-    if (suite.cases.empty()) {
-      throw InputError(file_.string(),
-                       "no [[case]] in the suite file (see tests/golden/README.md)");
-    }
-    return suite;
-  }
-
- private:
-  [[noreturn]] void fail(std::size_t column, const std::string& message) const {
-    throw InputError(sourceLocation(file_.string(), line_, static_cast<int>(column) + 1), message);
-  }
-
-  static std::string trim(const std::string& s) {
-    const std::size_t a = s.find_first_not_of(" \t\r");
-    if (a == std::string::npos) return "";
-    const std::size_t b = s.find_last_not_of(" \t\r");
-    return s.substr(a, b - a + 1);
-  }
-
-  // The line up to a '#' that is not inside a string.
-  static std::string stripComment(const std::string& s) {
-    bool inString = false;
-    for (std::size_t i = 0; i < s.size(); ++i) {
-      if (inString && s[i] == '\\') {
-        ++i;
-      } else if (s[i] == '"') {
-        inString = !inString;
-      } else if (s[i] == '#' && !inString) {
-        return s.substr(0, i);
-      }
-    }
-    return s;
-  }
-
-  // A number starting at `pos`; advances `pos` past it.
-  double parseNumber(const std::string& s, std::size_t& pos, bool& integral) const {
-    const char* begin = s.c_str() + pos;
-    char* end = nullptr;
-    const double v = std::strtod(begin, &end);
-    if (end == begin || !std::isfinite(v)) fail(pos, "expected a number");
-    const std::string written(begin, static_cast<std::size_t>(end - begin));
-    integral = written.find_first_of(".eEnNiI") == std::string::npos;
-    pos += static_cast<std::size_t>(end - begin);
-    return v;
-  }
-
-  Value parseValue(const std::string& s, std::size_t pos) const {
-    Value v;
-    if (s[pos] == '"') {
-      v.kind = Value::Kind::string;
-      std::size_t i = pos + 1;
-      for (; i < s.size() && s[i] != '"'; ++i) {
-        if (s[i] == '\\') {
-          if (i + 1 >= s.size() || (s[i + 1] != '"' && s[i + 1] != '\\'))
-            fail(i, "only \\\" and \\\\ escapes are supported in suite strings");
-          ++i;
-        }
-        v.text += s[i];
-      }
-      if (i >= s.size()) fail(pos, "unterminated string");
-      pos = i + 1;
-    } else if (s[pos] == '[') {
-      v.kind = Value::Kind::array;
-      v.integral = true;
-      ++pos;
-      while (true) {
-        pos = s.find_first_not_of(" \t", pos);
-        if (pos == std::string::npos)
-          fail(s.size(), "unterminated array (arrays must fit on one line)");
-        if (s[pos] == ']') break;
-        bool integral = false;
-        v.numbers.push_back(parseNumber(s, pos, integral));
-        v.integral = v.integral && integral;
-        pos = s.find_first_not_of(" \t", pos);
-        if (pos != std::string::npos && s[pos] == ',') {
-          ++pos;
-        } else if (pos == std::string::npos || s[pos] != ']') {
-          fail(pos == std::string::npos ? s.size() : pos, "expected ',' or ']' in the array");
-        }
-      }
-      ++pos;
-    } else {
-      v.kind = Value::Kind::number;
-      v.number = parseNumber(s, pos, v.integral);
-    }
-    const std::size_t rest = s.find_first_not_of(" \t\r", pos);
-    if (rest != std::string::npos) fail(rest, "unexpected text after the value");
-    return v;
-  }
-
-  int readInt(const Value& v, std::size_t column, const std::string& key, int lo, int hi) const {
-    if (v.kind != Value::Kind::number || !v.integral || v.number < lo || v.number > hi) {
-      fail(column,
-           "'" + key + "' must be an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
-    }
-    return static_cast<int>(v.number);
-  }
-
-  double readFraction(const Value& v, std::size_t column, const std::string& key) const {
-    if (v.kind != Value::Kind::number || v.number < 0 || v.number > 1)
-      fail(column, "'" + key + "' must be a number in 0..1 (a share of the pixels)");
-    return v.number;
-  }
-
-  void readTopKey(DiffTolerance& t, const std::string& key, const Value& v, std::size_t keyCol,
-                  std::size_t valueCol) const {
-    if (key == "threshold") {
-      t.threshold = readInt(v, valueCol, key, 0, 255);
-    } else if (key == "max_fraction") {
-      t.maxFraction = readFraction(v, valueCol, key);
-    } else {
-      fail(keyCol, "unknown key '" + key +
-                       "' before the first [[case]] (valid there: "
-                       "threshold, max_fraction)");
-    }
-  }
-
-  void readCaseKey(SuiteCase& c, const std::string& key, const Value& v, std::size_t keyCol,
-                   std::size_t valueCol) const {
-    if (key == "name") {
-      const bool valid = v.kind == Value::Kind::string && !v.text.empty() && v.text != "." &&
-                         v.text != ".." &&
-                         std::all_of(v.text.begin(), v.text.end(), [](unsigned char ch) {
-                           return std::isalnum(ch) || ch == '_' || ch == '-' || ch == '.';
-                         });
-      if (!valid) fail(valueCol, "'name' must be a folder name (letters, digits, _ - .)");
-      c.name = v.text;
-    } else if (key == "scene") {
-      if (v.kind != Value::Kind::string || v.text.empty())
-        fail(valueCol, "'scene' must be the path of a scene file, relative to the suite folder");
-      const fs::path scene =
-          fs::path(v.text).is_absolute() ? fs::path(v.text) : file_.parent_path() / v.text;
-      std::error_code ec;
-      if (!fs::is_regular_file(scene, ec))
-        fail(valueCol, "scene file '" + scene.string() + "' not found");
-      c.scene = scene.lexically_normal().string();
-    } else if (key == "frames") {
-      if (v.kind != Value::Kind::array || v.numbers.empty() || !v.integral)
-        fail(valueCol, "'frames' must be a list of frame numbers, e.g. [0, 30, 60]");
-      std::set<int> seen;
-      for (const double k : v.numbers) {
-        if (k < 0 || k > 1e7) fail(valueCol, "frame numbers must be >= 0");
-        if (!seen.insert(static_cast<int>(k)).second)
-          fail(valueCol, "frame " + std::to_string(static_cast<int>(k)) + " is listed twice");
-        c.frames.push_back(static_cast<int>(k));
-      }
-    } else if (key == "size") {
-      if (v.kind != Value::Kind::array || v.numbers.size() != 2 || !v.integral ||
-          v.numbers[0] < 16 || v.numbers[1] < 16 || v.numbers[0] > 8192 || v.numbers[1] > 8192)
-        fail(valueCol, "'size' must be [width, height] in pixels, each 16..8192");
-      c.width = static_cast<int>(v.numbers[0]);
-      c.height = static_cast<int>(v.numbers[1]);
-    } else if (key == "threshold") {
-      c.tolerance.threshold = readInt(v, valueCol, key, 0, 255);
-    } else if (key == "max_fraction") {
-      c.tolerance.maxFraction = readFraction(v, valueCol, key);
-    } else {
-      fail(keyCol, "unknown key '" + key +
-                       "' in [[case]] (valid: name, scene, frames, size, "
-                       "threshold, max_fraction)");
-    }
-  }
-
-  void finishCase(Suite& suite) {
-    if (!current_) return;
-    SuiteCase& c = *current_;
-    if (c.scene.empty()) throw InputError(c.where, "[[case]] needs 'scene = \"path.toml\"'");
-    if (c.frames.empty()) throw InputError(c.where, "[[case]] needs 'frames = [k, ...]'");
-    if (c.name.empty()) c.name = fs::path(c.scene).stem().string();
-    for (const SuiteCase& other : suite.cases) {
-      if (other.name == c.name) {
-        throw InputError(c.where, "a second case named '" + c.name + "' (the first is at " +
-                                      other.where + "); give one a different 'name'");
-      }
-    }
-    suite.cases.push_back(std::move(c));
-    current_.reset();
-  }
-
-  fs::path file_;
-  int line_ = 0;
-  std::optional<SuiteCase> current_;
-};
 
 // --- the run --------------------------------------------------------------------------------
 
@@ -351,7 +88,7 @@ std::string readChecksum(const fs::path& path) {
 
 // checksum.txt through a temporary file and a rename (OutputFile), like every other output.
 void writeChecksum(const fs::path& path, const std::string& checksum) {
-  OutputFile file(path.string());
+  OutputFile file(path.string(), replaceOutputs());
   std::fprintf(file.stream(), "%s\n", checksum.c_str());
   file.commit();
 }
@@ -500,7 +237,7 @@ int runRegress(const RegressOptions& o) {
   std::error_code ec;
   if (!fs::is_directory(suiteDir, ec))
     throw InputError(o.suite, "not a folder (a suite is a folder holding suite.toml)");
-  Suite suite = SuiteReader(suiteDir / kSuiteFile).read();
+  const Suite suite = readSuite((suiteDir / kSuiteFile).string());
   for (const std::string& name : o.only) {
     if (std::none_of(suite.cases.begin(), suite.cases.end(),
                      [&](const SuiteCase& c) { return c.name == name; }))
@@ -562,7 +299,7 @@ int runRegress(const RegressOptions& o) {
   log.line(tail);
   const fs::path reportFile = reportDir / "report.txt";
   {
-    OutputFile report(reportFile.string());
+    OutputFile report(reportFile.string(), replaceOutputs());
     std::fputs(log.text().c_str(), report.stream());
     report.commit();
   }

@@ -20,16 +20,20 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "render/cli/commands.h"
-#include "render/cli/scene_playback.h"
+#include "render/cli/options.h"
 #include "render/cli/run_output.h"
+#include "render/cli/scene_playback.h"
 #include "render/draw_list.h"
 #include "render/gl/gl_context.h"
 #include "render/gl/renderer.h"
 #include "render/gl/shader_program.h"
 #include "render/output/frame_sink.h"
+#include "sim/bake.h"
 #include "sim/core/error.h"
 #include "sim/recorder.h"
 #include "sim/scene/scene.h"
@@ -40,9 +44,9 @@ namespace {
 
 struct RenderOptions {
   std::string scene;
-  std::string output;  // "": out/<scene name>.mp4
-  std::string frames;  // "A:B", "A:", ":B" or "N"
-  std::string size;    // "WxH"
+  std::string output;                       // "": out/<scene name>.mp4
+  std::string frames;                       // "A:B", "A:", ":B" or "N"
+  std::optional<std::pair<int, int>> size;  // --size WxH
   std::optional<double> fps;
   std::optional<int> level;
   std::string step;
@@ -50,6 +54,8 @@ struct RenderOptions {
   std::string gl = "osmesa";
   std::string shaders;
   bool quiet = false;
+  bool overwrite = false;       // -y
+  bool neverOverwrite = false;  // -n
 };
 
 struct FrameRange {
@@ -91,81 +97,39 @@ FrameRange parseFrames(const std::string& text, int count) {
   return r;
 }
 
-// "1280x720" -> (1280, 720).
-std::string checkSize(const std::string& text) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
-    return "size must be WxH, e.g. 1280x720";
-  }
-  if (w < 16 || h < 16 || w > 8192 || h > 8192) return "each side must be 16..8192 pixels";
-  return "";
-}
-
-
-// SIGINT and SIGTERM during the frame loop only raise a flag: the loop stops after the frame
-// in hand and the frames so far are finalised into a playable file (an MP4 needs its index
-// written). A second signal ends the process at once, as usual. Restores the old handlers.
-std::atomic<int> gStopSignal{0};
-
-extern "C" void onStopSignal(int sig) {
-  gStopSignal.store(sig);
-  std::signal(sig, SIG_DFL);
-}
-
-class StopOnSignal {
- public:
-  StopOnSignal() {
-    gStopSignal.store(0);
-    oldInt_ = std::signal(SIGINT, onStopSignal);
-    oldTerm_ = std::signal(SIGTERM, onStopSignal);
-  }
-  ~StopOnSignal() {
-    std::signal(SIGINT, oldInt_);
-    std::signal(SIGTERM, oldTerm_);
-  }
-  StopOnSignal(const StopOnSignal&) = delete;
-  StopOnSignal& operator=(const StopOnSignal&) = delete;
-  // The signal that arrived, 0 if none.
-  int signal() const { return gStopSignal.load(); }
-
- private:
-  void (*oldInt_)(int) = SIG_DFL;
-  void (*oldTerm_)(int) = SIG_DFL;
-};
-
 std::string frameSpan(int first, int last) {
   return first == last ? "frame " + std::to_string(first)
                        : "frames " + std::to_string(first) + ".." + std::to_string(last);
 }
 
 int runRender(const RenderOptions& o) {
-  // 1. The scene and the options that change it.
-  SceneSpec spec = loadScene(o.scene);
-  if (o.level) applyLevelOverride(spec, *o.level);
-  if (!o.step.empty()) applyStepOverride(spec, o.step);
+  // 1. The scene (or bake) and the options that change it. A bake's physics is fixed: its
+  // steps are recorded, so only what drawing reads (fps, size, quality) can change.
+  RunInput input = loadRunInput(o.scene, o.level, o.step);
+  SceneSpec& spec = input.spec;
+  std::optional<Bake>& bake = input.bake;
   if (o.fps) spec.fps = *o.fps;
-  if (!o.size.empty())
-    std::sscanf(o.size.c_str(), "%dx%d", &spec.output.width, &spec.output.height);
+  if (o.size) std::tie(spec.output.width, spec.output.height) = *o.size;
   if (o.crf) spec.output.crf = *o.crf;
   const int width = spec.output.width, height = spec.output.height;
   const int frameCount = Recorder::frameCountFor(spec.fps, spec.duration);
   const FrameRange range = parseFrames(o.frames, frameCount);
 
-  // 2. The output: path, kind, folder; the sink opens its temporary file now, so an unwritable
-  // destination is reported before any work.
+  // 2. The output: path and kind, checked against the run's rules (-y, -n, inputs) now.
   const std::string path = o.output.empty() ? "out/" + spec.name + ".mp4" : o.output;
-  const OutputKind kind = outputKind(path);
-  if (kind == OutputKind::mp4 && (width % 2 || height % 2)) {
-    throw InputError(path, "MP4 needs an even frame size, not " + std::to_string(width) + "x" +
-                               std::to_string(height) + " (yuv420p); use --size");
-  }
-  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
-  if (!folder.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(folder, ec);
-    if (ec) throw InputError(folder.string(), "cannot create output folder: " + ec.message());
-  }
+  outputKind(path);  // an unknown kind fails now
+  const OutputRules rules = runOutputRules(spec, o.scene, o.overwrite, o.neverOverwrite);
+
+  VideoSettings video;
+  video.width = width;
+  video.height = height;
+  video.fps = spec.fps;
+  video.crf = spec.output.crf;
+  // From here on a signal only raises a flag (output_file.h), so the temporary file the sink
+  // creates is always removed or finalised, never left behind. The sink checks the size (an
+  // MP4 needs even sides) and every file it will write before any work.
+  installStopHandlers();
+  std::unique_ptr<FrameSink> sink = openFrameSink(path, video, range.first, range.last, rules);
 
   // 3. GL context and shaders (a missing library or a shader typo fails here, in seconds).
   auto context = gl::createContext(gl::parseBackend(o.gl));
@@ -175,22 +139,19 @@ int runRender(const RenderOptions& o) {
   settings.shaderDir = gl::findShaderDir(o.shaders);
   gl::Renderer renderer(*context, settings);
 
-  VideoSettings video;
-  video.width = width;
-  video.height = height;
-  video.fps = spec.fps;
-  video.crf = spec.output.crf;
-  // From here on a signal only raises a flag (see StopOnSignal), so the temporary file the sink
-  // creates is always removed or finalised, never left behind.
-  StopOnSignal stop;
-  std::unique_ptr<FrameSink> sink = openFrameSink(path, video, range.last - range.first + 1);
-
   // 4. The world, simulated through every frame.
-  ScenePlayback playback(spec, width, height);
+  std::optional<ScenePlayback> played;
+  if (bake) {
+    bake->scene = spec;  // fps, size and quality from the command line
+    played.emplace(std::make_shared<const Bake>(std::move(*bake)), width, height);
+  } else {
+    played.emplace(spec, width, height);
+  }
+  ScenePlayback& playback = *played;
   VF_ASSERT(playback.frameCount() == frameCount);
-  if (!playback.simulate(!o.quiet, [&stop] { return stop.signal() != 0; })) {
+  if (!playback.simulate(!o.quiet, [] { return stopSignal() != 0; })) {
     std::fprintf(stderr, "voxfall: interrupted before the first frame; no output written\n");
-    return 128 + stop.signal();  // the sink's destructor removes its temporary file
+    return 128 + stopSignal();  // the sink's destructor removes its temporary file
   }
 
   // 5. Frames A..B.
@@ -200,7 +161,7 @@ int runRender(const RenderOptions& o) {
   double renderSeconds = 0;
   int lastDone = range.first - 1;
   try {
-    for (int k = range.first; k <= range.last && !stop.signal(); ++k) {
+    for (int k = range.first; k <= range.last && !stopSignal(); ++k) {
       const auto start = std::chrono::steady_clock::now();
       renderer.render(playback.drawList(k), image);
       sink->write(k, image);
@@ -216,9 +177,9 @@ int runRender(const RenderOptions& o) {
       progress.update(drawn, detail);
     }
     progress.finish();
-    if (stop.signal() && sink->framesWritten() == 0) {
+    if (stopSignal() && sink->framesWritten() == 0) {
       std::fprintf(stderr, "voxfall: interrupted before the first frame; no output written\n");
-      return 128 + stop.signal();  // the sink's destructor removes its temporary file
+      return 128 + stopSignal();  // the sink's destructor removes its temporary file
     }
     sink->finish();
   } catch (const std::exception&) {
@@ -235,15 +196,16 @@ int runRender(const RenderOptions& o) {
     }
     throw;
   }
-  if (stop.signal()) {
+  if (stopSignal()) {
     std::fprintf(stderr, "voxfall: interrupted; %s written to %s (playable, incomplete)\n",
                  frameSpan(range.first, lastDone).c_str(), sink->path().c_str());
     printSummary(stdout, spec.name, playback.summary());
-    return 128 + stop.signal();  // 130 for SIGINT, 143 for SIGTERM, as the shell would say
+    return 128 + stopSignal();  // 130 for SIGINT, 143 for SIGTERM, as the shell would say
   }
 
   const int drawn = range.last - range.first + 1;
   printSummary(stdout, spec.name, playback.summary());
+  if (bake) std::printf("  steps simulated: 0 (states from the bake %s)\n", o.scene.c_str());
   std::printf("  rendered %s (%dx%d, %s, %s) in %.2f s: %.2f frames/s\n",
               frameSpan(range.first, range.last).c_str(), width, height,
               renderer.antialiasing().c_str(), gl::backendName(gl::parseBackend(o.gl)),
@@ -268,21 +230,11 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "frames to draw, A:B inclusive (30:30 is one frame; the simulation still "
                   "starts at t = 0)")
       ->type_name("A:B");
-  sub->add_option("--size", o->size, "frame size in pixels (default: the scene's, 1280x720)")
-      ->check(CLI::Validator([](std::string& text) { return checkSize(text); }, "", "WxH"))
-      ->type_name("WxH");
+  addSizeOption(*sub, o->size);
   sub->add_option("--fps", o->fps, "frames per second (overrides [simulation] fps)")
       ->check(CLI::Range(0.001, 1000.0))
       ->type_name("N");
-  sub->add_option("--level", o->level,
-                  "voxel level Lv for every shape (overrides the scene's levels)")
-      ->type_name("N")
-      ->check(CLI::Range(kMinLevel, kMaxLevel));
-  sub->add_option(
-         "--step", o->step,
-         "time step: 'auto' (eq. 20) or seconds, e.g. 0.005 or 1/120 (overrides the scene)")
-      ->check(CLI::Validator([](std::string& text) { return checkStepOption(text); }, "", "STEP"))
-      ->type_name("S|auto");
+  addPhysicsOptions(*sub, o->level, o->step);
   sub->add_option("--crf", o->crf, "H.264 quality, 0..51, lower is better (default: 18)")
       ->check(CLI::Range(0, 51))
       ->type_name("N");
@@ -294,6 +246,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "tree's shaders/)")
       ->type_name("DIR");
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
+  addOverwriteFlags(*sub, o->overwrite, o->neverOverwrite);
   sub->callback([o, &exitCode] { exitCode = runRender(*o); });
 }
 

@@ -2,128 +2,49 @@
 
 #include <unistd.h>
 
-#include <atomic>
 #include <cerrno>
 #include <cinttypes>
 #include <cmath>
-#include <csignal>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <optional>
-#include <system_error>
 
 #include "sim/core/error.h"
 
 namespace vf::cli {
 
-namespace fs = std::filesystem;
+// --- Input -----------------------------------------------------------------------------------
 
-// --- OutputFile ---------------------------------------------------------------------------
-
-namespace {
-
-// Temporary files not yet committed, for the signal handler. Slots hold pointers to each
-// OutputFile's own path string; lock-free atomics are safe to read in a handler, and unlink()
-// and raise() are async-signal-safe, so the handler does nothing else.
-constexpr int kMaxPending = 16;
-std::atomic<const char*> gPending[kMaxPending];
-void (*gPreviousInt)(int) = SIG_DFL;
-void (*gPreviousTerm)(int) = SIG_DFL;
-
-extern "C" void removePendingAndDie(int sig) {
-  for (auto& slot : gPending) {
-    if (const char* p = slot.load()) ::unlink(p);
+RunInput loadRunInput(const std::string& path, std::optional<int> level, const std::string& step) {
+  RunInput in;
+  if (isBakeFile(path)) {
+    if (level || !step.empty())
+      throw InputError(path,
+                       "--level and --step change the physics of a scene; a bake's "
+                       "steps are recorded (simulate the scene again with them)");
+    in.bake = readBake(path);
+    in.spec = in.bake->scene;
+    return in;
   }
-  std::signal(sig, sig == SIGINT ? gPreviousInt : gPreviousTerm);
-  std::raise(sig);
+  in.spec = loadScene(path);
+  if (level) applyLevelOverride(in.spec, *level);
+  if (!step.empty()) applyStepOverride(in.spec, step);
+  return in;
 }
 
-void registerPending(const char* path) {
-  static const bool installed = [] {
-    // A signal the parent made us ignore (SIGINT for `cmd &` in a script) stays ignored.
-    gPreviousInt = std::signal(SIGINT, removePendingAndDie);
-    if (gPreviousInt == SIG_IGN) std::signal(SIGINT, SIG_IGN);
-    gPreviousTerm = std::signal(SIGTERM, removePendingAndDie);
-    if (gPreviousTerm == SIG_IGN) std::signal(SIGTERM, SIG_IGN);
-    return true;
-  }();
-  (void)installed;
-  for (auto& slot : gPending) {
-    const char* empty = nullptr;
-    if (slot.compare_exchange_strong(empty, path)) return;
-  }
-  // More outputs than slots: the file is still removed on any normal exit, only not on a signal.
-}
+// --- Output rules ---------------------------------------------------------------------------
 
-void unregisterPending(const char* path) {
-  for (auto& slot : gPending) {
-    const char* expected = path;
-    if (slot.compare_exchange_strong(expected, nullptr)) return;
-  }
-}
-
-}  // namespace
-
-OutputFile::OutputFile(const std::string& path) : path_(path) {
-  if (path.empty()) throw InputError("", "output path is empty");
-  const fs::path target(path);
-  const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(folder, ec))
-    throw InputError(path, "cannot write: folder '" + folder.string() +
-                               "' does not exist (create it first)");
-  if (fs::is_directory(target, ec))
-    throw InputError(path, "cannot write: this is a folder; give a file name");
-  if (!target.has_filename()) throw InputError(path, "cannot write: no file name given");
-
-  // Process id plus a counter: two runs, or two outputs of one run, never share a temp name.
-  static std::atomic<unsigned> counter{0};
-  // Built by append: GCC 12 at -O3 gives a false -Wrestrict on a chain of operator+.
-  std::string temp = ".";
-  temp.append(target.stem().string());
-  temp.append(".partial-");
-  temp.append(std::to_string(static_cast<long>(::getpid())));
-  temp.append("-");
-  temp.append(std::to_string(counter++));
-  temp.append(target.extension().string());
-  tempPath_ = (folder / temp).string();
-  registerPending(tempPath_.c_str());
-  file_ = std::fopen(tempPath_.c_str(), "wb");
-  if (file_ == nullptr) {
-    const int err = errno;
-    unregisterPending(tempPath_.c_str());
-    throw InputError(path, std::string("cannot write in folder '") + folder.string() +
-                               "': " + std::strerror(err));
-  }
-}
-
-OutputFile::~OutputFile() {
-  if (file_ != nullptr) std::fclose(file_);
-  if (!committed_) std::remove(tempPath_.c_str());
-  unregisterPending(tempPath_.c_str());
-}
-
-void OutputFile::closeStream() {
-  if (file_ == nullptr) return;
-  const bool failed = std::fflush(file_) != 0 || std::ferror(file_) != 0;
-  const int err = errno;
-  const bool closeFailed = std::fclose(file_) != 0;
-  file_ = nullptr;
-  if (failed || closeFailed)
-    throw InputError(path_, std::string("cannot write: ") + std::strerror(failed ? err : errno));
-}
-
-void OutputFile::commit() {
-  if (file_ != nullptr) {
-    // fsync: after a crash the renamed file holds either the old content or the complete new one.
-    if (std::fflush(file_) == 0) ::fsync(::fileno(file_));
-  }
-  closeStream();
-  if (std::rename(tempPath_.c_str(), path_.c_str()) != 0)
-    throw InputError(path_, std::string("cannot replace the file: ") + std::strerror(errno));
-  committed_ = true;
-  unregisterPending(tempPath_.c_str());
+OutputRules runOutputRules(const SceneSpec& spec, const std::string& inputFile, bool overwrite,
+                           bool neverOverwrite) {
+  OutputRules rules;
+  rules.overwrite = neverOverwrite ? Overwrite::never
+                    : overwrite    ? Overwrite::always
+                                   : Overwrite::refuse;
+  rules.inputs.push_back(inputFile);
+  if (!spec.path.empty()) rules.inputs.push_back(spec.path);
+  for (const ShapeSpec& s : spec.shapes) rules.inputs.push_back(s.meshPath);
+  if (!spec.terrainPath.empty()) rules.inputs.push_back(spec.terrainPath);
+  return rules;
 }
 
 // --- CSV ------------------------------------------------------------------------------------
@@ -132,12 +53,13 @@ void writeCsvHeader(std::FILE* out) {
   std::fputs("frame,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n", out);
 }
 
-void writeCsvFrame(std::FILE* out, int frame, double time, const World& world) {
+void writeCsvFrame(std::FILE* out, int frame, double time, const World& world,
+                   const std::vector<BodyState>& states) {
   for (int id = 0; id < world.bodyCount(); ++id) {
     if (!world.isActive(id)) continue;
-    const BodyState& s = world.state(id);
-    const Vec3 v = world.velocity(id);
-    const Vec3 w = world.angularVelocity(id);
+    const BodyState& s = states[static_cast<std::size_t>(id)];
+    const Vec3 v = world.velocity(id, s);
+    const Vec3 w = world.angularVelocity(id, s);
     std::fprintf(out,
                  "%d,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
                  "%.17g,%.17g\n",
@@ -222,15 +144,18 @@ void printSummary(std::FILE* out, const std::string& scene, const RunSummary& s)
   // Things that explain surprising results; silent when all is well.
   if (s.totals.overlappingReleases > 0)
     std::fprintf(out,
-                 "  warning: %" PRIu64 " bodies were released overlapping another body "
+                 "  warning: %" PRIu64
+                 " bodies were released overlapping another body "
                  "(an emitter aimed into a pile?); their interpenetration is not the step's\n",
                  s.totals.overlappingReleases);
   if (s.totals.nonFinite > 0)
-    std::fprintf(out, "  warning: %" PRIu64 " times a body's state went non-finite and it was frozen\n",
+    std::fprintf(out,
+                 "  warning: %" PRIu64 " times a body's state went non-finite and it was frozen\n",
                  s.totals.nonFinite);
   if (s.totals.floored > 0)
     std::fprintf(out,
-                 "  warning: %" PRIu64 " steps were held at the minimum step (a body moved faster "
+                 "  warning: %" PRIu64
+                 " steps were held at the minimum step (a body moved faster "
                  "than 1e4 m/s)\n",
                  s.totals.floored);
 }
@@ -238,9 +163,9 @@ void printSummary(std::FILE* out, const std::string& scene, const RunSummary& s)
 // --- Progress -------------------------------------------------------------------------------
 
 namespace {
-constexpr double kQuietSeconds = 1.0;    // short runs print nothing
-constexpr double kTtyRedraw = 0.1;       // s between in-place redraws
-constexpr double kLogInterval = 5.0;     // s between lines when stderr is not a terminal
+constexpr double kQuietSeconds = 1.0;  // short runs print nothing
+constexpr double kTtyRedraw = 0.1;     // s between in-place redraws
+constexpr double kLogInterval = 5.0;   // s between lines when stderr is not a terminal
 
 double seconds(std::chrono::steady_clock::duration d) {
   return std::chrono::duration<double>(d).count();
@@ -288,54 +213,6 @@ void Progress::finish() {
   }
   drawn_ = false;
   enabled_ = false;
-}
-
-// --- Overrides ------------------------------------------------------------------------------
-
-void applyLevelOverride(SceneSpec& spec, int level) {
-  spec.level = level;
-  for (ShapeSpec& s : spec.shapes) s.level.reset();
-}
-
-namespace {
-// "0.005", or "1/120" as the paper writes steps; nothing unless finite and > 0.
-std::optional<double> parseStepSeconds(const std::string& text) {
-  auto parse = [](const std::string& s) -> std::optional<double> {
-    if (s.empty()) return std::nullopt;
-    char* end = nullptr;
-    errno = 0;
-    const double v = std::strtod(s.c_str(), &end);
-    if (end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
-    return v;
-  };
-  std::optional<double> v;
-  if (const auto slash = text.find('/'); slash != std::string::npos) {
-    const auto num = parse(text.substr(0, slash)), den = parse(text.substr(slash + 1));
-    if (num && den && *den != 0) v = *num / *den;
-  } else {
-    v = parse(text);
-  }
-  if (v && std::isfinite(*v) && *v > 0) return v;
-  return std::nullopt;
-}
-}  // namespace
-
-std::string checkStepOption(const std::string& text) {
-  if (text == "auto" || parseStepSeconds(text)) return "";
-  return "expected 'auto' (eq. 20) or a fixed step in seconds > 0 (e.g. 0.005 or 1/120), got '" +
-         text + "'";
-}
-
-void applyStepOverride(SceneSpec& spec, const std::string& text) {
-  if (text == "auto") {
-    spec.autoStep = true;
-    spec.fixedStep = 0;
-    return;
-  }
-  const auto v = parseStepSeconds(text);
-  if (!v) throw InputError("", "--step: " + checkStepOption(text));
-  spec.autoStep = false;
-  spec.fixedStep = *v;
 }
 
 }  // namespace vf::cli

@@ -1,56 +1,29 @@
 // What a run of the voxfall command writes, shared by `simulate` and `render` so both report the
-// same numbers the same way: output files that appear only when complete, the per-frame CSV,
-// the summary JSON, the human summary, the progress line, and Ctrl-C handling.
+// same numbers the same way: the per-frame CSV, the summary JSON, the human summary, the
+// progress line, and the output rules of a run (files go through render/output/output_file.h).
 #pragma once
 
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "render/output/output_file.h"
+#include "sim/bake.h"
 #include "sim/recorder.h"
 #include "sim/scene/scene.h"
 #include "sim/world.h"
 
 namespace vf::cli {
 
-// An output file written under a temporary name in the destination folder and renamed over
-// `path` by commit() only: a failed or interrupted run never leaves a half-written file in place
-// of a good one. The constructor creates the temporary file, so an unwritable destination is
-// reported (InputError naming `path`) before any simulation starts. The temporary name keeps
-// the extension (".NAME.partial-PID-N.EXT") for writers that choose a format by it.
-// SIGINT and SIGTERM remove every pending temporary file, then end the process as the signal
-// would (even in the middle of a long frame), so Ctrl-C leaves nothing behind either. The
-// handlers are installed when the first OutputFile is created; a command that wants a graceful
-// stop instead (finishing a playable video) should install its own handlers after that, and
-// restore them when done: OutputFile's destructor still removes uncommitted files.
-class OutputFile {
- public:
-  explicit OutputFile(const std::string& path);
-  ~OutputFile();  // removes the temporary file unless committed
-  OutputFile(const OutputFile&) = delete;
-  OutputFile& operator=(const OutputFile&) = delete;
-
-  const std::string& path() const { return path_; }
-  const std::string& tempPath() const { return tempPath_; }
-  // The open temporary file; null after closeStream() or commit().
-  std::FILE* stream() { return file_; }
-  // Closes the stream for writers that reopen tempPath() by name (e.g. a video muxer).
-  void closeStream();
-  // Flushes, closes and renames onto path(). Throws InputError on any I/O failure.
-  void commit();
-
- private:
-  std::string path_;
-  std::string tempPath_;
-  std::FILE* file_ = nullptr;
-  bool committed_ = false;
-};
-
 // Per-frame trajectory CSV: one row per ACTIVE body per frame, position = centre of mass (m),
 // q = orientation (w, x, y, z), v (m/s) and w (rad/s, world frame), numbers in %.17g so that
 // they read back bit-exact.
 void writeCsvHeader(std::FILE* out);
-void writeCsvFrame(std::FILE* out, int frame, double time, const World& world);
+// `states` are the frame's states (Recorder::frameStates()), one per body of `world`.
+void writeCsvFrame(std::FILE* out, int frame, double time, const World& world,
+                   const std::vector<BodyState>& states);
 
 // The run summary as one JSON object (keys: scene, frames, steps, dt_min, dt_max,
 // wall_seconds, sphere_tests, contacts, max_penetration_body_body, max_penetration_body_ground,
@@ -85,14 +58,18 @@ class Progress {
   Clock::time_point lastDraw_;
 };
 
-// Command-line overrides shared by the commands, so `simulate` and `render` given the same
-// options build the same world and report the same checksum.
-// --level N: every shape uses level N (per-shape levels in the scene are overridden too).
-void applyLevelOverride(SceneSpec& spec, int level);
-// --step S|auto: "" when `text` is "auto" or a step in seconds > 0 ("0.005" or "1/120"),
-// else what is wrong.
-std::string checkStepOption(const std::string& text);
-// Applies a --step value that passed checkStepOption.
-void applyStepOverride(SceneSpec& spec, const std::string& text);
+// What a run reads: a scene file, or a bake (sim/bake.h) recognised by its first line. The
+// --level and --step overrides apply to a scene; for a bake, whose steps are recorded, they
+// are an error.
+struct RunInput {
+  SceneSpec spec;            // the scene, or the bake's scene data
+  std::optional<Bake> bake;  // set when the input is a bake
+};
+RunInput loadRunInput(const std::string& path, std::optional<int> level, const std::string& step);
+
+// The output rules of a run (-y, -n) protecting every file it reads: the scene (or bake),
+// each shape's mesh, and the terrain.
+OutputRules runOutputRules(const SceneSpec& spec, const std::string& inputFile, bool overwrite,
+                           bool neverOverwrite);
 
 }  // namespace vf::cli

@@ -10,6 +10,8 @@
 // is byte for byte what `render` writes.
 #include "render/cli/scene_playback.h"
 
+#include <optional>
+
 #include "render/cli/run_output.h"
 #include "render/gl/gl_context.h"
 #include "render/gl/renderer.h"
@@ -25,11 +27,12 @@ struct BodyPose {
   bool active;
 };
 
-std::vector<BodyPose> capturePoses(const World& world) {
+std::vector<BodyPose> capturePoses(const World& world, const std::vector<BodyState>& states) {
   std::vector<BodyPose> poses;
   poses.reserve(static_cast<std::size_t>(world.bodyCount()));
   for (int id = 0; id < world.bodyCount(); ++id) {
-    poses.push_back(BodyPose{world.state(id).x, world.state(id).q, world.isActive(id)});
+    const BodyState& y = states[static_cast<std::size_t>(id)];
+    poses.push_back(BodyPose{y.x, y.q, world.isActive(id)});
   }
   return poses;
 }
@@ -44,50 +47,97 @@ void applyPoses(const std::vector<BodyPose>& poses, std::vector<BodyView>& bodie
 
 }  // namespace
 
+// Where the frames come from: a scene simulated here (world and recorder), or a bake.
 struct ScenePlayback::Impl {
   Impl(const SceneSpec& s, int width, int height)
       : spec(s),
         built(buildScene(spec)),
-        recorder(*built.world, spec.fps, spec.duration),
         drawing(spec.camera, spec.groundPlane, static_cast<double>(width) / height),
-        bodies(bodyViews(*built.world, built.colors)) {
-    if (const auto& terrain = built.world->def().terrain) {
-      // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
-      auto mesh = std::make_shared<const TriMesh>(terrain->toMesh());
-      drawing.setTerrain(mesh,
-                         std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*mesh)));
+        bodies(bodyViews(*built->world, built->colors)) {
+    recorder.emplace(*built->world, spec.fps, spec.duration);
+    addTerrain(built->world->def().terrain);
+  }
+
+  Impl(std::shared_ptr<const Bake> b, int width, int height)
+      : spec(b->scene),
+        bake(std::move(b)),
+        drawing(spec.camera, spec.groundPlane, static_cast<double>(width) / height) {
+    const auto shapes = bakeShapes(*bake);
+    for (const BakeBody& body : bake->bodies) {
+      BodyView v;
+      v.shape = shapes[static_cast<std::size_t>(body.shape)];
+      v.color = body.color;
+      bodies.push_back(v);
     }
+    if (!spec.terrainPath.empty())
+      addTerrain(std::make_shared<const Heightfield>(loadEsriAsciiGrid(spec.terrainPath)));
+  }
+
+  void addTerrain(const std::shared_ptr<const Heightfield>& terrain) {
+    if (!terrain) return;
+    // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
+    terrainMesh = std::make_shared<const TriMesh>(terrain->toMesh());
+    drawing.setTerrain(
+        terrainMesh, std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*terrainMesh)));
+  }
+
+  int frameCount() const { return Recorder::frameCountFor(spec.fps, spec.duration); }
+
+  // Frame k's poses, simulating up to it (scene) or reading them (bake).
+  std::vector<BodyPose> posesOf(int k) {
+    if (bake) {
+      std::vector<char> active;
+      const std::vector<BodyState> states =
+          bake->statesAt(static_cast<double>(k) / spec.fps, active);
+      std::vector<BodyPose> out;
+      for (std::size_t i = 0; i < states.size(); ++i)
+        out.push_back(BodyPose{states[i].x, states[i].q, active[i] != 0});
+      return out;
+    }
+    recorder->advanceToFrame(k);
+    return capturePoses(*built->world, recorder->frameStates());
   }
 
   SceneSpec spec;
-  BuiltScene built;
-  Recorder recorder;
+  std::optional<BuiltScene> built;   // scene: the world
+  std::optional<Recorder> recorder;  // scene: its frames
+  std::shared_ptr<const Bake> bake;  // bake: the recorded steps
   DrawListBuilder drawing;
   std::vector<BodyView> bodies;              // shapes and colours; poses set per frame
   std::vector<std::vector<BodyPose>> poses;  // per simulated frame
+  std::shared_ptr<const TriMesh> terrainMesh;
 };
 
 ScenePlayback::ScenePlayback(const SceneSpec& spec, int width, int height)
     : impl_(std::make_unique<Impl>(spec, width, height)) {}
 
+ScenePlayback::ScenePlayback(std::shared_ptr<const Bake> bake, int width, int height)
+    : impl_(std::make_unique<Impl>(std::move(bake), width, height)) {}
+
 ScenePlayback::~ScenePlayback() = default;
 
-int ScenePlayback::frameCount() const { return impl_->recorder.frameCount(); }
+int ScenePlayback::frameCount() const { return impl_->frameCount(); }
 
-const RunSummary& ScenePlayback::summary() const { return impl_->recorder.summary(); }
+const RunSummary& ScenePlayback::summary() const {
+  return impl_->bake ? impl_->bake->summary : impl_->recorder->summary();
+}
+
+std::uint64_t ScenePlayback::stepsSimulated() const {
+  return impl_->built ? impl_->built->world->totals().steps : 0;
+}
 
 bool ScenePlayback::simulate(bool progress, const std::function<bool()>& stop) {
   Impl& p = *impl_;
-  const int count = p.recorder.frameCount();
+  const int count = p.frameCount();
   p.poses.assign(static_cast<std::size_t>(count), {});
-  Progress simulating(p.spec.name + " (simulating)", count, progress);
+  Progress simulating(p.spec.name + (p.bake ? " (reading the bake)" : " (simulating)"), count,
+                      progress);
   for (int k = 0; k < count; ++k) {
     if (stop && stop()) return false;
-    p.recorder.advanceToFrame(k);
-    p.poses[static_cast<std::size_t>(k)] = capturePoses(*p.built.world);
+    p.poses[static_cast<std::size_t>(k)] = p.posesOf(k);
     applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
     p.drawing.observe(p.bodies);
-    simulating.update(k + 1, p.recorder.frameTime(k));
+    simulating.update(k + 1, static_cast<double>(k) / p.spec.fps);
   }
   return true;
 }
@@ -98,6 +148,15 @@ DrawList ScenePlayback::drawList(int k) {
   applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
   return p.drawing.build(p.bodies);
 }
+
+std::vector<BodyView> ScenePlayback::bodiesAt(int k) {
+  Impl& p = *impl_;
+  VF_ASSERT(k >= 0 && static_cast<std::size_t>(k) < p.poses.size());
+  applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
+  return p.bodies;
+}
+
+std::shared_ptr<const TriMesh> ScenePlayback::terrainMesh() const { return impl_->terrainMesh; }
 
 RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& frames,
                                  gl::Context& context, const std::string& shaderDir,

@@ -3,6 +3,7 @@
 // frame is exactly the frame `render --frames k:k` draws.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "render/draw_list.h"
 #include "render/image.h"
+#include "sim/bake.h"
 #include "sim/recorder.h"
 #include "sim/scene/scene.h"
 
@@ -23,6 +25,9 @@ class ScenePlayback {
  public:
   // Builds the world (meshes, shapes, sphere trees) for frames of width x height pixels.
   ScenePlayback(const SceneSpec& spec, int width, int height);
+  // Plays a bake (sim/bake.h) instead: no world, no step; frames at bake->scene.fps (which
+  // may differ from the fps of the run that made it).
+  ScenePlayback(std::shared_ptr<const Bake> bake, int width, int height);
   ~ScenePlayback();
   ScenePlayback(const ScenePlayback&) = delete;
   ScenePlayback& operator=(const ScenePlayback&) = delete;
@@ -33,10 +38,17 @@ class ScenePlayback {
   bool simulate(bool progress, const std::function<bool()>& stop = {});
   // Frames k = 0 .. floor(duration * fps).
   int frameCount() const;
-  // The run's numbers (checksum included), complete after simulate().
+  // The run's numbers (checksum included), complete after simulate(); a bake's are the run's
+  // that made it.
   const RunSummary& summary() const;
+  // Steps this playback simulated: the run's, or 0 for a bake.
+  std::uint64_t stepsSimulated() const;
   // Pass 2: what to draw for frame k (after simulate()).
   DrawList drawList(int k);
+  // Every body (shape, colour) posed at frame k (after simulate()), for export.
+  std::vector<BodyView> bodiesAt(int k);
+  // The terrain in world coordinates, as drawn; null without one.
+  std::shared_ptr<const TriMesh> terrainMesh() const;
 
  private:
   struct Impl;

@@ -4,13 +4,14 @@
 // Order matters for the user: cheap checks first (scene file, then output paths), the expensive
 // shape building and stepping last, so a typo never costs a long run.
 #include <CLI/CLI.hpp>
-
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "render/cli/commands.h"
+#include "render/cli/options.h"
 #include "render/cli/run_output.h"
+#include "sim/bake.h"
 #include "sim/core/error.h"
 #include "sim/recorder.h"
 #include "sim/scene/scene.h"
@@ -23,9 +24,12 @@ struct SimulateOptions {
   std::string scene;
   std::string csv;
   std::string summary;
+  std::string bake;
   std::optional<int> level;
   std::string step;
   bool quiet = false;
+  bool overwrite = false;       // -y
+  bool neverOverwrite = false;  // -n
 };
 
 int runSimulate(const SimulateOptions& o) {
@@ -33,31 +37,73 @@ int runSimulate(const SimulateOptions& o) {
   if (o.level) applyLevelOverride(spec, *o.level);
   if (!o.step.empty()) applyStepOverride(spec, o.step);
 
-  if (!o.csv.empty() && o.csv == o.summary)
-    throw InputError("", "--csv and --summary name the same file '" + o.csv + "'");
-  std::optional<OutputFile> csv, summary;
-  if (!o.csv.empty()) csv.emplace(o.csv);
-  if (!o.summary.empty()) summary.emplace(o.summary);
+  // Outputs: checked and opened before the expensive part (each is a temporary file until the
+  // end; see render/output/output_file.h).
+  const OutputRules rules = runOutputRules(spec, o.scene, o.overwrite, o.neverOverwrite);
+  const std::pair<const char*, const std::string*> named[] = {
+      {"--csv", &o.csv}, {"--summary", &o.summary}, {"--bake", &o.bake}};
+  for (const auto& [a, pa] : named)
+    for (const auto& [b, pb] : named)
+      if (a < b && !pa->empty() && *pa == *pb)
+        throw InputError("", std::string(a) + " and " + b + " name the same file '" + *pa + "'");
+  std::optional<OutputFile> csv, summary, bakeFile;
+  if (!o.csv.empty()) csv.emplace(o.csv, rules);
+  if (!o.summary.empty()) summary.emplace(o.summary, rules);
+  if (!o.bake.empty()) bakeFile.emplace(o.bake, rules);
+  installStopHandlers();
 
   BuiltScene built = buildScene(spec);
   Recorder recorder(*built.world, spec.fps, spec.duration);
   if (csv) writeCsvHeader(csv->stream());
+  std::optional<Bake> bake;
+  if (bakeFile) {
+    bake = bakeHeader(spec, built);
+    addBakeRecord(*bake, *built.world);  // t = 0, before the first step
+    recorder.setAfterStep([&] { addBakeRecord(*bake, *built.world); });
+  }
 
+  // Frame by frame; a stop signal ends the run after the frame in hand (output_file.h).
   Progress progress(spec.name, recorder.frameCount(), !o.quiet);
-  for (int k = 0; k < recorder.frameCount(); ++k) {
+  int done = 0;
+  for (int k = 0; k < recorder.frameCount() && !stopSignal(); ++k) {
     recorder.advanceToFrame(k);
-    if (csv) writeCsvFrame(csv->stream(), k, recorder.frameTime(k), *built.world);
-    progress.update(k + 1, recorder.frameTime(k));
+    if (csv)
+      writeCsvFrame(csv->stream(), k, recorder.frameTime(k), *built.world, recorder.frameStates());
+    done = k + 1;
+    progress.update(done, recorder.frameTime(k));
   }
   progress.finish();
+  const int stop = stopSignal();
+  if (stop && done == 0) {
+    std::fprintf(stderr, "voxfall: interrupted before the first frame; no output written\n");
+    return 128 + stop;  // the OutputFiles' destructors remove their temporary files
+  }
 
   const RunSummary& result = recorder.summary();
+  std::string written;
+  const auto wrote = [&written](OutputFile& f) {
+    f.commit();
+    written += (written.empty() ? "" : ", ") + f.path();
+  };
   if (summary) {
     writeSummaryJson(summary->stream(), spec.name, result);
-    summary->commit();
+    wrote(*summary);
   }
-  if (csv) csv->commit();
+  if (csv) wrote(*csv);
+  if (bakeFile) {
+    bake->summary = result;
+    // An interrupted bake ends at its last frame, so it renders only what was simulated.
+    if (stop) bake->scene.duration = recorder.frameTime(done - 1);
+    writeBake(bakeFile->stream(), o.bake, *bake);
+    wrote(*bakeFile);
+  }
   printSummary(stdout, spec.name, result);
+  if (stop) {
+    std::fprintf(stderr, "voxfall: interrupted; frames 0..%d (t = 0 .. %.6g s) written%s%s\n",
+                 done - 1, recorder.frameTime(done - 1), written.empty() ? "" : " to ",
+                 written.c_str());
+    return 128 + stop;  // 130 for SIGINT, 143 for SIGTERM, as the shell would say
+  }
   return 0;
 }
 
@@ -74,16 +120,13 @@ void addSimulateCommand(CLI::App& app, int& exitCode) {
       ->type_name("FILE");
   sub->add_option("--summary", o->summary, "write the run summary to this JSON file")
       ->type_name("FILE");
-  sub->add_option("--level", o->level,
-                  "voxel level Lv for every shape (overrides the scene's levels)")
-      ->type_name("N")
-      ->check(CLI::Range(kMinLevel, kMaxLevel));
-  sub->add_option("--step", o->step,
-                  "time step: 'auto' (eq. 20) or seconds, e.g. 0.005 or 1/120 (overrides the scene)")
-      ->check(CLI::Validator(
-          [](std::string& text) { return checkStepOption(text); }, "", "STEP"))
-      ->type_name("S|auto");
+  sub->add_option("--bake", o->bake,
+                  "write the run (every body's state after every step, and what drawing needs) "
+                  "to this file, for `voxfall render FILE` and `voxfall export FILE`")
+      ->type_name("FILE");
+  addPhysicsOptions(*sub, o->level, o->step);
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
+  addOverwriteFlags(*sub, o->overwrite, o->neverOverwrite);
   sub->callback([o, &exitCode] { exitCode = runSimulate(*o); });
 }
 

@@ -1,4 +1,4 @@
-// GLSL programs loaded at run time from shaders/ (design.md: sources are not compiled in, so
+// GLSL programs loaded at run time from shaders/ (sources are not compiled in, so
 // the look can be changed without rebuilding). Errors name the file and line.
 #pragma once
 

@@ -35,19 +35,22 @@ OutputKind outputKind(const std::string& path) {
 }
 
 std::unique_ptr<FrameSink> openFrameSink(const std::string& path, const VideoSettings& video,
-                                         int frameCount) {
+                                         int first, int last, const OutputRules& rules) {
+  const int frameCount = last - first + 1;
   switch (outputKind(path)) {
     case OutputKind::mp4:
-      return std::make_unique<VideoEncoder>(path, video);
+      return std::make_unique<VideoEncoder>(path, video, rules);
     case OutputKind::pngSequence:
-      return std::make_unique<PngSequenceWriter>(path);
+      for (int k = first; k <= last; ++k) checkOutputPath(expandFramePattern(path, k), rules);
+      return std::make_unique<PngSequenceWriter>(path, rules);
     case OutputKind::png:
       if (frameCount != 1) {
         throw InputError(path, "a single .png holds one frame but " + std::to_string(frameCount) +
                                    " are to be rendered: put '#' in the name for the frame "
                                    "number, or pick one frame with --frames N:N");
       }
-      return std::make_unique<PngSequenceWriter>(path);
+      checkOutputPath(path, rules);
+      return std::make_unique<PngSequenceWriter>(path, rules);
   }
   return nullptr;  // unreachable: every kind is handled
 }

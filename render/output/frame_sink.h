@@ -7,6 +7,7 @@
 #include <string>
 
 #include "render/image.h"
+#include "render/output/output_file.h"
 
 namespace vf {
 
@@ -41,10 +42,12 @@ enum class OutputKind {
 // The kind of output a path asks for. Throws InputError for anything else.
 OutputKind outputKind(const std::string& path);
 
-// Opens the sink for `path` (see OutputKind) that will receive `frameCount` frames; the video
-// settings are used for MP4 only. Throws InputError when the path or settings cannot work
-// (unknown suffix, a single-file PNG for several frames, odd MP4 size, unwritable folder).
+// Opens the sink for `path` (see OutputKind) that will receive frames first..last; the video
+// settings are used for MP4 only. Every file it will write is checked against `rules` now
+// (output_file.h), so an existing frame is refused before any work. Throws InputError when the
+// path or settings cannot work (unknown suffix, a single-file PNG for several frames, odd MP4
+// size, unwritable folder, an existing output without -y, an input of the run).
 std::unique_ptr<FrameSink> openFrameSink(const std::string& path, const VideoSettings& video,
-                                         int frameCount);
+                                         int first, int last, const OutputRules& rules);
 
 }  // namespace vf

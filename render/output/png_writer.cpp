@@ -22,13 +22,8 @@ std::string expandFramePattern(const std::string& pattern, int frame) {
   return pattern.substr(0, first) + number + pattern.substr(last + 1);
 }
 
-void writePng(const std::string& path, const Image& image) {
-  const std::string temporary = path + ".part";
-  std::FILE* file = std::fopen(temporary.c_str(), "wb");
-  if (!file) {
-    throw InputError(path, std::string("cannot write PNG: ") + std::strerror(errno) +
-                               " (does the folder exist and is it writable?)");
-  }
+void writePng(const std::string& path, const Image& image, const OutputRules& rules) {
+  OutputFile out(path, rules);
   // libpng's simplified API: errors come back as a return value and a message instead of a
   // longjmp through C++ frames. It tags 8-bit non-linear data as sRGB.
   png_image png;
@@ -37,21 +32,12 @@ void writePng(const std::string& path, const Image& image) {
   png.width = static_cast<png_uint_32>(image.width);
   png.height = static_cast<png_uint_32>(image.height);
   png.format = PNG_FORMAT_RGB;
-  const bool encoded =
-      png_image_write_to_stdio(&png, file, 0, image.rgb.data(), image.width * 3, nullptr) != 0;
+  const bool encoded = png_image_write_to_stdio(&png, out.stream(), 0, image.rgb.data(),
+                                                image.width * 3, nullptr) != 0;
   const std::string pngMessage = png.message;
   png_image_free(&png);
-  const bool closed = std::fclose(file) == 0;
-  if (!encoded || !closed) {
-    const std::string why = !encoded ? pngMessage : std::strerror(errno);
-    std::remove(temporary.c_str());
-    throw InputError(path, "cannot write PNG: " + why);
-  }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    std::remove(temporary.c_str());
-    throw InputError(path, "cannot rename finished PNG into place: " + why);
-  }
+  if (!encoded) throw InputError(path, "cannot write PNG: " + pngMessage);
+  out.commit();
 }
 
 Image readPng(const std::string& path) {
@@ -87,7 +73,7 @@ Image readPng(const std::string& path) {
 }
 
 void PngSequenceWriter::write(int index, const Image& image) {
-  writePng(expandFramePattern(pattern_, index), image);
+  writePng(expandFramePattern(pattern_, index), image, rules_);
   ++frames_;
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "render/output/frame_sink.h"
+#include "render/output/output_file.h"
 
 namespace vf {
 
@@ -13,9 +14,10 @@ namespace vf {
 // run is written whole). A pattern without '#' is returned unchanged.
 std::string expandFramePattern(const std::string& pattern, int frame);
 
-// Writes an 8-bit RGB PNG (tagged sRGB) to `path` via `path.part` and a rename. On failure
-// throws InputError(path, reason) and leaves neither file behind.
-void writePng(const std::string& path, const Image& image);
+// Writes an 8-bit RGB PNG (tagged sRGB) to `path` through an OutputFile (temporary name, then
+// a rename) under `rules`. On failure throws InputError(path, reason) and leaves nothing behind.
+void writePng(const std::string& path, const Image& image,
+              const OutputRules& rules = replaceOutputs());
 
 // Reads any PNG (grey, palette, RGB, with or without alpha, 8 or 16 bits) as 8-bit sRGB RGB,
 // so frames from other tools compare with voxfall's own; alpha is composited onto black.
@@ -25,7 +27,8 @@ Image readPng(const std::string& path);
 // One PNG per frame: expandFramePattern(pattern, index).
 class PngSequenceWriter final : public FrameSink {
  public:
-  explicit PngSequenceWriter(std::string pattern) : pattern_(std::move(pattern)) {}
+  PngSequenceWriter(std::string pattern, OutputRules rules)
+      : pattern_(std::move(pattern)), rules_(std::move(rules)) {}
   void write(int index, const Image& image) override;
   void finish() override {}  // every frame is complete once written
   int framesWritten() const override { return frames_; }
@@ -33,6 +36,7 @@ class PngSequenceWriter final : public FrameSink {
 
  private:
   std::string pattern_;
+  OutputRules rules_;
   int frames_ = 0;
 };
 

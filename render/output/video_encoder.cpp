@@ -10,8 +10,10 @@ extern "C" {
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 
+#include "render/output/output_file.h"
 #include "sim/core/error.h"
 
 namespace vf {
@@ -27,6 +29,7 @@ std::string avError(int code) {
 
 struct VideoEncoder::Impl {
   std::string path;
+  std::optional<OutputFile> file;  // the muxer writes file->tempPath(); commit() renames it
   std::string temporary;
   VideoSettings settings;
   AVRational rate{30, 1};
@@ -73,11 +76,11 @@ void VideoEncoder::Impl::drain() {
   }
 }
 
-VideoEncoder::VideoEncoder(const std::string& path, const VideoSettings& settings)
+VideoEncoder::VideoEncoder(const std::string& path, const VideoSettings& settings,
+                           const OutputRules& rules)
     : impl_(std::make_unique<Impl>()) {
   Impl& e = *impl_;
   e.path = path;
-  e.temporary = path + ".part";
   e.settings = settings;
   if (settings.width < 2 || settings.height < 2 || settings.width % 2 || settings.height % 2) {
     throw InputError(path, "MP4 frame size " + std::to_string(settings.width) + "x" +
@@ -93,6 +96,9 @@ VideoEncoder::VideoEncoder(const std::string& path, const VideoSettings& setting
   if (settings.crf < 0 || settings.crf > 51) {
     throw InputError(path, "H.264 crf must be in 0..51 (lower is better; 18 looks lossless)");
   }
+  e.file.emplace(path, rules);
+  e.file->closeStream();  // libavformat opens the temporary file by name
+  e.temporary = e.file->tempPath();
   // The libraries' informational chatter ("using cpu capabilities ...") is not for users.
   av_log_set_level(AV_LOG_ERROR);
 
@@ -168,7 +174,6 @@ VideoEncoder::VideoEncoder(const std::string& path, const VideoSettings& setting
   av_dict_free(&muxOptions);
   if (status < 0) {
     e.release();
-    std::remove(e.temporary.c_str());
     throw InputError(path, "cannot write the MP4 header: " + avError(status));
   }
 }
@@ -184,8 +189,7 @@ VideoEncoder::~VideoEncoder() {
     } catch (...) {
     }
   }
-  e.release();
-  std::remove(e.temporary.c_str());
+  e.release();  // the OutputFile removes the temporary file
 }
 
 void VideoEncoder::write(int index, const Image& image) {
@@ -221,12 +225,10 @@ void VideoEncoder::finish() {
     status = avio_closep(&e.format->pb);
     if (status < 0) e.fail("cannot close the MP4 file", status);
     e.release();
-    if (std::rename(e.temporary.c_str(), e.path.c_str()) != 0) {
-      e.fail("cannot rename " + e.temporary + " into place", 0);
-    }
+    e.file->commit();
   } catch (...) {
     e.release();
-    std::remove(e.temporary.c_str());
+    e.file.reset();  // removes the temporary file
     throw;
   }
 }

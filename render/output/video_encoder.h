@@ -18,10 +18,10 @@ namespace vf {
 
 class VideoEncoder final : public FrameSink {
  public:
-  // Opens `path.part` for writing. Width and height must be even (yuv420p stores colour at half
-  // resolution in both directions): odd sizes are rejected with InputError rather than padded
-  // or cropped, so the video is always the size asked for.
-  VideoEncoder(const std::string& path, const VideoSettings& settings);
+  // Opens an OutputFile for `path` under `rules` (output_file.h). Width and height must be even
+  // (yuv420p stores colour at half resolution in both directions): odd sizes are rejected with
+  // InputError rather than padded or cropped, so the video is always the size asked for.
+  VideoEncoder(const std::string& path, const VideoSettings& settings, const OutputRules& rules);
   // Not finished (an error or interruption unwound the caller): the frames written so far are
   // finalised into a playable file under the real name; with no frames, nothing is left.
   ~VideoEncoder() override;

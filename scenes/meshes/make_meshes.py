@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Generates the meshes of the paper's examples 3-6 and the cliff terrain of example 6.
 
-Suzuki, Kubota & Ohtsubo (2003), section 5 (paper/digest.md, section 6) gives, for each
+Suzuki, Kubota & Ohtsubo (2003), section 5 (README: Reference) gives, for each
 example body, only its triangle and vertex counts and its mass; this script builds closed,
 outward-oriented meshes with exactly those counts and dimensions chosen to give those masses:
 
@@ -145,7 +145,7 @@ def make_highpoly_block():
     assert abs(vol - 0.8375) < 1e-12
     write_obj("highpoly_block.obj", [
         "The high-polygon block of the paper's example 3 (Suzuki, Kubota & Ohtsubo 2003, section 5;",
-        "paper/digest.md section 6): 98 vertices, 192 triangles, 670 kg of wood at 800 kg/m^3.",
+        "README: Reference): 98 vertices, 192 triangles, 670 kg of wood at 800 kg/m^3.",
         "A box centred at the origin, in metres, counter-clockwise seen from outside, closed.",
         "Each of its 6 faces is a 4 x 4 grid of quads, 2 triangles each: 6 * 16 * 2 = 192",
         "triangles; the vertices are the surface points of a 5 x 5 x 5 lattice: 5^3 - 3^3 = 98.",
@@ -198,7 +198,7 @@ def make_stack_block():
     assert abs(vol - 0.055) < 1e-12
     write_obj("stack_block.obj", [
         "The stacking block of the paper's example 4 (Suzuki, Kubota & Ohtsubo 2003, section 5;",
-        "paper/digest.md section 6): 14 vertices, 24 triangles, 44 kg of wood at 800 kg/m^3.",
+        "README: Reference): 14 vertices, 24 triangles, 44 kg of wood at 800 kg/m^3.",
         "A box centred at the origin, in metres, counter-clockwise seen from outside, closed.",
         "Each of its 6 faces is fanned into 4 triangles around a vertex at the face centre:",
         "8 corners + 6 face centres = 14 vertices, 6 * 4 = 24 triangles.",
@@ -288,7 +288,7 @@ def make_cross():
     assert abs(vol - area2d(poly) * thick) < 1e-12
     write_obj("cross.obj", [
         "The non-convex cross of the paper's example 5 (Suzuki, Kubota & Ohtsubo 2003, section 5;",
-        "paper/digest.md section 6): 32 vertices, 60 triangles, wood at 800 kg/m^3.",
+        "README: Reference): 32 vertices, 60 triangles, wood at 800 kg/m^3.",
         "A plus sign extruded along z, centred at the origin, in metres, counter-clockwise seen",
         "from outside, closed. Its outline has 16 vertices: a plus sign (12 corners) whose four",
         "arm ends each carry a shallow point (3 vertices per arm end instead of 2). Extruded:",
@@ -361,7 +361,7 @@ def make_rock():
     assert len(edge_set) == 36 and lengths[-1] > 1.5 * lengths[0]
     write_obj("rock.obj", [
         "The rock of the paper's example 6 (Suzuki, Kubota & Ohtsubo 2003, section 5;",
-        "paper/digest.md section 6): 14 vertices, 24 triangles, convex and irregular.",
+        "README: Reference): 14 vertices, 24 triangles, convex and irregular.",
         "In metres, the centre of its bounding box at the origin, counter-clockwise seen from",
         "outside, closed. It is the convex hull of 14 points in general position, every one of",
         "them a hull vertex, so the hull has exactly 2 * 14 - 4 = 24 triangular faces (Euler).",
@@ -404,7 +404,7 @@ def make_barrel():
     assert abs(vol - poly * (ro * ro * height - ri * ri * (height - floor))) < 1e-12
     write_obj("barrel.obj", [
         "The barrel of the paper's example 5b (Suzuki, Kubota & Ohtsubo 2003, section 5, figs.",
-        "24-25; paper/digest.md section 6): a non-convex container that blocks are thrown into.",
+        "24-25; README: Reference): a non-convex container that blocks are thrown into.",
         "An open-topped, thick-walled cylinder (a cup), axis along z, bottom at z = 0, in metres,",
         "counter-clockwise seen from outside: one closed 2-manifold (genus 0) surface made of the",
         "outer wall, the top rim annulus, the inner wall, the inner floor disc and the outer",

@@ -1,5 +1,5 @@
 // Vector and matrix types used throughout voxfall. SI units, z up.
-// Eigen is the math library of the whole project (design.md), so unlike assimp, GL, png and
+// Eigen is the math library of the whole project, so unlike assimp, GL, png and
 // libav it may appear in voxfall headers.
 #pragma once
 

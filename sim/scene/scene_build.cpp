@@ -27,7 +27,7 @@ struct BuiltShape {
   std::optional<Color> color;
 };
 
-// Sphere trees are a pure function of the scaled, centred mesh and the level (design.md), so
+// Sphere trees are a pure function of the scaled, centred mesh and the level, so
 // shapes that differ only in density or colour share one.
 using TreeKey = std::tuple<std::string, double, double, double, int>;
 
@@ -158,7 +158,8 @@ BuiltScene buildScene(const SceneSpec& spec) {
         const double angle = e.directionJitter * turn * std::numbers::pi / 180;
         velocity = Eigen::AngleAxisd(angle, Vec3::UnitZ()) * velocity;
       }
-      if (e.randomOrientation) orientation = (uniformRotation(u1, u2, u3) * orientation).normalized();
+      if (e.randomOrientation)
+        orientation = (uniformRotation(u1, u2, u3) * orientation).normalized();
 
       BodyDef def;
       def.orientation = orientation;

@@ -6,8 +6,6 @@
 // silently fall back to a default, so the nearest valid key is suggested by edit distance.
 // Errors are reported in file order within a table, so the first problem a reader would meet is
 // the one shown.
-#include "sim/scene/scene.h"
-
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -22,6 +20,7 @@
 #include <vector>
 
 #include "sim/core/error.h"
+#include "sim/scene/scene.h"
 #include "sim/shape/sphere_tree.h"
 
 namespace vf {
@@ -32,7 +31,6 @@ namespace fs = std::filesystem;
 // Guards against values that parse but cannot be run (allocation of frame or body arrays).
 constexpr double kMaxFrames = 1e7;
 constexpr std::int64_t kMaxEmitterCount = 1000000;
-constexpr std::int64_t kMaxImageSide = 16384;
 
 std::string lower(std::string_view s) {
   std::string out(s);
@@ -102,16 +100,26 @@ std::string formatNumber(double v) {
 
 std::string typeName(const toml::node& n) {
   switch (n.type()) {
-    case toml::node_type::table: return "table";
-    case toml::node_type::array: return "array";
-    case toml::node_type::string: return "string";
-    case toml::node_type::integer: return "integer";
-    case toml::node_type::floating_point: return "float";
-    case toml::node_type::boolean: return "boolean";
-    case toml::node_type::date: return "date";
-    case toml::node_type::time: return "time";
-    case toml::node_type::date_time: return "date-time";
-    default: return "nothing";
+    case toml::node_type::table:
+      return "table";
+    case toml::node_type::array:
+      return "array";
+    case toml::node_type::string:
+      return "string";
+    case toml::node_type::integer:
+      return "integer";
+    case toml::node_type::floating_point:
+      return "float";
+    case toml::node_type::boolean:
+      return "boolean";
+    case toml::node_type::date:
+      return "date";
+    case toml::node_type::time:
+      return "time";
+    case toml::node_type::date_time:
+      return "date-time";
+    default:
+      return "nothing";
   }
 }
 
@@ -178,7 +186,8 @@ class Reader {
       v = f->get();
     else
       fail(n, "'" + name + "' must be a number, got " + typeName(n));
-    if (!std::isfinite(v)) fail(n, "'" + name + "' must be a finite number, got " + formatNumber(v));
+    if (!std::isfinite(v))
+      fail(n, "'" + name + "' must be a finite number, got " + formatNumber(v));
     return v;
   }
 
@@ -266,7 +275,8 @@ class Reader {
     Quat q(v[0], v[1], v[2], v[3]);
     const double norm = q.norm();
     if (!(norm > 1e-12) || !std::isfinite(norm))
-      fail(n, "'" + name + "' must be a non-zero quaternion [w, x, y, z] (it is normalised; "
+      fail(n, "'" + name +
+                  "' must be a non-zero quaternion [w, x, y, z] (it is normalised; "
                   "[1, 0, 0, 0] is no rotation), got a zero quaternion");
     q.coeffs() /= norm;
     return q;
@@ -337,8 +347,9 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
     resolved = resolved.lexically_normal();
     std::error_code ec;
     if (!fs::is_regular_file(resolved, ec))
-      r.fail(*n, "terrain grid not found: '" + resolved.string() +
-                     "' (an ESRI ASCII grid; relative paths resolve against the scene file's folder)");
+      r.fail(*n,
+             "terrain grid not found: '" + resolved.string() +
+                 "' (an ESRI ASCII grid; relative paths resolve against the scene file's folder)");
     spec.terrainPath = resolved.string();
   }
 }
@@ -349,7 +360,8 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
 [[noreturn]] void failMissingMesh(const Reader& r, const toml::node& n, const fs::path& resolved,
                                   const std::string& given) {
   std::string message = "mesh file not found: '" + resolved.string() + "'";
-  if (fs::path(given).is_relative()) message += " (relative paths resolve against the scene file's folder)";
+  if (fs::path(given).is_relative())
+    message += " (relative paths resolve against the scene file's folder)";
   std::error_code ec;
   const fs::path folder = resolved.parent_path().empty() ? fs::path(".") : resolved.parent_path();
   if (fs::is_directory(folder, ec)) {
@@ -394,8 +406,8 @@ ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table&
           r.fail(*n, "'scale' factors must be > 0, got " + formatNumber(s.scale[i]));
       }
     } else {
-      r.fail(*n, "'scale' must be a number or an array of 3 numbers [sx, sy, sz], got " +
-                     typeName(*n));
+      r.fail(*n,
+             "'scale' must be a number or an array of 3 numbers [sx, sy, sz], got " + typeName(*n));
     }
   }
   s.density = r.positive(r.require(t, "density", label), "density", " kg/m^3");
@@ -410,8 +422,9 @@ void readShapes(const Reader& r, const toml::table& t, const fs::path& sceneFold
   // Keep file order: shape indices pick default colours and must not depend on key sorting.
   std::vector<std::pair<const toml::key*, const toml::node*>> entries;
   for (auto&& [k, v] : t) entries.emplace_back(&k, &v);
-  std::sort(entries.begin(), entries.end(),
-            [](const auto& a, const auto& b) { return before(a.first->source(), b.first->source()); });
+  std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+    return before(a.first->source(), b.first->source());
+  });
   for (const auto& [k, v] : entries) {
     const std::string name(k->str());
     if (!v->is_table())
@@ -460,9 +473,9 @@ void readBodies(const Reader& r, const toml::array& bodies, SceneSpec& spec) {
   for (const toml::node& node : bodies) {
     const toml::table& t = *node.as_table();
     const std::string label = "[[bodies]]";
-    r.checkKeys(t, {"shape", "position", "orientation", "velocity", "angular_velocity", "static",
-                    "color"},
-                label);
+    r.checkKeys(
+        t, {"shape", "position", "orientation", "velocity", "angular_velocity", "static", "color"},
+        label);
     BodySpec b;
     b.where = r.where(t);
     b.shape = readShapeReference(r, t, label, spec);
@@ -485,7 +498,8 @@ void readJitter(const Reader& r, const toml::table& t, EmitterSpec& e) {
     e.positionJitter = r.nonNegative(*n, "jitter.position", " m (half-size of a cube)");
   if (const auto* n = t.get("direction"))
     e.directionJitter = r.inRange(*n, "jitter.direction", 0, 180);
-  if (const auto* n = t.get("orientation")) e.randomOrientation = r.boolean(*n, "jitter.orientation");
+  if (const auto* n = t.get("orientation"))
+    e.randomOrientation = r.boolean(*n, "jitter.orientation");
   if (const auto* n = t.get("seed")) {
     const std::int64_t seed = r.integer(*n, "jitter.seed");
     if (seed < 0) r.fail(*n, "'jitter.seed' must be an integer >= 0, got " + std::to_string(seed));
@@ -497,8 +511,9 @@ void readEmitters(const Reader& r, const toml::array& emitters, SceneSpec& spec)
   for (const toml::node& node : emitters) {
     const toml::table& t = *node.as_table();
     const std::string label = "[[emitters]]";
-    r.checkKeys(t, {"shape", "count", "start", "interval", "position", "positions", "velocity",
-                    "angular_velocity", "orientation", "color", "jitter", "drop_height"},
+    r.checkKeys(t,
+                {"shape", "count", "start", "interval", "position", "positions", "velocity",
+                 "angular_velocity", "orientation", "color", "jitter", "drop_height"},
                 label);
     EmitterSpec e;
     e.where = r.where(t);
@@ -589,7 +604,8 @@ void readOutput(const Reader& r, const toml::table& t, SceneSpec& spec) {
   };
   side("width", spec.output.width);
   side("height", spec.output.height);
-  if (const auto* n = t.get("crf")) spec.output.crf = static_cast<int>(r.integerInRange(*n, "crf", 0, 51));
+  if (const auto* n = t.get("crf"))
+    spec.output.crf = static_cast<int>(r.integerInRange(*n, "crf", 0, 51));
 }
 
 }  // namespace
@@ -613,17 +629,16 @@ SceneSpec loadScene(const std::string& path) {
   }
 
   const Reader r(path);
-  r.checkKeys(root,
-              {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera", "output"},
-              "the scene's top level");
+  r.checkKeys(
+      root, {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera", "output"},
+      "the scene's top level");
   const fs::path sceneFolder = fs::path(path).parent_path();
 
   // Shapes before bodies and emitters (which name them); bodies and emitters before the camera
   // (whose `follow` is a body index).
   if (const auto* n = root.get("simulation")) readSimulation(r, r.table(*n, "simulation"), spec);
   if (const auto* n = root.get("contact")) readContact(r, r.table(*n, "contact"), spec.contact);
-  if (const auto* n = root.get("ground"))
-    readGround(r, r.table(*n, "ground"), sceneFolder, spec);
+  if (const auto* n = root.get("ground")) readGround(r, r.table(*n, "ground"), sceneFolder, spec);
   if (const auto* n = root.get("shapes")) readShapes(r, r.table(*n, "shapes"), sceneFolder, spec);
   if (const auto* n = root.get("bodies")) readBodies(r, arrayOfTables(r, *n, "bodies"), spec);
   if (const auto* n = root.get("emitters")) readEmitters(r, arrayOfTables(r, *n, "emitters"), spec);

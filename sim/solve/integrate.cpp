@@ -22,7 +22,7 @@ std::uint64_t integrate(const std::vector<BodyInfo>& bodies, std::vector<BodySta
     const BodyInfo& b = bodies[i];
     if (!b.moves()) continue;
     BodyState& y = states[i];
-    const Mat3 R = y.q.toRotationMatrix();  // eq. 6
+    const Mat3 R = y.q.toRotationMatrix();                      // eq. 6
     const Vec3 w = R * b.inertiaBodyInv * R.transpose() * y.L;  // w = I(t)^-1 L
     const Vec3 x = y.x + dt * b.invMass * y.P;
     const Quat dq = quaternionRate(w, y.q);
@@ -39,6 +39,13 @@ std::uint64_t integrate(const std::vector<BodyInfo>& bodies, std::vector<BodySta
     y.q = q;
   }
   return frozen;
+}
+
+void freeMotion(const std::vector<BodyInfo>& bodies, std::vector<BodyState>& states,
+                const Vec3& gravity, double dt) {
+  if (dt <= 0) return;
+  applyGravity(bodies, states, gravity, dt);
+  integrate(bodies, states, dt);
 }
 
 }  // namespace vf

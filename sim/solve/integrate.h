@@ -19,6 +19,11 @@ void applyGravity(const std::vector<BodyInfo>& bodies, std::vector<BodyState>& s
 std::uint64_t integrate(const std::vector<BodyInfo>& bodies, std::vector<BodyState>& states,
                         double dt);
 
+// The motion of a step without contacts, over dt seconds (nothing for dt <= 0): applyGravity
+// then integrate. Shows states between steps (World::statesAt, Bake::statesAt).
+void freeMotion(const std::vector<BodyInfo>& bodies, std::vector<BodyState>& states,
+                const Vec3& gravity, double dt);
+
 // dq/dt = 1/2 [0, w] q (eq. 7 with the factor 1/2 the paper's printing drops).
 Quat quaternionRate(const Vec3& w, const Quat& q);
 

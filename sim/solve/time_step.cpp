@@ -6,7 +6,7 @@
 // largest translational speed plus the largest rim speed (l_i/2) w_i over moving bodies: for a
 // scene of identical bodies this is eq. 20 exactly, otherwise it is more conservative.
 //
-// One refinement: voxfall applies gravity before moving the bodies (design.md's step order),
+// One refinement: voxfall applies gravity before moving the bodies (the README's step order),
 // so the speed that moves a body during the step is |v| + |g| dt, not |v|. Solving
 // dt (v_max + |g| dt) = r for dt keeps eq. 17 true over the whole step; with g = 0 it is
 // eq. 20 unchanged, and for the paper's scenes it differs from eq. 20 by under 5 %.

@@ -2,11 +2,11 @@
 // checks what a user or a script relies on: exit codes, one error line naming file:line,
 // no output file left behind by a failed run, and the shape of the CSV and JSON outputs.
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -110,12 +110,13 @@ TEST_F(CliTest, MissingSceneFileIsAnError) {
 
 TEST_F(CliTest, UnwritableOutputFailsBeforeSimulatingAndLeavesNothing) {
   const std::string cubes = quote(kScenes + "/cubes.toml");
-  const fs::path missingFolder = dir_ / "no_such_folder" / "run.csv";
-  EXPECT_NE(run("simulate " + cubes + " --quiet --csv " + quote(missingFolder.string())), 0);
+  // Missing folders are created (as by every command), but not under a plain file.
+  write("plain_file", "x");
+  const fs::path underFile = dir_ / "plain_file" / "run.csv";
+  EXPECT_NE(run("simulate " + cubes + " --quiet --csv " + quote(underFile.string())), 0);
   ASSERT_EQ(errorLines().size(), 1u) << err_;
-  EXPECT_NE(errorLines()[0].find(missingFolder.string()), std::string::npos) << err_;
+  EXPECT_NE(errorLines()[0].find(underFile.string()), std::string::npos) << err_;
   EXPECT_TRUE(out_.empty()) << "ran anyway: " << out_;
-  EXPECT_FALSE(fs::exists(dir_ / "no_such_folder"));
 
   // A folder where the summary should go: the CSV, valid on its own, is not left behind either.
   EXPECT_NE(run("simulate " + cubes + " --quiet --csv " + quote((dir_ / "out/a.csv").string()) +
@@ -143,11 +144,12 @@ TEST_F(CliTest, CubesCsvAndSummary) {
   // Summary: every key, frames = floor(2 s * 30 fps) + 1, a 16-hex-digit checksum.
   const std::string summary = readFile(json);
   for (const char* key :
-       {"scene", "frames", "steps", "dt_min", "dt_max", "wall_seconds", "sphere_tests",
-        "contacts", "max_penetration_body_body", "max_penetration_body_ground", "tunnelled",
-        "kinetic_energy", "potential_energy", "checksum"}) {
+       {"scene", "frames", "steps", "dt_min", "dt_max", "wall_seconds", "sphere_tests", "contacts",
+        "max_penetration_body_body", "max_penetration_body_ground", "tunnelled", "kinetic_energy",
+        "potential_energy", "checksum"}) {
     EXPECT_NE(summary.find(std::string("\"").append(key).append("\":")), std::string::npos)
-        << "missing key " << key << " in\n" << summary;
+        << "missing key " << key << " in\n"
+        << summary;
   }
   EXPECT_NE(summary.find("\"scene\": \"cubes\""), std::string::npos) << summary;
   EXPECT_NE(summary.find("\"frames\": 61,"), std::string::npos) << summary;
@@ -185,6 +187,31 @@ TEST_F(CliTest, OverridesChangeTheRunAndRunsRepeat) {
   EXPECT_EQ(a.size(), 16u);
   EXPECT_EQ(checksum("--level 2"), a);  // deterministic
   EXPECT_NE(checksum("--level 2 --step 1/600"), a);
+}
+
+// --size is parsed once, in one place (render/cli/options.cpp): a capital X means the same as
+// x, and anything else that is not WxH is a usage error, never a size half taken from the scene.
+TEST_F(CliTest, SizeWithACapitalXIsThatSizeAndMalformedSizesAreUsageErrors) {
+  const std::string cubes = quote(kScenes + "/cubes.toml");
+  const fs::path png = dir_ / "out" / "one.png";
+  ASSERT_EQ(run("render " + cubes + " --quiet --frames 0:0 --size 64X48 -o " + quote(png.string())),
+            0)
+      << err_;
+  // PNG: the IHDR chunk's width and height, big-endian, at bytes 16..23.
+  const std::string bytes = readFile(png);
+  ASSERT_GE(bytes.size(), 24u);
+  const auto be32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    for (std::size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(bytes[at + i]);
+    return v;
+  };
+  EXPECT_EQ(be32(16), 64u);
+  EXPECT_EQ(be32(20), 48u);
+  for (const char* bad : {"64x", "x48", "64x48x2", "64*48", "0x48", "64x99999"}) {
+    EXPECT_EQ(run("render " + cubes + " --quiet --frames 0:0 --size " + bad + " -o x.png"), 2)
+        << bad;
+    EXPECT_EQ(errorLines().size(), 1u) << err_;
+  }
 }
 
 }  // namespace

@@ -6,13 +6,14 @@
 //   - the suite can fail: with the sun turned by two degrees (azimuth, or elevation) the case
 //     fails, by five degrees every frame does, while the unchanged render is within the
 //     default tolerance (the control).
-// The frames and size must match the cubes case of tests/golden/suite.toml.
+// The frames and size are the cubes case's of tests/golden/suite.toml (read, not restated).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <fstream>
 #include <functional>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -21,24 +22,34 @@
 #include "render/gl/shader_program.h"
 #include "render/output/image_diff.h"
 #include "render/output/png_writer.h"
+#include "render/regress_suite.h"
 #include "sim/scene/scene.h"
 
 namespace vf {
 namespace {
 
 const std::string kGoldenDir = std::string(VOXFALL_SOURCE_DIR) + "/tests/golden/cubes";
-const std::vector<int> kFrames = {0, 6, 60};  // as in tests/golden/suite.toml
+
+// The cubes case of the committed suite, read as `voxfall regress` reads it.
+const SuiteCase& cubesCase() {
+  static const Suite suite =
+      readSuite(std::string(VOXFALL_SOURCE_DIR) + "/tests/golden/suite.toml");
+  for (const SuiteCase& c : suite.cases)
+    if (c.name == "cubes") return c;
+  throw std::runtime_error("tests/golden/suite.toml has no cubes case");
+}
 
 SceneSpec cubesAtSuiteSize() {
-  SceneSpec spec = loadScene(std::string(VOXFALL_SOURCE_DIR) + "/scenes/cubes.toml");
-  spec.output.width = 320;
-  spec.output.height = 180;
+  SceneSpec spec = loadScene(cubesCase().scene);
+  if (cubesCase().width) spec.output.width = *cubesCase().width;
+  if (cubesCase().height) spec.output.height = *cubesCase().height;
   return spec;
 }
 
 cli::RenderedFrames renderCubes(const std::function<void(DrawList&)>& adjust = {}) {
   auto context = gl::createContext(gl::Backend::osmesa);
-  return cli::renderSceneFrames(cubesAtSuiteSize(), kFrames, *context, gl::findShaderDir(), adjust);
+  return cli::renderSceneFrames(cubesAtSuiteSize(), cubesCase().frames, *context,
+                                gl::findShaderDir(), adjust);
 }
 
 std::string golden(int frame) {
@@ -60,10 +71,11 @@ TEST(GoldenFrames, SameSceneTwiceGivesTheSameBytesAndTheGoldenChecksum) {
   const cli::RenderedFrames a = renderCubes();
   const cli::RenderedFrames b = renderCubes();
   EXPECT_EQ(a.summary.checksum, b.summary.checksum);
-  ASSERT_EQ(a.images.size(), kFrames.size());
-  ASSERT_EQ(b.images.size(), kFrames.size());
-  for (std::size_t i = 0; i < kFrames.size(); ++i) {
-    EXPECT_TRUE(a.images[i].rgb == b.images[i].rgb) << "frame " << kFrames[i] << " differs";
+  ASSERT_EQ(a.images.size(), cubesCase().frames.size());
+  ASSERT_EQ(b.images.size(), cubesCase().frames.size());
+  for (std::size_t i = 0; i < cubesCase().frames.size(); ++i) {
+    EXPECT_TRUE(a.images[i].rgb == b.images[i].rgb)
+        << "frame " << cubesCase().frames[i] << " differs";
   }
   std::ifstream in(kGoldenDir + "/checksum.txt");
   std::string pinned;
@@ -75,11 +87,11 @@ TEST(GoldenFrames, SameSceneTwiceGivesTheSameBytesAndTheGoldenChecksum) {
 TEST(GoldenFrames, UnchangedRenderIsWithinTheDefaultTolerance) {
   const cli::RenderedFrames r = renderCubes();
   const DiffTolerance tolerance;
-  for (std::size_t i = 0; i < kFrames.size(); ++i) {
-    const Image expected = readPng(golden(kFrames[i]));
+  for (std::size_t i = 0; i < cubesCase().frames.size(); ++i) {
+    const Image expected = readPng(golden(cubesCase().frames[i]));
     const DiffMetrics m = compareImages(expected, r.images[i], tolerance.threshold);
     EXPECT_TRUE(withinTolerance(m, tolerance))
-        << "frame " << kFrames[i] << ": " << describe(m, expected, r.images[i]);
+        << "frame " << cubesCase().frames[i] << ": " << describe(m, expected, r.images[i]);
   }
 }
 
@@ -89,13 +101,13 @@ int framesOverTolerance(double degrees, bool elevation) {
   const cli::RenderedFrames r = renderCubes(turnSun(degrees, elevation));
   const DiffTolerance tolerance;
   int over = 0;
-  for (std::size_t i = 0; i < kFrames.size(); ++i) {
-    const Image expected = readPng(golden(kFrames[i]));
+  for (std::size_t i = 0; i < cubesCase().frames.size(); ++i) {
+    const Image expected = readPng(golden(cubesCase().frames[i]));
     const DiffMetrics m = compareImages(expected, r.images[i], tolerance.threshold);
     if (!withinTolerance(m, tolerance)) ++over;
     // For the record: image_diff.cpp quotes these numbers.
     std::printf("sun %s %+g deg, frame %d: %s\n", elevation ? "elevation" : "azimuth", degrees,
-                kFrames[i], describe(m, expected, r.images[i]).c_str());
+                cubesCase().frames[i], describe(m, expected, r.images[i]).c_str());
   }
   return over;
 }
@@ -109,8 +121,10 @@ TEST(GoldenFrames, SunTurnedTwoDegreesFailsTheCase) {
 
 // Five degrees: every frame on its own (measured at least 0.083%).
 TEST(GoldenFrames, SunTurnedFiveDegreesFailsEveryFrame) {
-  EXPECT_EQ(framesOverTolerance(5, false), static_cast<int>(kFrames.size())) << "azimuth";
-  EXPECT_EQ(framesOverTolerance(5, true), static_cast<int>(kFrames.size())) << "elevation";
+  EXPECT_EQ(framesOverTolerance(5, false), static_cast<int>(cubesCase().frames.size()))
+      << "azimuth";
+  EXPECT_EQ(framesOverTolerance(5, true), static_cast<int>(cubesCase().frames.size()))
+      << "elevation";
 }
 
 }  // namespace

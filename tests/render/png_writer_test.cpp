@@ -56,7 +56,7 @@ TEST(PngWriter, WrittenPixelsReadBackIdentical) {
   EXPECT_EQ(back.width, 37);
   EXPECT_EQ(back.height, 21);
   EXPECT_EQ(back.rgb, image.rgb);
-  EXPECT_FALSE(fs::exists(path + ".part"));
+  EXPECT_EQ(test::partialFiles(dir.path()), 0);
 }
 
 TEST(PngWriter, HashRunBecomesZeroPaddedFrameNumber) {
@@ -69,7 +69,7 @@ TEST(PngWriter, HashRunBecomesZeroPaddedFrameNumber) {
 
 TEST(PngWriter, SequenceWriterNamesEachFrame) {
   test::ScratchDir dir("png_sequence");
-  PngSequenceWriter writer(dir.file("f_###.png"));
+  PngSequenceWriter writer(dir.file("f_###.png"), replaceOutputs());
   const Image image = testPattern(4, 4);
   writer.write(3, image);
   writer.write(30, image);
@@ -79,28 +79,25 @@ TEST(PngWriter, SequenceWriterNamesEachFrame) {
   EXPECT_TRUE(fs::exists(dir.file("f_030.png")));
 }
 
-TEST(PngWriter, UnwritablePathIsAClearErrorAndLeavesNoFile) {
+TEST(PngWriter, MissingFoldersAreCreatedAndAFileForAFolderIsAClearError) {
   test::ScratchDir dir("png_unwritable");
   const Image image = testPattern(4, 4);
-  // A folder that does not exist, and a "folder" that is a regular file.
-  const std::string missing = dir.file("no_such_folder/frame.png");
+  // Output folders are created, as for every output (output_file.h).
+  writePng(dir.file("new/folder/frame.png"), image);
+  EXPECT_EQ(readPng(dir.file("new/folder/frame.png")).rgb, image.rgb);
+  // A "folder" that is a regular file cannot be.
   std::ofstream(dir.file("plain_file")) << "x";
   const std::string underFile = dir.file("plain_file/frame.png");
-  for (const std::string& path : {missing, underFile}) {
-    try {
-      writePng(path, image);
-      ADD_FAILURE() << "wrote " << path;
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.where(), path);
-      EXPECT_NE(std::string(e.what()).find("cannot write PNG"), std::string::npos) << e.what();
-    }
-    EXPECT_FALSE(fs::exists(path));
-    EXPECT_FALSE(fs::exists(path + ".part"));
+  try {
+    writePng(underFile, image);
+    ADD_FAILURE() << "wrote " << underFile;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), underFile);
+    EXPECT_NE(std::string(e.what()).find("cannot create the folder"), std::string::npos)
+        << e.what();
   }
-  // Nothing but the plain file was created in the scratch folder.
-  int entries = 0;
-  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir.path())) ++entries;
-  EXPECT_EQ(entries, 1);
+  EXPECT_EQ(test::partialFiles(dir.path()), 0);
+  EXPECT_EQ(test::partialFiles(dir.path() / "new/folder"), 0);
 }
 
 TEST(FrameSink, OutputKindFollowsThePath) {
@@ -111,7 +108,7 @@ TEST(FrameSink, OutputKindFollowsThePath) {
   EXPECT_THROW(outputKind("out/a.avi"), InputError);
   EXPECT_THROW(outputKind("out/f_####.jpg"), InputError);
   // A single PNG cannot hold several frames.
-  EXPECT_THROW(openFrameSink("out/still.png", VideoSettings{}, 2), InputError);
+  EXPECT_THROW(openFrameSink("out/still.png", VideoSettings{}, 0, 1, replaceOutputs()), InputError);
 }
 
 }  // namespace

@@ -221,7 +221,7 @@ TEST_F(Readback, ShaderErrorInAnIncludedFileNamesThatFile) {
   }
 }
 
-// design.md: EGL surfaceless is the second backend, "same llvmpipe pixels".
+// EGL surfaceless is the second backend, with the same llvmpipe pixels (README: Using it).
 TEST(EglBackend, RendersTheSamePixelsAsOsmesa) {
   const auto cube = test::boxShape(Vec3(0.25, 0.25, 0.25));
   const std::vector<BodyView> bodies{test::body(cube, Vec3(0, 0, 0.25))};

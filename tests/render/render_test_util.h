@@ -60,6 +60,15 @@ class ScratchDir {
   std::filesystem::path path_;
 };
 
+// Temporary output files (OutputFile's ".NAME.partial-PID-N.EXT") left in `folder`.
+inline int partialFiles(const std::filesystem::path& folder) {
+  int n = 0;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(folder, ec))
+    if (e.path().filename().string().find(".partial-") != std::string::npos) ++n;
+  return n;
+}
+
 // Runs a shell command and returns its standard output.
 inline std::string runCommand(const std::string& command, int* exitCode = nullptr) {
   std::string out;

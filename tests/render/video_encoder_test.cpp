@@ -83,13 +83,13 @@ TEST(VideoEncoder, FfprobeSeesH264Yuv420pWithFramePts) {
   const std::string path = dir.file("clip.mp4");
   const int n = 12;
   {
-    VideoEncoder encoder(path, settings(64, 48, 24));
+    VideoEncoder encoder(path, settings(64, 48, 24), replaceOutputs());
     for (int k = 0; k < n; ++k) encoder.write(k, syntheticFrame(64, 48, k));
-    EXPECT_TRUE(fs::exists(path + ".part"));  // written under the temporary name...
+    EXPECT_EQ(test::partialFiles(dir.path()), 1);  // written under the temporary name...
     EXPECT_FALSE(fs::exists(path));
     encoder.finish();
   }
-  EXPECT_FALSE(fs::exists(path + ".part"));  // ...and renamed when complete
+  EXPECT_EQ(test::partialFiles(fs::path(path).parent_path()), 0);  // ...and renamed when complete
   const Probe p = probe(path);
   ASSERT_TRUE(p.ok) << p.raw;
   EXPECT_EQ(p.stream.at("codec_name"), "h264");
@@ -117,7 +117,7 @@ TEST(VideoEncoder, FrameRangeKeepsSimulationTimestamps) {
   test::ScratchDir dir("mp4_range");
   const std::string path = dir.file("clip.mp4");
   {
-    VideoEncoder encoder(path, settings(32, 32, 30));
+    VideoEncoder encoder(path, settings(32, 32, 30), replaceOutputs());
     for (int k = 30; k <= 35; ++k) encoder.write(k, syntheticFrame(32, 32, k));
     encoder.finish();
   }
@@ -133,22 +133,25 @@ TEST(VideoEncoder, OddSizesAreRejectedAndLeaveNoFile) {
   const std::string path = dir.file("clip.mp4");
   for (auto [w, h] : {std::pair{63, 48}, std::pair{64, 47}}) {
     try {
-      VideoEncoder encoder(path, settings(w, h, 30));
+      VideoEncoder encoder(path, settings(w, h, 30), replaceOutputs());
       ADD_FAILURE() << w << "x" << h << " accepted";
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("even"), std::string::npos) << e.what();
     }
   }
   EXPECT_FALSE(fs::exists(path));
-  EXPECT_FALSE(fs::exists(path + ".part"));
+  EXPECT_EQ(test::partialFiles(fs::path(path).parent_path()), 0);
 }
 
 TEST(VideoEncoder, UnwritableFolderIsAClearError) {
+  test::ScratchDir dir("mp4_unwritable");
+  std::ofstream(dir.file("plain_file")) << "x";  // a "folder" that is a regular file
+  const std::string path = dir.file("plain_file/clip.mp4");
   try {
-    VideoEncoder encoder("/nonexistent/voxfall/clip.mp4", settings(32, 32, 30));
+    VideoEncoder encoder(path, settings(32, 32, 30), replaceOutputs());
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_EQ(e.where(), "/nonexistent/voxfall/clip.mp4");
+    EXPECT_EQ(e.where(), path);
   }
 }
 
@@ -157,28 +160,28 @@ TEST(VideoEncoder, InterruptedEncodeLeavesAPlayableFile) {
   test::ScratchDir dir("mp4_interrupted");
   const std::string path = dir.file("clip.mp4");
   try {
-    VideoEncoder encoder(path, settings(48, 32, 25));
+    VideoEncoder encoder(path, settings(48, 32, 25), replaceOutputs());
     for (int k = 0; k < 5; ++k) encoder.write(k, syntheticFrame(48, 32, k));
     throw std::runtime_error("simulated failure after 5 frames");  // unwinds past finish()
   } catch (const std::runtime_error&) {
   }
-  EXPECT_FALSE(fs::exists(path + ".part"));
+  EXPECT_EQ(test::partialFiles(fs::path(path).parent_path()), 0);
   const Probe p = probe(path);
   ASSERT_TRUE(p.ok) << p.raw;
   EXPECT_EQ(p.stream.at("nb_read_frames"), "5");
   EXPECT_EQ(p.pts, (std::vector<long>{0, 1, 2, 3, 4}));
   // Nothing written at all: nothing left behind.
   const std::string empty = dir.file("empty.mp4");
-  { VideoEncoder encoder(empty, settings(48, 32, 25)); }
+  { VideoEncoder encoder(empty, settings(48, 32, 25), replaceOutputs()); }
   EXPECT_FALSE(fs::exists(empty));
-  EXPECT_FALSE(fs::exists(empty + ".part"));
+  EXPECT_EQ(test::partialFiles(dir.path()), 0);
 }
 
 TEST(VideoEncoder, SameFramesGiveIdenticalBytes) {
   test::ScratchDir dir("mp4_determinism");
   auto encode = [&](const std::string& name) {
     const std::string path = dir.file(name);
-    VideoEncoder encoder(path, settings(64, 64, 30));
+    VideoEncoder encoder(path, settings(64, 64, 30), replaceOutputs());
     for (int k = 0; k < 20; ++k) encoder.write(k, syntheticFrame(64, 64, k));
     encoder.finish();
     std::ifstream in(path, std::ios::binary);
@@ -203,7 +206,7 @@ TEST(VideoEncoder, DecodedColoursMatchTheInput) {
     flat.rgb[static_cast<std::size_t>(3 * i + 2)] = 60;
   }
   {
-    VideoEncoder encoder(path, settings(32, 32, 30));
+    VideoEncoder encoder(path, settings(32, 32, 30), replaceOutputs());
     encoder.write(0, flat);
     encoder.finish();
   }

@@ -1,15 +1,15 @@
 // Scenario tests against analytic physics. Each tolerance is derived from the method
 // (step size dt, voxel level) in the comment beside it.
 //
-// The step applies gravity to P before moving the bodies (design.md), i.e. the position update
-// uses the end-of-step velocity. For constant acceleration g this gives, after n steps of dt,
+// The step applies gravity to P before moving the bodies (README: How a step works), i.e. the
+// position update uses the end-of-step velocity. For constant acceleration g this gives, after n
+// steps of dt,
 //   v_n = v_0 + g t,   x_n = x_0 + v_0 t + g t^2 / 2 + g t dt / 2     (t = n dt)
 // exactly, which several tests below use.
 #include <gtest/gtest.h>
 
-#include <cmath>
-
 #include <Eigen/Eigenvalues>
+#include <cmath>
 
 #include "sim/geometry/mesh_checks.h"
 #include "sim/geometry/mesh_import.h"
@@ -134,7 +134,7 @@ TEST(Scenario, TorqueFreeSpinKeepsAngularMomentumAndEnergy) {
     World world(def);
     BodyDef b;
     b.shape = test::boxShape(0.1, 0.2, 0.4, 800, 2);  // three distinct principal moments
-    b.angularVelocity = Vec3(0.3, 4.0, 0.2);  // near the unstable middle axis: tumbling
+    b.angularVelocity = Vec3(0.3, 4.0, 0.2);          // near the unstable middle axis: tumbling
     world.addBody(b);
     L0 = world.state(0).L;
     E0 = world.measure().kineticEnergy;
@@ -277,7 +277,8 @@ TEST(Scenario, BoxOnTerrainInclineSlidesOrSticksAsCoulombSays) {
     for (int i = 0; i < terrain->nx; ++i)
       terrain->z.push_back(-std::tan(theta) * (terrain->x0 + i * terrain->cell));
   terrain->zMin = -std::tan(theta) * 5, terrain->zMax = std::tan(theta) * 5;
-  const Vec3 normal(std::sin(theta), 0, std::cos(theta)), downhill(std::cos(theta), 0, -std::sin(theta));
+  const Vec3 normal(std::sin(theta), 0, std::cos(theta)),
+      downhill(std::cos(theta), 0, -std::sin(theta));
   auto slide = [&](double mu) {
     WorldDef def;
     def.terrain = terrain;

@@ -28,8 +28,9 @@ SceneRun runSpec(SceneSpec spec) {
   const World& w = *run.built.world;
   for (int i = 0; i < w.bodyCount(); ++i)
     if (w.isActive(i) && !w.isStatic(i))
-      run.maxSpeedAtEnd = std::max(
-          run.maxSpeedAtEnd, w.velocity(i).norm() + 0.5 * w.shape(i).diameter * w.angularVelocity(i).norm());
+      run.maxSpeedAtEnd =
+          std::max(run.maxSpeedAtEnd,
+                   w.velocity(i).norm() + 0.5 * w.shape(i).diameter * w.angularVelocity(i).norm());
   return run;
 }
 
@@ -80,7 +81,7 @@ TEST(PaperScenes, Example2BlocksAtLevel4NeverInterpenetrateMoreThanALeafEdge) {
   EXPECT_GT(run.summary.totals.contacts, 0u) << "the blocks must actually collide";
 }
 
-// Same scene, same build: bit-identical trajectories (design.md, Determinism).
+// Same scene, same build: bit-identical trajectories (README, Determinism).
 TEST(PaperScenes, TwoIdenticalRunsGiveTheSameChecksum) {
   const SceneRun a = runScene("blocks", 3);
   const SceneRun b = runScene("blocks", 3);

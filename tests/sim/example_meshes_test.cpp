@@ -1,7 +1,7 @@
 // The meshes of the paper's examples 3-6 (scenes/meshes/, written by make_meshes.py) and the
 // cliff grid of example 6 (scenes/terrain/cliff.asc), read the way a scene reads them: each
 // mesh is closed and outward, has the paper's vertex and triangle counts and masses (section 5,
-// paper/digest.md section 6), and has the shape the example needs (the cross and the barrel
+// README: Reference), and has the shape the example needs (the cross and the barrel
 // non-convex, the rock convex but irregular); the grid has the paper's 9.5 m relief and a
 // steep face. Convexity oracles here are brute force over vertex triples, independent of sim/.
 #include <gtest/gtest.h>
@@ -58,9 +58,10 @@ bool insideConvexHull(const TriMesh& m, const Vec3& p) {
         if (n.norm() < 1e-12) continue;  // collinear triple: no plane
         n.normalize();
         double lo = 0, hi = 0;
-        for (const Vec3& q : v) lo = std::min(lo, n.dot(q - v[i])), hi = std::max(hi, n.dot(q - v[i]));
+        for (const Vec3& q : v)
+          lo = std::min(lo, n.dot(q - v[i])), hi = std::max(hi, n.dot(q - v[i]));
         const double s = n.dot(p - v[i]);
-        if (hi <= eps && s > eps) return false;   // all vertices behind, p in front
+        if (hi <= eps && s > eps) return false;    // all vertices behind, p in front
         if (lo >= -eps && s < -eps) return false;  // all vertices in front, p behind
       }
   return true;

@@ -1,7 +1,8 @@
 // World bookkeeping: frame and release times, release warnings, the state hash.
+#include "sim/world.h"
+
 #include <gtest/gtest.h>
 
-#include "sim/world.h"
 #include "tests/support/test_world.h"
 
 namespace vf {
@@ -23,7 +24,7 @@ TEST(World, ReleaseTimesOffByRoundingAreTakenAtTheFrameWithoutSliverSteps) {
   world.addBody(bodyAt(s, Vec3(0, 0, 5), release));
   ASSERT_NE(release, 36 / 30.0);
   world.advanceTo(36 / 30.0);
-  EXPECT_EQ(world.time(), 36 / 30.0);
+  EXPECT_EQ(world.time(), release) << "the step lands on the release, a hair after the frame";
   EXPECT_TRUE(world.isActive(0)) << "released at the frame it rounds to";
   EXPECT_GT(world.totals().dtMin, 1e-6) << "no step shorter than rounding noise";
 }
@@ -63,7 +64,7 @@ TEST(World, DropHeightReleasesThatFarAboveWhatLiesBelow) {
   def.groundHeight = 0.0;
   World world(def);
   auto s = test::boxShape(0.4, 0.4, 0.2, 800, 2);
-  world.addBody(bodyAt(s, Vec3(0, 0, 0.1)));      // resting box, top at z = 0.2
+  world.addBody(bodyAt(s, Vec3(0, 0, 0.1)));       // resting box, top at z = 0.2
   BodyDef over = bodyAt(s, Vec3(0.1, 0, 0), 0.5);  // z is ignored: placed at release
   over.dropHeight = 0.5;
   world.addBody(over);
@@ -74,6 +75,44 @@ TEST(World, DropHeightReleasesThatFarAboveWhatLiesBelow) {
   // Bottom face (z - 0.1) exactly 0.5 m above the top of what is below, before any fall.
   EXPECT_NEAR(world.state(1).x.z() - 0.1, world.state(0).x.z() + 0.1 + 0.5, 1e-12);
   EXPECT_NEAR(world.state(2).x.z() - 0.1, 0.0 + 0.5, 1e-12);
+}
+
+TEST(World, AdvanceToNeverShortensAStepToMeetAFrame) {
+  WorldDef def;
+  def.fixedStep = 0.1;
+  World world(def);
+  world.addBody(bodyAt(test::boxShape(0.2, 0.2, 0.2, 800, 2), Vec3(0, 0, 5)));
+  world.advanceTo(0.25);
+  EXPECT_EQ(world.totals().steps, 2u);
+  EXPECT_EQ(world.totals().dtMin, 0.1);
+  EXPECT_EQ(world.time(), 0.1 + 0.1);
+  EXPECT_GT(world.nextStepEnd(), 0.25);
+}
+
+TEST(World, StatesBetweenStepsAreFreeMotionOfACopy) {
+  WorldDef def;
+  def.fixedStep = 0.1;
+  World world(def);
+  const Vec3 x0(0, 0, 5), v0(1, 2, 3), w0(0, 0, 2);
+  BodyDef b = bodyAt(test::boxShape(0.2, 0.2, 0.2, 800, 2), x0);
+  b.velocity = v0;
+  b.angularVelocity = w0;
+  world.addBody(b);
+  const std::uint64_t before = world.stateHash();
+  const double t = 0.04;  // inside the first step
+  const BodyState y = world.statesAt(t)[0];
+  EXPECT_EQ(world.stateHash(), before) << "the simulated state is not touched";
+  EXPECT_EQ(world.time(), 0.0);
+  // One explicit Euler step of length t after gravity's increment, computed by hand: the
+  // velocity first gains g t, then carries x; q turns by 1/2 [0, w] q t about z and is
+  // renormalised (w stays along z for a body spinning about a principal axis).
+  const Vec3 v = v0 + t * def.gravity;
+  EXPECT_NEAR((y.x - (x0 + t * v)).norm(), 0, 1e-15);
+  EXPECT_NEAR((world.velocity(0, y) - v).norm(), 0, 1e-14);
+  const double half = 0.5 * w0.z() * t;  // q = (1, 0, 0, half) / |.|
+  const double n = std::sqrt(1 + half * half);
+  EXPECT_NEAR(y.q.w(), 1 / n, 1e-15);
+  EXPECT_NEAR(y.q.z(), half / n, 1e-15);
 }
 
 TEST(World, StateHashSeesEveryBit) {

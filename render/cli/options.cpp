@@ -1,0 +1,67 @@
+#include "render/cli/options.h"
+
+#include <CLI/CLI.hpp>
+#include <charconv>
+
+#include "sim/scene/scene.h"
+#include "sim/shape/sphere_tree.h"
+
+namespace vf::cli {
+
+void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite) {
+  CLI::Option* yes =
+      command.add_flag("-y", overwrite, "overwrite outputs that exist (never an input of the run)");
+  CLI::Option* no =
+      command.add_flag("-n", neverOverwrite, "never overwrite: exit if an output exists");
+  yes->excludes(no);
+}
+
+void addPhysicsOptions(CLI::App& command, std::optional<int>& level, std::string& step,
+                       const std::string& what) {
+  command
+      .add_option("--level", level,
+                  "voxel level Lv for every shape (overrides the scene's levels)" + what)
+      ->type_name("N")
+      ->check(CLI::Range(kMinLevel, kMaxLevel));
+  command
+      .add_option("--step", step,
+                  "time step: 'auto' (eq. 20) or seconds, e.g. 0.005 or 1/120 (overrides the "
+                  "scene)" +
+                      what)
+      ->check(CLI::Validator([](std::string& text) { return checkStepOption(text); }, "", "STEP"))
+      ->type_name("S|auto");
+}
+
+std::optional<std::pair<int, int>> parseSize(const std::string& text) {
+  const std::size_t x = text.find_first_of("xX");
+  if (x == std::string::npos) return std::nullopt;
+  const auto side = [](const char* begin, const char* end) -> std::optional<int> {
+    int v = 0;
+    const auto [ptr, ec] = std::from_chars(begin, end, v);
+    if (ec != std::errc() || ptr != end || begin == end || v < 1 || v > kMaxImageSide)
+      return std::nullopt;
+    return v;
+  };
+  const auto w = side(text.data(), text.data() + x);
+  const auto h = side(text.data() + x + 1, text.data() + text.size());
+  if (!w || !h) return std::nullopt;
+  return std::make_pair(*w, *h);
+}
+
+void addSizeOption(CLI::App& command, std::optional<std::pair<int, int>>& size) {
+  command
+      .add_option_function<std::string>(
+          "--size",
+          [&size](const std::string& text) {
+            size = parseSize(text);
+            if (!size)
+              throw CLI::ValidationError("--size", "'" + text +
+                                                       "' is not WxH, e.g. 1280x720, with "
+                                                       "each side 1.." +
+                                                       std::to_string(kMaxImageSide));
+          },
+          "frame size in pixels, e.g. 1280x720 (default: the scene's [output] size)")
+      ->type_name("WxH");
+}
+
+}  // namespace vf::cli

@@ -1,0 +1,29 @@
+// Options shared by the voxfall subcommands, parsed in one place each (issue 8, item 7).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace CLI {
+class App;
+}
+
+namespace vf::cli {
+
+// -y (overwrite existing outputs) and -n (never overwrite, exit instead), ffmpeg's flags.
+void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite);
+
+// --level N and --step S|auto (the scene overrides of sim/scene/scene.h), for the commands
+// that simulate; `what` ends their help ("" or e.g. " (scenes only)").
+void addPhysicsOptions(CLI::App& command, std::optional<int>& level, std::string& step,
+                       const std::string& what = "");
+
+// A frame size "WxH" (the x may be capital): width and height in pixels, each 1 ..
+// kMaxImageSide (sim/scene/scene.h, the limit of a scene's [output]); nothing for anything
+// else ("640x", "640x480x2", "640 x 480"). Evenness is the MP4 encoder's check alone.
+std::optional<std::pair<int, int>> parseSize(const std::string& text);
+// --size WxH, parsed once, here: a malformed size is a usage error (exit 2).
+void addSizeOption(CLI::App& command, std::optional<std::pair<int, int>>& size);
+
+}  // namespace vf::cli

@@ -1,0 +1,157 @@
+#include "render/output/output_file.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+
+#include "sim/core/error.h"
+
+namespace vf {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Temporary files not yet committed, for the second signal. Slots hold pointers to each
+// OutputFile's own path string; lock-free atomics are safe to read in a handler, and unlink()
+// and raise() are async-signal-safe, so the handler does nothing else.
+constexpr int kMaxPending = 64;
+std::atomic<const char*> gPending[kMaxPending];
+std::atomic<int> gStopSignal{0};
+std::atomic<bool> gGraceful{false};  // a command polls stopSignal() (installStopHandlers)
+
+extern "C" void onStopSignal(int sig) {
+  int none = 0;
+  // The first signal to a command that polls: finish the frame in hand and stop.
+  if (gGraceful.load() && gStopSignal.compare_exchange_strong(none, sig)) return;
+  for (auto& slot : gPending) {
+    if (const char* p = slot.load()) ::unlink(p);
+  }
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+// Both signals go to onStopSignal from the first output or installStopHandlers() on.
+void ensureHandlers() {
+  static const bool installed = [] {
+    if (std::signal(SIGINT, onStopSignal) == SIG_IGN) std::signal(SIGINT, SIG_IGN);
+    if (std::signal(SIGTERM, onStopSignal) == SIG_IGN) std::signal(SIGTERM, SIG_IGN);
+    return true;
+  }();
+  (void)installed;
+}
+
+void registerPending(const char* path) {
+  for (auto& slot : gPending) {
+    const char* empty = nullptr;
+    if (slot.compare_exchange_strong(empty, path)) return;
+  }
+  // More outputs than slots: the file is still removed on any normal exit, only not on a
+  // second signal.
+}
+
+void unregisterPending(const char* path) {
+  for (auto& slot : gPending) {
+    const char* expected = path;
+    if (slot.compare_exchange_strong(expected, nullptr)) return;
+  }
+}
+
+}  // namespace
+
+OutputRules replaceOutputs() { return OutputRules{Overwrite::always, {}}; }
+
+void checkOutputPath(const std::string& path, const OutputRules& rules) {
+  if (path.empty()) throw InputError("", "output path is empty");
+  const fs::path target(path);
+  if (!target.has_filename()) throw InputError(path, "cannot write: no file name given");
+  std::error_code ec;
+  if (fs::is_directory(target, ec))
+    throw InputError(path, "cannot write: this is a folder; give a file name");
+  if (!fs::exists(target, ec)) return;
+  for (const std::string& input : rules.inputs) {
+    if (fs::equivalent(target, input, ec))
+      throw InputError(path, "is an input of this run (" + input + "); it is never overwritten");
+  }
+  switch (rules.overwrite) {
+    case Overwrite::always:
+      return;
+    case Overwrite::never:
+      throw InputError(path, "already exists; not overwritten (-n)");
+    case Overwrite::refuse:
+      throw InputError(path, "already exists; use -y to overwrite it (or -n to never overwrite)");
+  }
+}
+
+OutputFile::OutputFile(const std::string& path, const OutputRules& rules) : path_(path) {
+  checkOutputPath(path, rules);
+  const fs::path target(path);
+  const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  if (ec)
+    throw InputError(path, "cannot create the folder '" + folder.string() + "': " + ec.message());
+
+  // Process id plus a counter: two runs, or two outputs of one run, never share a temp name.
+  static std::atomic<unsigned> counter{0};
+  // Built by append: GCC 12 at -O3 gives a false -Wrestrict on a chain of operator+.
+  std::string temp = ".";
+  temp.append(target.stem().string());
+  temp.append(".partial-");
+  temp.append(std::to_string(static_cast<long>(::getpid())));
+  temp.append("-");
+  temp.append(std::to_string(counter++));
+  temp.append(target.extension().string());
+  tempPath_ = (folder / temp).string();
+  ensureHandlers();
+  registerPending(tempPath_.c_str());
+  file_ = std::fopen(tempPath_.c_str(), "wb");
+  if (file_ == nullptr) {
+    const int err = errno;
+    unregisterPending(tempPath_.c_str());
+    throw InputError(path, std::string("cannot write in folder '") + folder.string() +
+                               "': " + std::strerror(err));
+  }
+}
+
+OutputFile::~OutputFile() {
+  if (file_ != nullptr) std::fclose(file_);
+  if (!committed_) std::remove(tempPath_.c_str());
+  unregisterPending(tempPath_.c_str());
+}
+
+void OutputFile::closeStream() {
+  if (file_ == nullptr) return;
+  const bool failed = std::fflush(file_) != 0 || std::ferror(file_) != 0;
+  const int err = errno;
+  const bool closeFailed = std::fclose(file_) != 0;
+  file_ = nullptr;
+  if (failed || closeFailed)
+    throw InputError(path_, std::string("cannot write: ") + std::strerror(failed ? err : errno));
+}
+
+void OutputFile::commit() {
+  if (file_ != nullptr) {
+    // fsync: after a crash the renamed file holds either the old content or the complete new one.
+    if (std::fflush(file_) == 0) ::fsync(::fileno(file_));
+  }
+  closeStream();
+  if (std::rename(tempPath_.c_str(), path_.c_str()) != 0)
+    throw InputError(path_, std::string("cannot replace the file: ") + std::strerror(errno));
+  committed_ = true;
+  unregisterPending(tempPath_.c_str());
+}
+
+void installStopHandlers() {
+  gGraceful.store(true);
+  ensureHandlers();
+}
+
+int stopSignal() { return gStopSignal.load(); }
+
+}  // namespace vf

@@ -1,0 +1,34 @@
+// A golden-frame suite: SUITE_DIR/suite.toml lists cases (a scene, the frames to check, a
+// size, optionally a tolerance). Read by toml++, the project's TOML library; `voxfall regress`
+// and the golden tests read suites through this one reader.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "render/output/image_diff.h"
+
+namespace vf {
+
+struct SuiteCase {
+  std::string name;          // folder of its goldens; default: the scene file's stem
+  std::string scene;         // resolved against the suite folder
+  std::vector<int> frames;   // frame numbers k (t = k / fps), in the order given
+  std::optional<int> width;  // default: the scene's [output] size
+  std::optional<int> height;
+  DiffTolerance tolerance;
+  std::string where;  // "suite.toml:LINE" of its [[case]] header
+};
+
+struct Suite {
+  std::string dir;
+  std::vector<SuiteCase> cases;
+};
+
+// Reads a suite file. Keys: top-level `threshold` and `max_fraction` (defaults for every
+// case), then [[case]] tables with `scene`, `frames`, and optional `name`, `size`,
+// `threshold`, `max_fraction`. Errors: InputError at "suite.toml:LINE:COLUMN".
+Suite readSuite(const std::string& suiteFile);
+
+}  // namespace vf

@@ -1,0 +1,335 @@
+// Bakes: the header is JSON (nlohmann-json; the only file in sim/ that includes it), the body
+// raw little-endian float64 records, so any language reads it with one array view (numpy:
+// np.frombuffer(body, '<f8').reshape(records, 1 + 14 * bodies)). Doubles go through JSON as
+// their shortest round-trip decimal, so every number reads back bit-exact.
+#include "sim/bake.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "sim/core/error.h"
+#include "sim/geometry/mesh_import.h"
+#include "sim/solve/integrate.h"
+
+namespace vf {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr char kSignature[] = "VOXFALL-BAKE 1\n";
+constexpr int kValuesPerBody = 14;  // active, x(3), q(w, x, y, z), P(3), L(3)
+static_assert(std::endian::native == std::endian::little, "bakes are little-endian float64");
+
+json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json color(const std::optional<Color>& c) {
+  if (!c) return nullptr;
+  return json::array({(*c)[0], (*c)[1], (*c)[2]});
+}
+
+// A path as stored: relative to the bake's folder when it can be, so a bake moves with its
+// scene folder (another machine, another checkout).
+std::string storedPath(const std::string& path, const std::string& bakePath) {
+  if (path.empty()) return path;
+  const fs::path folder = fs::absolute(fs::path(bakePath)).parent_path();
+  std::error_code ec;
+  const fs::path rel = fs::proximate(fs::absolute(path), folder, ec);
+  return ec ? fs::absolute(path).string() : rel.generic_string();
+}
+
+std::string resolvedPath(const std::string& stored, const std::string& bakePath) {
+  if (stored.empty() || fs::path(stored).is_absolute()) return stored;
+  return (fs::path(bakePath).parent_path() / stored).lexically_normal().string();
+}
+
+json summaryJson(const RunSummary& s) {
+  return {{"frames", s.frames},
+          {"steps", s.totals.steps},
+          {"dt_min", s.totals.dtMin},
+          {"dt_max", s.totals.dtMax},
+          {"wall_seconds", s.wallSeconds},
+          {"sphere_tests", s.totals.sphereTests},
+          {"contacts", s.totals.contacts},
+          {"max_penetration_body_body", s.maxPenetrationBodyBody},
+          {"max_penetration_body_ground", s.maxPenetrationBodyGround},
+          {"tunnelled", s.tunnelled},
+          {"kinetic_energy", s.kineticEnergy},
+          {"potential_energy", s.potentialEnergy},
+          {"checksum", s.checksumHex()}};
+}
+
+Vec3 readVec(const json& j) {
+  return Vec3(j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>());
+}
+
+std::optional<Color> readColor(const json& j) {
+  if (j.is_null()) return std::nullopt;
+  return Color{j.at(0).get<float>(), j.at(1).get<float>(), j.at(2).get<float>()};
+}
+
+RunSummary readSummary(const json& j) {
+  RunSummary s;
+  s.frames = j.at("frames").get<int>();
+  s.totals.steps = j.at("steps").get<std::uint64_t>();
+  s.totals.dtMin = j.at("dt_min").get<double>();
+  s.totals.dtMax = j.at("dt_max").get<double>();
+  s.wallSeconds = j.at("wall_seconds").get<double>();
+  s.totals.sphereTests = j.at("sphere_tests").get<std::uint64_t>();
+  s.totals.contacts = j.at("contacts").get<std::uint64_t>();
+  s.maxPenetrationBodyBody = j.at("max_penetration_body_body").get<double>();
+  s.maxPenetrationBodyGround = j.at("max_penetration_body_ground").get<double>();
+  s.tunnelled = j.at("tunnelled").get<int>();
+  s.kineticEnergy = j.at("kinetic_energy").get<double>();
+  s.potentialEnergy = j.at("potential_energy").get<double>();
+  s.checksum = std::stoull(j.at("checksum").get<std::string>(), nullptr, 16);
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::shared_ptr<const Shape>> bakeShapes(const Bake& bake) {
+  std::map<std::string, TriMesh> meshes;  // by path
+  std::vector<std::shared_ptr<const Shape>> shapes;
+  for (const ShapeSpec& s : bake.scene.shapes) {
+    auto mesh = meshes.find(s.meshPath);
+    if (mesh == meshes.end()) mesh = meshes.emplace(s.meshPath, importMesh(s.meshPath)).first;
+    auto shape = std::make_shared<Shape>();
+    shape->name = s.name;
+    // centredMesh() is bit-identical to the mesh makeShape() keeps (shape.h).
+    shape->mesh = centredMesh(mesh->second, s.scale);
+    double farthest = 0;
+    for (const Vec3& v : shape->mesh.vertices) farthest = std::max(farthest, v.norm());
+    shape->diameter = 2 * farthest;
+    shapes.push_back(std::move(shape));
+  }
+  return shapes;
+}
+
+Bake bakeHeader(const SceneSpec& spec, const BuiltScene& built) {
+  Bake bake;
+  bake.scene = spec;
+  bake.scene.bodies.clear();
+  bake.scene.emitters.clear();
+  const World& world = *built.world;
+  for (int id = 0; id < world.bodyCount(); ++id) {
+    BakeBody b;
+    const auto shape = std::find_if(
+        spec.shapes.begin(), spec.shapes.end(),
+        [&](const ShapeSpec& s) { return s.name == built.shapeOf[static_cast<std::size_t>(id)]; });
+    VF_ASSERT(shape != spec.shapes.end());
+    b.shape = static_cast<int>(shape - spec.shapes.begin());
+    b.color = built.colors[static_cast<std::size_t>(id)];
+    b.isStatic = world.isStatic(id);
+    if (!b.isStatic) {
+      b.invMass = 1.0 / world.shape(id).mass;
+      b.inertiaBodyInv = world.shape(id).inertiaBodyInv;
+    }
+    bake.bodies.push_back(b);
+  }
+  return bake;
+}
+
+void addBakeRecord(Bake& bake, const World& world) {
+  BakeRecord r;
+  r.time = world.time();
+  r.states.reserve(static_cast<std::size_t>(world.bodyCount()));
+  for (int id = 0; id < world.bodyCount(); ++id) {
+    r.states.push_back(world.state(id));
+    r.active.push_back(world.isActive(id) ? 1 : 0);
+  }
+  bake.records.push_back(std::move(r));
+}
+
+std::vector<BodyState> Bake::statesAt(double t, std::vector<char>& active) const {
+  VF_ASSERT(!records.empty());
+  // The last record at or before t, with World::advanceTo's tolerance.
+  auto after = std::upper_bound(records.begin(), records.end(), t + kTimeTolerance,
+                                [](double v, const BakeRecord& r) { return v < r.time; });
+  const BakeRecord& r = after == records.begin() ? records.front() : *std::prev(after);
+  active = r.active;
+  std::vector<BodyInfo> info(bodies.size());
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    info[i].isStatic = bodies[i].isStatic;
+    info[i].active = r.active[i] != 0;
+    info[i].invMass = bodies[i].invMass;
+    info[i].inertiaBodyInv = bodies[i].inertiaBodyInv;
+  }
+  std::vector<BodyState> states = r.states;
+  freeMotion(info, states, scene.gravity, t - r.time);
+  return states;
+}
+
+void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
+  const SceneSpec& s = bake.scene;
+  json shapes = json::array();
+  for (const ShapeSpec& shape : s.shapes)
+    shapes.push_back({{"name", shape.name},
+                      {"mesh", storedPath(shape.meshPath, bakePath)},
+                      {"scale", vec(shape.scale)},
+                      {"density", shape.density},
+                      {"level", shape.level.value_or(s.level)},
+                      {"color", color(shape.color)}});
+  json bodies = json::array();
+  for (const BakeBody& b : bake.bodies) {
+    json inertia = json::array();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) inertia.push_back(b.inertiaBodyInv(r, c));
+    bodies.push_back({{"shape", b.shape},
+                      {"color", color(b.color)},
+                      {"static", b.isStatic},
+                      {"inv_mass", b.invMass},
+                      {"inertia_body_inv", inertia}});
+  }
+  const CameraSpec& c = s.camera;
+  const json header = {
+      {"format", "voxfall-bake"},
+      {"version", 1},
+      {"scene",
+       {{"path", storedPath(s.path, bakePath)},
+        {"name", s.name},
+        {"duration", s.duration},
+        {"fps", s.fps},
+        {"gravity", vec(s.gravity)},
+        {"ground_plane", s.groundPlane ? json(*s.groundPlane) : json(nullptr)},
+        {"terrain", storedPath(s.terrainPath, bakePath)},
+        {"camera",
+         {{"given", c.given},
+          {"position", vec(c.position)},
+          {"look_at", vec(c.lookAt)},
+          {"up", vec(c.up)},
+          {"fov", c.fovDegrees},
+          {"follow", c.followBody ? json(*c.followBody) : json(nullptr)}}},
+        {"output",
+         {{"width", s.output.width}, {"height", s.output.height}, {"crf", s.output.crf}}}}},
+      {"shapes", shapes},
+      {"bodies", bodies},
+      {"summary", summaryJson(bake.summary)},
+      {"records", bake.records.size()}};
+  std::fputs(kSignature, out);
+  const std::string text = header.dump();
+  std::fwrite(text.data(), 1, text.size(), out);
+  std::fputc('\n', out);
+  std::vector<double> row(1 + kValuesPerBody * bake.bodies.size());
+  for (const BakeRecord& r : bake.records) {
+    std::size_t n = 0;
+    row[n++] = r.time;
+    for (std::size_t i = 0; i < bake.bodies.size(); ++i) {
+      const BodyState& y = r.states[i];
+      for (double v : {r.active[i] ? 1.0 : 0.0, y.x.x(), y.x.y(), y.x.z(), y.q.w(), y.q.x(),
+                       y.q.y(), y.q.z(), y.P.x(), y.P.y(), y.P.z(), y.L.x(), y.L.y(), y.L.z()})
+        row[n++] = v;
+    }
+    std::fwrite(row.data(), sizeof(double), row.size(), out);
+  }
+}
+
+bool isBakeFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[sizeof kSignature - 1] = {};
+  in.read(head, sizeof head);
+  return in && std::memcmp(head, kSignature, sizeof head) == 0;
+}
+
+Bake readBake(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "cannot open the bake");
+  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t sig = sizeof kSignature - 1;
+  if (data.compare(0, sig, kSignature) != 0)
+    throw InputError(path, "not a voxfall bake (no 'VOXFALL-BAKE 1' first line)");
+  const std::size_t end = data.find('\n', sig);
+  if (end == std::string::npos) throw InputError(path + ":2", "bake header has no end of line");
+  Bake bake;
+  std::size_t records = 0;
+  try {
+    const json h = json::parse(data.begin() + static_cast<std::ptrdiff_t>(sig),
+                               data.begin() + static_cast<std::ptrdiff_t>(end));
+    if (h.at("format") != "voxfall-bake" || h.at("version") != 1)
+      throw InputError(path + ":2", "unsupported bake format or version");
+    const json& sc = h.at("scene");
+    SceneSpec& s = bake.scene;
+    s.path = resolvedPath(sc.at("path").get<std::string>(), path);
+    s.name = sc.at("name").get<std::string>();
+    s.duration = sc.at("duration").get<double>();
+    s.fps = sc.at("fps").get<double>();
+    s.gravity = readVec(sc.at("gravity"));
+    if (!sc.at("ground_plane").is_null()) s.groundPlane = sc.at("ground_plane").get<double>();
+    s.terrainPath = resolvedPath(sc.at("terrain").get<std::string>(), path);
+    const json& c = sc.at("camera");
+    s.camera.given = c.at("given").get<bool>();
+    s.camera.position = readVec(c.at("position"));
+    s.camera.lookAt = readVec(c.at("look_at"));
+    s.camera.up = readVec(c.at("up"));
+    s.camera.fovDegrees = c.at("fov").get<double>();
+    if (!c.at("follow").is_null()) s.camera.followBody = c.at("follow").get<int>();
+    const json& o = sc.at("output");
+    s.output.width = o.at("width").get<int>();
+    s.output.height = o.at("height").get<int>();
+    s.output.crf = o.at("crf").get<int>();
+    for (const json& j : h.at("shapes")) {
+      ShapeSpec shape;
+      shape.name = j.at("name").get<std::string>();
+      shape.meshPath = resolvedPath(j.at("mesh").get<std::string>(), path);
+      shape.scale = readVec(j.at("scale"));
+      shape.density = j.at("density").get<double>();
+      shape.level = j.at("level").get<int>();
+      shape.color = readColor(j.at("color"));
+      s.shapes.push_back(shape);
+    }
+    for (const json& j : h.at("bodies")) {
+      BakeBody b;
+      b.shape = j.at("shape").get<int>();
+      if (b.shape < 0 || b.shape >= static_cast<int>(s.shapes.size()))
+        throw InputError(path + ":2", "a body names shape " + std::to_string(b.shape) +
+                                          ", but there are " + std::to_string(s.shapes.size()));
+      b.color = readColor(j.at("color")).value_or(b.color);
+      b.isStatic = j.at("static").get<bool>();
+      b.invMass = j.at("inv_mass").get<double>();
+      const json& m = j.at("inertia_body_inv");
+      for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k) b.inertiaBodyInv(r, k) = m.at(3 * r + k).get<double>();
+      bake.bodies.push_back(b);
+    }
+    bake.summary = readSummary(h.at("summary"));
+    records = h.at("records").get<std::size_t>();
+  } catch (const json::exception& e) {
+    throw InputError(path + ":2", std::string("bad bake header: ") + e.what());
+  }
+  const std::size_t width = 1 + kValuesPerBody * bake.bodies.size();
+  const std::size_t body = data.size() - end - 1;
+  if (records == 0 || body != records * width * sizeof(double))
+    throw InputError(path, "the bake body holds " + std::to_string(body) + " bytes, not the " +
+                               std::to_string(records) + " records of " + std::to_string(width) +
+                               " float64 its header announces");
+  const char* p = data.data() + end + 1;
+  std::vector<double> row(width);
+  bake.records.resize(records);
+  for (BakeRecord& r : bake.records) {
+    std::memcpy(row.data(), p, width * sizeof(double));
+    p += width * sizeof(double);
+    r.time = row[0];
+    r.states.resize(bake.bodies.size());
+    r.active.resize(bake.bodies.size());
+    for (std::size_t i = 0; i < bake.bodies.size(); ++i) {
+      const double* v = &row[1 + kValuesPerBody * i];
+      r.active[i] = v[0] != 0 ? 1 : 0;
+      r.states[i].x = Vec3(v[1], v[2], v[3]);
+      r.states[i].q = Quat(v[4], v[5], v[6], v[7]);
+      r.states[i].P = Vec3(v[8], v[9], v[10]);
+      r.states[i].L = Vec3(v[11], v[12], v[13]);
+    }
+  }
+  for (std::size_t i = 1; i < bake.records.size(); ++i)
+    if (!(bake.records[i].time > bake.records[i - 1].time))
+      throw InputError(path, "record " + std::to_string(i) + " does not come after the one before");
+  return bake;
+}
+
+}  // namespace vf

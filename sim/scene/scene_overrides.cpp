@@ -1,0 +1,60 @@
+// Overrides of a loaded scene (the --level and --step options of `simulate` and `render`), so
+// that every command given the same options builds the same world and checksum.
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <optional>
+#include <string>
+
+#include "sim/core/error.h"
+#include "sim/scene/scene.h"
+
+namespace vf {
+
+void applyLevelOverride(SceneSpec& spec, int level) {
+  spec.level = level;
+  for (ShapeSpec& s : spec.shapes) s.level.reset();
+}
+
+namespace {
+// "0.005", or "1/120" as the paper writes steps; nothing unless finite and > 0.
+std::optional<double> parseStepSeconds(const std::string& text) {
+  auto parse = [](const std::string& s) -> std::optional<double> {
+    if (s.empty()) return std::nullopt;
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(s.c_str(), &end);
+    if (end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
+    return v;
+  };
+  std::optional<double> v;
+  if (const auto slash = text.find('/'); slash != std::string::npos) {
+    const auto num = parse(text.substr(0, slash)), den = parse(text.substr(slash + 1));
+    if (num && den && *den != 0) v = *num / *den;
+  } else {
+    v = parse(text);
+  }
+  if (v && std::isfinite(*v) && *v > 0) return v;
+  return std::nullopt;
+}
+}  // namespace
+
+std::string checkStepOption(const std::string& text) {
+  if (text == "auto" || parseStepSeconds(text)) return "";
+  return "expected 'auto' (eq. 20) or a fixed step in seconds > 0 (e.g. 0.005 or 1/120), got '" +
+         text + "'";
+}
+
+void applyStepOverride(SceneSpec& spec, const std::string& text) {
+  if (text == "auto") {
+    spec.autoStep = true;
+    spec.fixedStep = 0;
+    return;
+  }
+  const auto v = parseStepSeconds(text);
+  if (!v) throw InputError("", "--step: " + checkStepOption(text));
+  spec.autoStep = false;
+  spec.fixedStep = *v;
+}
+
+}  // namespace vf

@@ -1,0 +1,106 @@
+// Simulate once, render many (issue 8, item 2), end to end with the built binary:
+// `voxfall simulate SCENE --bake FILE` then `voxfall render FILE` gives the same PNG bytes as
+// `voxfall render SCENE`, needs no scene file and takes no step, and frame ranges rendered by
+// separate processes join into the frames of one run.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+
+#include "render_test_util.h"
+#include "tests/support/voxfall_command.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using vf::test::readFile;
+
+class BakeCommand : public ::testing::Test {
+ protected:
+  BakeCommand() : dir_("bake_cmd") {
+    // The scene and its mesh in the scratch folder, so a test can take the scene away.
+    fs::create_directories(dir_.path() / "meshes");
+    const fs::path scenes = fs::path(VOXFALL_SOURCE_DIR) / "scenes";
+    fs::copy_file(scenes / "cubes.toml", dir_.path() / "cubes.toml");
+    fs::copy_file(scenes / "meshes/cube.obj", dir_.path() / "meshes/cube.obj");
+  }
+  // Runs `voxfall ARGS --quiet` in the scratch folder; returns the exit code.
+  int run(const std::string& args) {
+    const vf::test::CommandResult r =
+        vf::test::runVoxfall(VOXFALL_EXE, dir_.path(), args + " --quiet");
+    out_ = r.out;
+    err_ = r.err;
+    return r.code;
+  }
+  std::string checksum() const {
+    std::smatch m;
+    return std::regex_search(out_, m, std::regex("checksum ([0-9a-f]{16})")) ? m[1].str() : "";
+  }
+  // Every file of folder `a` has the same bytes in folder `b`, and the counts agree.
+  void expectSameFrames(const std::string& a, const std::string& b, int count) {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(dir_.path() / a)) {
+      const fs::path other = dir_.path() / b / e.path().filename();
+      ASSERT_TRUE(fs::exists(other)) << other;
+      EXPECT_TRUE(readFile(e.path()) == readFile(other)) << e.path().filename() << " differs";
+      ++n;
+    }
+    EXPECT_EQ(n, count);
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir_.path() / b), fs::directory_iterator{}),
+              count);
+  }
+
+  vf::test::ScratchDir dir_;
+  std::string out_, err_;
+};
+
+TEST_F(BakeCommand, ABakeRendersTheScenesPixelsWithoutTheSceneOrAStep) {
+  ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
+  const std::string simulated = checksum();
+  // cubes.toml: 2 s at 30 fps, frames 0..60.
+  ASSERT_EQ(run("render cubes.toml --size 96x64 -o scene/f_##.png"), 0) << err_;
+  EXPECT_EQ(checksum(), simulated);
+  fs::remove(dir_.path() / "cubes.toml");  // the bake alone must do
+  ASSERT_EQ(run("render run.bake --size 96x64 -o bake/f_##.png"), 0) << err_;
+  EXPECT_EQ(checksum(), simulated) << "the bake carries its run's checksum";
+  EXPECT_NE(out_.find("steps simulated: 0"), std::string::npos) << out_;
+  expectSameFrames("scene", "bake", 61);
+}
+
+TEST_F(BakeCommand, OneFrameAndSeparateRangesOfABakeEqualOneRun) {
+  ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
+  ASSERT_EQ(run("render run.bake --size 96x64 -o whole/f_##.png"), 0) << err_;
+  // Three processes, as a job scheduler would run them, into one folder.
+  ASSERT_EQ(run("render run.bake --size 96x64 --frames 0:29 -o parts/f_##.png"), 0) << err_;
+  ASSERT_EQ(run("render run.bake --size 96x64 --frames 30:59 -o parts/f_##.png"), 0) << err_;
+  ASSERT_EQ(run("render run.bake --size 96x64 --frames 60:60 -o parts/f_##.png"), 0) << err_;
+  EXPECT_NE(out_.find("steps simulated: 0"), std::string::npos) << out_;
+  expectSameFrames("whole", "parts", 61);
+}
+
+TEST_F(BakeCommand, ABakeRendersAtAnotherFrameRateAsTheSceneDoes) {
+  // The bake holds every step, so frames at 60 fps come out as the scene's at 60 fps.
+  ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
+  ASSERT_EQ(run("render cubes.toml --fps 60 --size 96x64 --frames 37:41 -o scene/f_###.png"), 0)
+      << err_;
+  ASSERT_EQ(run("render run.bake --fps 60 --size 96x64 --frames 37:41 -o bake/f_###.png"), 0)
+      << err_;
+  expectSameFrames("scene", "bake", 5);
+}
+
+TEST_F(BakeCommand, PhysicsOptionsAndBrokenBakesAreRefused) {
+  ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
+  EXPECT_EQ(run("render run.bake --level 3 -o x.mp4"), 1);
+  EXPECT_NE(err_.find("--level and --step"), std::string::npos) << err_;
+  // Cut the body short: the reader names the file and the size it expected.
+  const std::string bytes = readFile(dir_.path() / "run.bake");
+  std::ofstream(dir_.path() / "short.bake", std::ios::binary) << bytes.substr(0, bytes.size() - 8);
+  EXPECT_EQ(run("render short.bake -o y.mp4"), 1);
+  EXPECT_NE(err_.find("short.bake: the bake body holds"), std::string::npos) << err_;
+  EXPECT_FALSE(fs::exists(dir_.path() / "x.mp4"));
+  EXPECT_FALSE(fs::exists(dir_.path() / "y.mp4"));
+}
+
+}  // namespace
