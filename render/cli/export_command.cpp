@@ -11,8 +11,8 @@
 #include "render/cli/commands.h"
 #include "render/cli/options.h"
 #include "render/cli/run_output.h"
-#include "render/cli/scene_playback.h"
 #include "render/export/gltf_export.h"
+#include "render/scene_playback.h"
 #include "sim/core/error.h"
 #include "sim/shape/sphere_tree.h"
 

@@ -36,12 +36,12 @@
 
 #include "render/cli/commands.h"
 #include "render/cli/run_output.h"
-#include "render/cli/scene_playback.h"
 #include "render/gl/gl_context.h"
 #include "render/gl/shader_program.h"
 #include "render/output/image_diff.h"
 #include "render/output/png_writer.h"
 #include "render/regress_suite.h"
+#include "render/scene_playback.h"
 #include "sim/core/error.h"
 #include "sim/scene/scene.h"
 

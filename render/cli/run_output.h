@@ -1,9 +1,9 @@
-// What a run of the voxfall command writes, shared by `simulate` and `render` so both report the
-// same numbers the same way: the per-frame CSV, the summary JSON, the human summary, the
-// progress line, and the output rules of a run (files go through render/output/output_file.h).
+// What a run of the voxfall command reads and writes, shared by `simulate`, `render` and
+// `export` so all report the same numbers the same way: the input (scene or bake), the
+// per-frame CSV, the summary JSON, the human summary, and the output rules of a run (files go
+// through render/output/output_file.h; the progress line is render/progress.h).
 #pragma once
 
-#include <chrono>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -32,31 +32,6 @@ void writeCsvFrame(std::FILE* out, int frame, double time, const World& world,
 void writeSummaryJson(std::FILE* out, const std::string& scene, const RunSummary& summary);
 // A few human-readable lines with the same numbers, ending with the checksum.
 void printSummary(std::FILE* out, const std::string& scene, const RunSummary& summary);
-
-// One progress line on stderr for runs longer than a second: redrawn in place ("\r") when
-// stderr is a terminal, else a plain line every few seconds (logs, CI). Disabled: silent.
-class Progress {
- public:
-  Progress(std::string label, int totalFrames, bool enabled);
-  ~Progress();  // finish()
-  // Frames done so far (1..total) and the simulated time reached, s.
-  void update(int framesDone, double simTime);
-  // Frames done so far (1..total) and what to say about the latest one, e.g. "frame 30,
-  // 8.40 frames/s". The line adds the share done, the time elapsed and the time left.
-  void update(int framesDone, const std::string& detail);
-  // Clears the in-place line, if one was drawn.
-  void finish();
-
- private:
-  using Clock = std::chrono::steady_clock;
-  std::string label_;
-  int total_;
-  bool enabled_;
-  bool tty_;
-  bool drawn_ = false;
-  Clock::time_point start_;
-  Clock::time_point lastDraw_;
-};
 
 // What a run reads: a scene file, or a bake (sim/bake.h) recognised by its first line. The
 // --level and --step overrides apply to a scene; for a bake, whose steps are recorded, they

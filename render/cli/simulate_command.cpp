@@ -11,6 +11,7 @@
 #include "render/cli/commands.h"
 #include "render/cli/options.h"
 #include "render/cli/run_output.h"
+#include "render/progress.h"
 #include "sim/bake.h"
 #include "sim/core/error.h"
 #include "sim/recorder.h"

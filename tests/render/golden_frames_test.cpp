@@ -17,12 +17,12 @@
 #include <string>
 #include <vector>
 
-#include "render/cli/scene_playback.h"
 #include "render/gl/gl_context.h"
 #include "render/gl/shader_program.h"
 #include "render/output/image_diff.h"
 #include "render/output/png_writer.h"
 #include "render/regress_suite.h"
+#include "render/scene_playback.h"
 #include "sim/scene/scene.h"
 
 namespace vf {
@@ -46,10 +46,10 @@ SceneSpec cubesAtSuiteSize() {
   return spec;
 }
 
-cli::RenderedFrames renderCubes(const std::function<void(DrawList&)>& adjust = {}) {
+RenderedFrames renderCubes(const std::function<void(DrawList&)>& adjust = {}) {
   auto context = gl::createContext(gl::Backend::osmesa);
-  return cli::renderSceneFrames(cubesAtSuiteSize(), cubesCase().frames, *context,
-                                gl::findShaderDir(), adjust);
+  return renderSceneFrames(cubesAtSuiteSize(), cubesCase().frames, *context, gl::findShaderDir(),
+                           adjust);
 }
 
 std::string golden(int frame) {
@@ -68,8 +68,8 @@ std::function<void(DrawList&)> turnSun(double degrees, bool elevation) {
 }
 
 TEST(GoldenFrames, SameSceneTwiceGivesTheSameBytesAndTheGoldenChecksum) {
-  const cli::RenderedFrames a = renderCubes();
-  const cli::RenderedFrames b = renderCubes();
+  const RenderedFrames a = renderCubes();
+  const RenderedFrames b = renderCubes();
   EXPECT_EQ(a.summary.checksum, b.summary.checksum);
   ASSERT_EQ(a.images.size(), cubesCase().frames.size());
   ASSERT_EQ(b.images.size(), cubesCase().frames.size());
@@ -85,7 +85,7 @@ TEST(GoldenFrames, SameSceneTwiceGivesTheSameBytesAndTheGoldenChecksum) {
 }
 
 TEST(GoldenFrames, UnchangedRenderIsWithinTheDefaultTolerance) {
-  const cli::RenderedFrames r = renderCubes();
+  const RenderedFrames r = renderCubes();
   const DiffTolerance tolerance;
   for (std::size_t i = 0; i < cubesCase().frames.size(); ++i) {
     const Image expected = readPng(golden(cubesCase().frames[i]));
@@ -98,7 +98,7 @@ TEST(GoldenFrames, UnchangedRenderIsWithinTheDefaultTolerance) {
 // The light is not part of the scene file, so it is turned in the draw list (the test aid of
 // renderSceneFrames). Returns how many of the frames are over the default tolerance.
 int framesOverTolerance(double degrees, bool elevation) {
-  const cli::RenderedFrames r = renderCubes(turnSun(degrees, elevation));
+  const RenderedFrames r = renderCubes(turnSun(degrees, elevation));
   const DiffTolerance tolerance;
   int over = 0;
   for (std::size_t i = 0; i < cubesCase().frames.size(); ++i) {

@@ -8,16 +8,16 @@
 // against ~200 ms), and the summary then carries the same checksum as `voxfall simulate`.
 // `voxfall regress` draws its frames through this too (renderSceneFrames), so a golden frame
 // is byte for byte what `render` writes.
-#include "render/cli/scene_playback.h"
+#include "render/scene_playback.h"
 
 #include <optional>
 
-#include "render/cli/run_output.h"
 #include "render/gl/gl_context.h"
 #include "render/gl/renderer.h"
+#include "render/progress.h"
 #include "sim/core/error.h"
 
-namespace vf::cli {
+namespace vf {
 namespace {
 
 // Where each body is at one frame: all the drawing needs from a simulated state.
@@ -191,4 +191,4 @@ RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& 
   return out;
 }
 
-}  // namespace vf::cli
+}  // namespace vf

@@ -19,7 +19,7 @@ namespace vf::gl {
 class Context;
 }
 
-namespace vf::cli {
+namespace vf {
 
 class ScenePlayback {
  public:
@@ -68,4 +68,4 @@ RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& 
                                  gl::Context& context, const std::string& shaderDir,
                                  const std::function<void(DrawList&)>& adjust = {});
 
-}  // namespace vf::cli
+}  // namespace vf
