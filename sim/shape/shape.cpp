@@ -1,6 +1,5 @@
 #include "sim/shape/shape.h"
 
-
 #include <algorithm>
 #include <utility>
 
