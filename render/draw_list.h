@@ -66,6 +66,7 @@ struct BodyView {
 // defaultBodyColor(id).
 std::vector<BodyView> bodyViews(const World& world, const std::vector<Color>& colors);
 
+
 // Per-vertex normals of a mesh with shared vertices: the mean of the normals of the triangles
 // around each vertex, weighted by their angles there (for smooth shading of terrain grids). A
 // vertex in no triangle gets +z.

@@ -210,6 +210,8 @@ std::uint64_t collideTreeTree(const Collider& a, const Collider& b, std::vector<
   return TreeTreeDescent(a, b, out).run();
 }
 
+
+
 using CollideFn = std::uint64_t (*)(const Collider&, const Collider&, std::vector<Contact>&);
 
 // Which pair does what. Rows: type of a (body 1); columns: type of b (body 2). The plane and
@@ -280,7 +282,8 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
 }
 
 std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
-                           const std::vector<BodyState>& states, const std::vector<BodyPair>& pairs,
+                           const std::vector<BodyState>& states,
+                           const std::vector<BodyPair>& pairs,
                            const std::optional<double>& groundHeight, const Heightfield* terrain,
                            std::vector<Contact>& out) {
   auto treeOf = [&](int i) {

@@ -44,7 +44,8 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
 // of every moving body with the floor plane and the terrain (if any), by body id. Returns the
 // sphere tests.
 std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
-                           const std::vector<BodyState>& states, const std::vector<BodyPair>& pairs,
+                           const std::vector<BodyState>& states,
+                           const std::vector<BodyPair>& pairs,
                            const std::optional<double>& groundHeight, const Heightfield* terrain,
                            std::vector<Contact>& out);
 

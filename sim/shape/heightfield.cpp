@@ -27,7 +27,7 @@ double Heightfield::heightAt(double x, double y) const {
   const double u = gx - i, v = gy - j;
   const double z00 = at(i, j), z10 = at(i + 1, j), z01 = at(i, j + 1), z11 = at(i + 1, j + 1);
   if (u >= v) return z00 + u * (z10 - z00) + v * (z11 - z10);  // triangle (p00, p10, p11)
-  return z00 + v * (z01 - z00) + u * (z11 - z01);              // triangle (p00, p11, p01)
+  return z00 + v * (z01 - z00) + u * (z11 - z01);               // triangle (p00, p11, p01)
 }
 
 Vec3 Heightfield::normalAt(double x, double y) const {
@@ -153,31 +153,20 @@ Heightfield loadEsriAsciiGrid(const std::string& path) {
     if (parseNumber(key, probe)) break;  // first data value
     if (!tokens.next(value)) throw fail("header key '" + key + "' has no value");
     double v;
-    if (!parseNumber(value, v))
-      throw fail("header value '" + value + "' of '" + key + "' is not a number");
+    if (!parseNumber(value, v)) throw fail("header value '" + value + "' of '" + key + "' is not a number");
     const std::string k = lower(key);
-    if (k == "ncols")
-      ncols = v;
-    else if (k == "nrows")
-      nrows = v;
-    else if (k == "xllcorner" || k == "xllcenter") {
-      xll = v;
-      centre = k == "xllcenter";
-    } else if (k == "yllcorner" || k == "yllcenter")
-      yll = v;
-    else if (k == "cellsize")
-      cellsize = v;
-    else if (k == "nodata_value")
-      nodata = v;
-    else
-      throw fail("unknown header key '" + key +
-                 "' (expected ncols, nrows, xllcorner, yllcorner, cellsize, NODATA_value)");
+    if (k == "ncols") ncols = v;
+    else if (k == "nrows") nrows = v;
+    else if (k == "xllcorner" || k == "xllcenter") { xll = v; centre = k == "xllcenter"; }
+    else if (k == "yllcorner" || k == "yllcenter") yll = v;
+    else if (k == "cellsize") cellsize = v;
+    else if (k == "nodata_value") nodata = v;
+    else throw fail("unknown header key '" + key + "' (expected ncols, nrows, xllcorner, yllcorner, cellsize, NODATA_value)");
   }
   if (ncols < 2 || nrows < 2 || ncols != std::floor(ncols) || nrows != std::floor(nrows))
     throw fail("ncols and nrows must be whole numbers of at least 2");
   if (!(cellsize > 0)) throw fail("cellsize must be positive");
-  if (std::isnan(xll) || std::isnan(yll))
-    throw fail("header needs xllcorner (or xllcenter) and yllcorner (or yllcenter)");
+  if (std::isnan(xll) || std::isnan(yll)) throw fail("header needs xllcorner (or xllcenter) and yllcorner (or yllcenter)");
 
   Heightfield h;
   h.nx = static_cast<int>(ncols);
@@ -190,8 +179,7 @@ Heightfield loadEsriAsciiGrid(const std::string& path) {
   std::string token = key;  // the first data value, already read
   for (std::size_t n = 0; n < count; ++n) {
     if (n > 0 && !tokens.next(token))
-      throw fail("grid has " + std::to_string(n) + " values; the header promises " +
-                 std::to_string(count));
+      throw fail("grid has " + std::to_string(n) + " values; the header promises " + std::to_string(count));
     double v;
     if (!parseNumber(token, v)) throw fail("'" + token + "' is not a number");
     const int row = static_cast<int>(n / h.nx);  // from the north
@@ -199,8 +187,7 @@ Heightfield loadEsriAsciiGrid(const std::string& path) {
     const int j = h.ny - 1 - row;
     h.z[static_cast<std::size_t>(j) * h.nx + i] = (!std::isnan(nodata) && v == nodata) ? NAN : v;
   }
-  if (tokens.next(token))
-    throw fail("grid has more values than ncols x nrows = " + std::to_string(count));
+  if (tokens.next(token)) throw fail("grid has more values than ncols x nrows = " + std::to_string(count));
   h.zMin = INFINITY;
   h.zMax = -INFINITY;
   for (double v : h.z)

@@ -13,10 +13,10 @@
 namespace vf {
 
 struct Heightfield {
-  int nx = 0, ny = 0;         // samples along x (columns) and y (rows)
-  double x0 = 0, y0 = 0;      // position of sample (0, 0), the south-west one, m
-  double cell = 1;            // sample spacing, m
-  std::vector<double> z;      // nx * ny heights, z[j * nx + i] for sample (i, j); NaN = no data
+  int nx = 0, ny = 0;     // samples along x (columns) and y (rows)
+  double x0 = 0, y0 = 0;  // position of sample (0, 0), the south-west one, m
+  double cell = 1;        // sample spacing, m
+  std::vector<double> z;  // nx * ny heights, z[j * nx + i] for sample (i, j); NaN = no data
   double zMin = 0, zMax = 0;  // over the samples with data
 
   double at(int i, int j) const { return z[static_cast<std::size_t>(j) * nx + i]; }

@@ -1,5 +1,6 @@
 #include "sim/shape/shape.h"
 
+
 #include <algorithm>
 #include <utility>
 

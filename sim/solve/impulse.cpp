@@ -58,17 +58,17 @@ struct Motion {  // velocities during the solve
 // j I_a^-1 (r_a x d) and w_b by -j I_b^-1 (r_b x d).
 struct Axis {
   Vec3 d;
-  Vec3 raXd, rbXd;  // lever-arm cross products
-  Vec3 dwA, dwB;    // I_a^-1 (r_a x d), I_b^-1 (r_b x d): spin per unit impulse
-  double k = 0;     // effective mass 1 / (eq. 15's denominator)
+  Vec3 raXd, rbXd;          // lever-arm cross products
+  Vec3 dwA, dwB;            // I_a^-1 (r_a x d), I_b^-1 (r_b x d): spin per unit impulse
+  double k = 0;             // effective mass 1 / (eq. 15's denominator)
 };
 
 struct Row {  // one contact, prepared
   ContactKey key;
-  int a, b;  // motion indices; b may be the ground slot
+  int a, b;   // motion indices; b may be the ground slot
   Vec3 ra, rb;
   Axis n, t1, t2;
-  double target;  // wanted normal velocity
+  double target;        // wanted normal velocity
   double mu;
   double jn = 0, jt1 = 0, jt2 = 0;  // accumulated impulses
 };
@@ -159,9 +159,9 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
   // Warm start from the previous step's impulses (cache sorted by key: binary search).
   const double scale = cache.dt > 0 ? std::min(1.0, settings.dt / cache.dt) : 0.0;
   for (Row& r : rows) {
-    const auto it =
-        std::lower_bound(cache.impulses.begin(), cache.impulses.end(), r.key,
-                         [](const CachedImpulse& c, const ContactKey& k) { return c.key < k; });
+    const auto it = std::lower_bound(
+        cache.impulses.begin(), cache.impulses.end(), r.key,
+        [](const CachedImpulse& c, const ContactKey& k) { return c.key < k; });
     if (it == cache.impulses.end() || it->key != r.key) continue;
     r.jn = it->normal * scale;
     r.jt1 = it->tangent1 * scale;

@@ -1,7 +1,5 @@
 // Heightfield terrain: the ESRI ASCII grid reader, surface interpolation, and the sphere-tree
 // collider, each against an independent oracle.
-#include "sim/shape/heightfield.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,6 +10,7 @@
 #include "sim/collide/narrow_phase.h"
 #include "sim/core/error.h"
 #include "sim/core/prng.h"
+#include "sim/shape/heightfield.h"
 #include "tests/support/test_world.h"
 
 namespace vf {
@@ -46,8 +45,7 @@ std::string planeGrid(int nx, int ny, double cell, double x0, double y0, bool co
 
 TEST(Heightfield, ReadsCornerAndCentreHeadersWithRowsFromTheNorth) {
   for (bool corner : {true, false}) {
-    const Heightfield h =
-        loadEsriAsciiGrid(writeGrid("plane.asc", planeGrid(5, 4, 0.5, 10, 20, corner)));
+    const Heightfield h = loadEsriAsciiGrid(writeGrid("plane.asc", planeGrid(5, 4, 0.5, 10, 20, corner)));
     EXPECT_EQ(h.nx, 5);
     EXPECT_EQ(h.ny, 4);
     // xllcorner is the corner of the lower-left cell: its sample sits half a cell inside.
@@ -69,9 +67,8 @@ TEST(Heightfield, ReadsCornerAndCentreHeadersWithRowsFromTheNorth) {
 }
 
 TEST(Heightfield, NoDataCellsAreHoles) {
-  const std::string grid =
-      "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n"
-      "1 1 1\n1 -9999 1\n1 1 1\n";
+  const std::string grid = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n"
+                           "1 1 1\n1 -9999 1\n1 1 1\n";
   const Heightfield h = loadEsriAsciiGrid(writeGrid("hole.asc", grid));
   EXPECT_TRUE(std::isnan(h.at(1, 1)));
   EXPECT_FALSE(h.hasCell(0, 0));  // every cell touches the centre sample
@@ -85,12 +82,9 @@ TEST(Heightfield, MalformedGridsNameFileAndLine) {
     std::string text, fragment;
   } cases[] = {
       {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3\n", ":7: grid has 3 values"},
-      {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 x\n",
-       ":7: 'x' is not a number"},
-      {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 0\n1 2\n3 4\n",
-       "cellsize must be positive"},
-      {"ncols 2\nnrows 2\nxlcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4\n",
-       ":3: unknown header key 'xlcorner'"},
+      {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 x\n", ":7: 'x' is not a number"},
+      {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 0\n1 2\n3 4\n", "cellsize must be positive"},
+      {"ncols 2\nnrows 2\nxlcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4\n", ":3: unknown header key 'xlcorner'"},
       {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4 5\n", "more values than"},
   };
   for (const Case& c : cases) {
@@ -108,8 +102,7 @@ TEST(Heightfield, MalformedGridsNameFileAndLine) {
 
 TEST(Heightfield, ReadsTheRealTschamutTerrain) {
   // Real grid: 43 x 46 cells of 5 m (header of tests/data/tschamut2014_terrain_proxy_5m.asc).
-  const Heightfield h =
-      loadEsriAsciiGrid(VOXFALL_TEST_DATA_DIR "/tschamut2014_terrain_proxy_5m.asc");
+  const Heightfield h = loadEsriAsciiGrid(VOXFALL_TEST_DATA_DIR "/tschamut2014_terrain_proxy_5m.asc");
   EXPECT_EQ(h.nx, 43);
   EXPECT_EQ(h.ny, 46);
   EXPECT_DOUBLE_EQ(h.cell, 5.0);
@@ -122,8 +115,7 @@ TEST(Heightfield, ReadsTheRealTschamutTerrain) {
 // Oracle: on a planar grid, the terrain collider must find exactly the leaf spheres that a
 // tilted infinite plane finds (for a body well inside the grid), with the plane's normal.
 TEST(Heightfield, ColliderMatchesATiltedPlaneOnAPlanarGrid) {
-  const Heightfield h =
-      loadEsriAsciiGrid(writeGrid("tilt.asc", planeGrid(30, 30, 0.25, -3.75, -3.75, true)));
+  const Heightfield h = loadEsriAsciiGrid(writeGrid("tilt.asc", planeGrid(30, 30, 0.25, -3.75, -3.75, true)));
   const Vec3 n = Vec3(-0.3, 0.2, 1).normalized();  // upward normal of z = 0.3x - 0.2y + 1
   Collider plane;
   plane.type = ColliderType::kPlane;
@@ -134,9 +126,7 @@ TEST(Heightfield, ColliderMatchesATiltedPlaneOnAPlanarGrid) {
   int withContacts = 0;
   for (int trial = 0; trial < 40; ++trial) {
     const Vec3 x(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
-    const Quat q =
-        Quat(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1))
-            .normalized();
+    const Quat q = Quat(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)).normalized();
     const Vec3 pos(x.x(), x.y(), 0.3 * x.x() - 0.2 * x.y() + 1 + rng.uniform(-0.15, 0.3));
     const Collider body = sphereTreeCollider(0, *s->tree, pos, q);
     std::vector<Contact> viaTerrain, viaPlane;
