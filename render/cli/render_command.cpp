@@ -46,6 +46,7 @@ struct RenderOptions {
   std::optional<double> fps;
   std::optional<int> level;
   std::string step;
+  std::string collider;  // "": the scene's
   std::optional<int> crf;
   std::string gl = "osmesa";
   std::string shaders;
@@ -144,6 +145,7 @@ int runRender(const RenderOptions& o) {
   SceneSpec spec = loadScene(o.scene);
   if (o.level) applyLevelOverride(spec, *o.level);
   if (!o.step.empty()) applyStepOverride(spec, o.step);
+  if (!o.collider.empty()) applyColliderOverride(spec, o.collider);
   if (o.fps) spec.fps = *o.fps;
   if (!o.size.empty())
     std::sscanf(o.size.c_str(), "%dx%d", &spec.output.width, &spec.output.height);
@@ -278,6 +280,11 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "voxel level Lv for every shape (overrides the scene's levels)")
       ->type_name("N")
       ->check(CLI::Range(kMinLevel, kMaxLevel));
+  sub->add_option("--collider", o->collider,
+                  "contact method: voxel (sphere trees) or polygon (the paper's comparison "
+                  "method, convex meshes only); overrides the scene")
+      ->check(CLI::IsMember({"voxel", "polygon"}))
+      ->type_name("voxel|polygon");
   sub->add_option(
          "--step", o->step,
          "time step: 'auto' (eq. 20) or seconds, e.g. 0.005 or 1/120 (overrides the scene)")

@@ -338,4 +338,9 @@ void applyStepOverride(SceneSpec& spec, const std::string& text) {
   spec.fixedStep = *v;
 }
 
+void applyColliderOverride(SceneSpec& spec, const std::string& method) {
+  VF_ASSERT(method == "voxel" || method == "polygon");  // CLI11 checked it
+  spec.collider = method == "polygon" ? ColliderMethod::kPolygon : ColliderMethod::kVoxel;
+}
+
 }  // namespace vf::cli

@@ -94,5 +94,7 @@ void applyLevelOverride(SceneSpec& spec, int level);
 std::string checkStepOption(const std::string& text);
 // Applies a --step value that passed checkStepOption.
 void applyStepOverride(SceneSpec& spec, const std::string& text);
+// --collider voxel|polygon: the contact method of every body.
+void applyColliderOverride(SceneSpec& spec, const std::string& method);
 
 }  // namespace vf::cli

@@ -25,6 +25,7 @@ struct SimulateOptions {
   std::string summary;
   std::optional<int> level;
   std::string step;
+  std::string collider;  // "": the scene's
   bool quiet = false;
 };
 
@@ -32,6 +33,7 @@ int runSimulate(const SimulateOptions& o) {
   SceneSpec spec = loadScene(o.scene);
   if (o.level) applyLevelOverride(spec, *o.level);
   if (!o.step.empty()) applyStepOverride(spec, o.step);
+  if (!o.collider.empty()) applyColliderOverride(spec, o.collider);
 
   if (!o.csv.empty() && o.csv == o.summary)
     throw InputError("", "--csv and --summary name the same file '" + o.csv + "'");
@@ -78,6 +80,11 @@ void addSimulateCommand(CLI::App& app, int& exitCode) {
                   "voxel level Lv for every shape (overrides the scene's levels)")
       ->type_name("N")
       ->check(CLI::Range(kMinLevel, kMaxLevel));
+  sub->add_option("--collider", o->collider,
+                  "contact method: voxel (sphere trees) or polygon (the paper's comparison "
+                  "method, convex meshes only); overrides the scene")
+      ->check(CLI::IsMember({"voxel", "polygon"}))
+      ->type_name("voxel|polygon");
   sub->add_option("--step", o->step,
                   "time step: 'auto' (eq. 20) or seconds, e.g. 0.005 or 1/120 (overrides the scene)")
       ->check(CLI::Validator(
