@@ -92,17 +92,6 @@ FrameRange parseFrames(const std::string& text, int count) {
   return r;
 }
 
-// "1280x720" -> (1280, 720).
-std::string checkSize(const std::string& text) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
-    return "size must be WxH, e.g. 1280x720";
-  }
-  if (w < 16 || h < 16 || w > 8192 || h > 8192) return "each side must be 16..8192 pixels";
-  return "";
-}
-
 
 // SIGINT and SIGTERM during the frame loop only raise a flag: the loop stops after the frame
 // in hand and the frames so far are finalised into a playable file (an MP4 needs its index

@@ -343,4 +343,14 @@ void applyColliderOverride(SceneSpec& spec, const std::string& method) {
   spec.collider = method == "polygon" ? ColliderMethod::kPolygon : ColliderMethod::kVoxel;
 }
 
+std::string checkSize(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
+    return "size must be WxH, e.g. 1280x720";
+  }
+  if (w < 16 || h < 16 || w > 8192 || h > 8192) return "each side must be 16..8192 pixels";
+  return "";
+}
+
 }  // namespace vf::cli

@@ -94,6 +94,8 @@ void applyLevelOverride(SceneSpec& spec, int level);
 std::string checkStepOption(const std::string& text);
 // Applies a --step value that passed checkStepOption.
 void applyStepOverride(SceneSpec& spec, const std::string& text);
+// --size WxH: "" when `text` is a frame size of 16..8192 pixels a side, else what is wrong.
+std::string checkSize(const std::string& text);
 // --collider voxel|polygon: the contact method of every body.
 void applyColliderOverride(SceneSpec& spec, const std::string& method);
 
