@@ -18,5 +18,11 @@ void addExportCommand(CLI::App& app, int& exitCode);
 void addDiffCommand(CLI::App& app, int& exitCode);
 // voxfall regress SUITE_DIR [-o REPORT_DIR] [--update]
 void addRegressCommand(CLI::App& app, int& exitCode);
+// voxfall figures [NAME...] [-o DIR] [--quick]
+void addFiguresCommand(CLI::App& app, int& exitCode);
+// voxfall filmstrip SCENE --times T,T,... [-o FILE.png] [--size WxH] [--columns N]
+void addFilmstripCommand(CLI::App& app, int& exitCode);
+// voxfall plot RUN.csv [--scene SCENE] [-o DIR]
+void addPlotCommand(CLI::App& app, int& exitCode);
 
 }  // namespace vf::cli

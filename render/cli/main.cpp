@@ -33,6 +33,10 @@ int main(int argc, char** argv) {
   // Visual regression tests: render/cli/diff_command.cpp and regress_command.cpp.
   vf::cli::addDiffCommand(app, exitCode);
   vf::cli::addRegressCommand(app, exitCode);
+  // Figures for papers: render/cli/figures_command.cpp (render/figures/).
+  vf::cli::addFiguresCommand(app, exitCode);
+  vf::cli::addFilmstripCommand(app, exitCode);
+  vf::cli::addPlotCommand(app, exitCode);
 
   try {
     app.parse(argc, argv);

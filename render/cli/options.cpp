@@ -17,7 +17,7 @@ void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite)
 }
 
 void addPhysicsOptions(CLI::App& command, std::optional<int>& level, std::string& step,
-                       const std::string& what) {
+                       std::string& collider, const std::string& what) {
   command
       .add_option("--level", level,
                   "voxel level Lv for every shape (overrides the scene's levels)" + what)
@@ -30,6 +30,13 @@ void addPhysicsOptions(CLI::App& command, std::optional<int>& level, std::string
                       what)
       ->check(CLI::Validator([](std::string& text) { return checkStepOption(text); }, "", "STEP"))
       ->type_name("S|auto");
+  command
+      .add_option("--collider", collider,
+                  "contact method: voxel (sphere trees) or polygon (the paper's comparison "
+                  "method, convex meshes only); overrides the scene" +
+                      what)
+      ->check(CLI::IsMember({"voxel", "polygon"}))
+      ->type_name("voxel|polygon");
 }
 
 std::optional<std::pair<int, int>> parseSize(const std::string& text) {

@@ -14,10 +14,11 @@ namespace vf::cli {
 // -y (overwrite existing outputs) and -n (never overwrite, exit instead), ffmpeg's flags.
 void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite);
 
-// --level N and --step S|auto (the scene overrides of sim/scene/scene.h), for the commands
-// that simulate; `what` ends their help ("" or e.g. " (scenes only)").
+// --level N, --step S|auto and --collider voxel|polygon (the scene overrides of
+// sim/scene/scene.h), for the commands that simulate; `what` ends their help ("" or e.g.
+// " (scenes only)").
 void addPhysicsOptions(CLI::App& command, std::optional<int>& level, std::string& step,
-                       const std::string& what = "");
+                       std::string& collider, const std::string& what = "");
 
 // A frame size "WxH" (the x may be capital): width and height in pixels, each 1 ..
 // kMaxImageSide (sim/scene/scene.h, the limit of a scene's [output]); nothing for anything

@@ -51,6 +51,7 @@ struct RenderOptions {
   std::optional<double> fps;
   std::optional<int> level;
   std::string step;
+  std::string collider;  // "": the scene's
   std::optional<int> crf;
   std::string gl = "osmesa";
   std::string shaders;
@@ -106,7 +107,7 @@ std::string frameSpan(int first, int last) {
 int runRender(const RenderOptions& o) {
   // 1. The scene (or bake) and the options that change it. A bake's physics is fixed: its
   // steps are recorded, so only what drawing reads (fps, size, quality) can change.
-  RunInput input = loadRunInput(o.scene, o.level, o.step);
+  RunInput input = loadRunInput(o.scene, o.level, o.step, o.collider);
   SceneSpec& spec = input.spec;
   std::optional<Bake>& bake = input.bake;
   if (o.fps) spec.fps = *o.fps;
@@ -235,7 +236,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--fps", o->fps, "frames per second (overrides [simulation] fps)")
       ->check(CLI::Range(0.001, 1000.0))
       ->type_name("N");
-  addPhysicsOptions(*sub, o->level, o->step);
+  addPhysicsOptions(*sub, o->level, o->step, o->collider);
   sub->add_option("--crf", o->crf, "H.264 quality, 0..51, lower is better (default: 18)")
       ->check(CLI::Range(0, 51))
       ->type_name("N");

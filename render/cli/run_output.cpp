@@ -15,12 +15,13 @@ namespace vf::cli {
 
 // --- Input -----------------------------------------------------------------------------------
 
-RunInput loadRunInput(const std::string& path, std::optional<int> level, const std::string& step) {
+RunInput loadRunInput(const std::string& path, std::optional<int> level, const std::string& step,
+                      const std::string& collider) {
   RunInput in;
   if (isBakeFile(path)) {
-    if (level || !step.empty())
+    if (level || !step.empty() || !collider.empty())
       throw InputError(path,
-                       "--level and --step change the physics of a scene; a bake's "
+                       "--level, --step and --collider change the physics of a scene; a bake's "
                        "steps are recorded (simulate the scene again with them)");
     in.bake = readBake(path);
     in.spec = in.bake->scene;
@@ -29,6 +30,7 @@ RunInput loadRunInput(const std::string& path, std::optional<int> level, const s
   in.spec = loadScene(path);
   if (level) applyLevelOverride(in.spec, *level);
   if (!step.empty()) applyStepOverride(in.spec, step);
+  if (!collider.empty()) applyColliderOverride(in.spec, collider);
   return in;
 }
 

@@ -28,6 +28,7 @@ struct SimulateOptions {
   std::string bake;
   std::optional<int> level;
   std::string step;
+  std::string collider;  // "": the scene's
   bool quiet = false;
   bool overwrite = false;       // -y
   bool neverOverwrite = false;  // -n
@@ -37,6 +38,7 @@ int runSimulate(const SimulateOptions& o) {
   SceneSpec spec = loadScene(o.scene);
   if (o.level) applyLevelOverride(spec, *o.level);
   if (!o.step.empty()) applyStepOverride(spec, o.step);
+  if (!o.collider.empty()) applyColliderOverride(spec, o.collider);
 
   // Outputs: checked and opened before the expensive part (each is a temporary file until the
   // end; see render/output/output_file.h).
@@ -125,7 +127,7 @@ void addSimulateCommand(CLI::App& app, int& exitCode) {
                   "write the run (every body's state after every step, and what drawing needs) "
                   "to this file, for `voxfall render FILE` and `voxfall export FILE`")
       ->type_name("FILE");
-  addPhysicsOptions(*sub, o->level, o->step);
+  addPhysicsOptions(*sub, o->level, o->step, o->collider);
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
   addOverwriteFlags(*sub, o->overwrite, o->neverOverwrite);
   sub->callback([o, &exitCode] { exitCode = runSimulate(*o); });

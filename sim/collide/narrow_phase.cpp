@@ -19,7 +19,9 @@
 #include <array>
 #include <cmath>
 
+#include "sim/collide/polygon_contact.h"
 #include "sim/core/error.h"
+#include "sim/shape/convex_polyhedron.h"
 
 namespace vf {
 namespace {
@@ -215,24 +217,40 @@ std::uint64_t collideTreeTree(const Collider& a, const Collider& b, std::vector<
 using CollideFn = std::uint64_t (*)(const Collider&, const Collider&, std::vector<Contact>&);
 
 // Which pair does what. Rows: type of a (body 1); columns: type of b (body 2). The plane and
-// the terrain are always body 2 (they never move), so their rows are empty.
+// the terrain are always body 2 (they never move), so their rows are empty. A scene uses one
+// method for all its bodies (sphere trees or polygons), so the two never meet.
 constexpr int kTypes = static_cast<int>(ColliderType::kCount);
 constexpr CollideFn kCollide[kTypes][kTypes] = {
-    //                  kSphereTree      kPlane            kHeightfield
-    /* kSphereTree  */ {collideTreeTree, collideTreePlane, collideTreeHeightfield},
-    /* kPlane       */ {nullptr, nullptr, nullptr},
-    /* kHeightfield */ {nullptr, nullptr, nullptr},
+    //                  kSphereTree      kPlane               kHeightfield     kPolygon
+    /* kSphereTree  */ {collideTreeTree, collideTreePlane, collideTreeHeightfield, nullptr},
+    /* kPlane       */ {nullptr, nullptr, nullptr, nullptr},
+    /* kHeightfield */ {nullptr, nullptr, nullptr, nullptr},
+    /* kPolygon     */
+    {nullptr, collidePolygonPlane, collidePolygonHeightfield, collidePolygonPolygon},
 };
 
 }  // namespace
 
-Collider sphereTreeCollider(int body, const SphereTree& tree, const Vec3& x, const Quat& q) {
+// A body's collider of the given type at pose (x, q).
+static Collider posedCollider(ColliderType type, int body, const Vec3& x, const Quat& q) {
   Collider c;
-  c.type = ColliderType::kSphereTree;
+  c.type = type;
   c.body = body;
-  c.tree = &tree;
   c.x = x;
   c.R = q.toRotationMatrix();
+  return c;
+}
+
+Collider sphereTreeCollider(int body, const SphereTree& tree, const Vec3& x, const Quat& q) {
+  Collider c = posedCollider(ColliderType::kSphereTree, body, x, q);
+  c.tree = &tree;
+  return c;
+}
+
+Collider polygonCollider(int body, const ConvexPolyhedron& polyhedron, const Vec3& x,
+                         const Quat& q) {
+  Collider c = posedCollider(ColliderType::kPolygon, body, x, q);
+  c.polyhedron = &polyhedron;
   return c;
 }
 
@@ -287,7 +305,9 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
                            const std::optional<double>& groundHeight, const Heightfield* terrain,
                            std::vector<Contact>& out) {
   auto treeOf = [&](int i) {
-    return sphereTreeCollider(i, *bodies[i].shape->tree, states[i].x, states[i].q);
+    const Shape& s = *bodies[i].shape;
+    return s.polyhedron ? polygonCollider(i, *s.polyhedron, states[i].x, states[i].q)
+                        : sphereTreeCollider(i, *s.tree, states[i].x, states[i].q);
   };
   std::uint64_t tests = 0;
   for (const BodyPair& p : pairs) tests += collide(treeOf(p.a), treeOf(p.b), out);

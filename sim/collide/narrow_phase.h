@@ -14,7 +14,15 @@
 
 namespace vf {
 
-enum class ColliderType : int { kSphereTree = 0, kPlane = 1, kHeightfield = 2, kCount = 3 };
+enum class ColliderType : int {
+  kSphereTree = 0,
+  kPlane = 1,
+  kHeightfield = 2,
+  kPolygon = 3,  // a convex polyhedron: the paper's comparison method (polygon_contact.h)
+  kCount = 4
+};
+
+struct ConvexPolyhedron;
 
 // What the narrow phase needs of one side of a pair, posed in the world.
 struct Collider {
@@ -29,19 +37,24 @@ struct Collider {
   double offset = 0;
   // kHeightfield: terrain in world coordinates; the solid is below the surface.
   const Heightfield* terrain = nullptr;
+  // kPolygon: the convex polyhedron, posed by x and R as the tree is.
+  const ConvexPolyhedron* polyhedron = nullptr;
 };
 
 Collider sphereTreeCollider(int body, const SphereTree& tree, const Vec3& x, const Quat& q);
 Collider planeCollider(double height);
+Collider polygonCollider(int body, const ConvexPolyhedron& polyhedron, const Vec3& x,
+                         const Quat& q);
 Collider heightfieldCollider(const Heightfield& terrain);
 
 // Appends the contacts between a and b (a's leaf spheres are the paper's body 1) in a fixed
-// order, and returns the number of sphere tests made. The bounding-sphere test (fig. 3 step 1)
-// is part of it.
+// order, and returns the number of sphere tests made (feature tests for kPolygon). The
+// bounding-sphere test (fig. 3 step 1) is part of it.
 std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>& out);
 
 // The narrow-phase stage of a step: contacts of every broad-phase pair, in pair order, then
-// of every moving body with the floor plane and the terrain (if any), by body id. Returns the
+// of every moving body with the floor plane and the terrain (if any), by body id. A body whose
+// shape has a polyhedron collides by the polygon method, else by its sphere tree. Returns the
 // sphere tests.
 std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
                            const std::vector<BodyState>& states,

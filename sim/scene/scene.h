@@ -75,6 +75,10 @@ struct OutputSpec {
   int crf = 18;  // H.264 constant rate factor (0..51, lower is better)
 };
 
+// How bodies find their contacts: the paper's voxel sphere trees, or the polygon method it
+// compares them with (convex meshes only; digest section 7).
+enum class ColliderMethod { kVoxel, kPolygon };
+
 struct SceneSpec {
   std::string path;  // the scene file as given
   std::string name;  // file stem: default output out/<name>.mp4
@@ -85,6 +89,7 @@ struct SceneSpec {
   double fixedStep = 0;   // s, when !autoStep
   Vec3 gravity = Vec3(0, 0, -9.81);
   double fps = 30;
+  ColliderMethod collider = ColliderMethod::kVoxel;  // collider = "voxel" | "polygon"
   // [contact]
   ContactMaterial contact;
   // [ground]
@@ -113,6 +118,9 @@ void applyLevelOverride(SceneSpec& spec, int level);
 std::string checkStepOption(const std::string& text);
 // Applies a step that passed checkStepOption; throws InputError otherwise.
 void applyStepOverride(SceneSpec& spec, const std::string& text);
+// The contact method of every body: "voxel" (sphere trees) or "polygon" (the paper's
+// comparison method, convex meshes only); throws InputError for anything else.
+void applyColliderOverride(SceneSpec& spec, const std::string& method);
 
 // A World built from a spec, with what the renderer needs to draw it.
 struct BuiltScene {

@@ -16,6 +16,7 @@
 #include "sim/geometry/mesh_checks.h"
 #include "sim/geometry/mesh_import.h"
 #include "sim/scene/scene.h"
+#include "sim/shape/convex_polyhedron.h"
 #include "sim/shape/shape.h"
 #include "sim/shape/sphere_tree.h"
 
@@ -54,6 +55,13 @@ std::map<std::string, BuiltShape> buildShapes(const SceneSpec& spec) {
     }
     BuiltShape b;
     b.shape = makeShape(s.name, mesh->second, s.scale, s.density, level, tree->second);
+    if (spec.collider == ColliderMethod::kPolygon) {
+      // Throws InputError at the shape's table when the mesh is not convex.
+      auto withPolygons = std::make_shared<Shape>(*b.shape);
+      withPolygons->polyhedron = std::make_shared<const ConvexPolyhedron>(
+          buildConvexPolyhedron(withPolygons->mesh, s.name, s.where));
+      b.shape = std::move(withPolygons);
+    }
     b.color = s.color;
     shapes.emplace(s.name, std::move(b));
   }

@@ -289,7 +289,7 @@ class Reader {
 // --- [simulation] -------------------------------------------------------------------------
 
 void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
-  r.checkKeys(t, {"duration", "level", "step", "gravity", "fps"}, "[simulation]");
+  r.checkKeys(t, {"duration", "level", "step", "gravity", "fps", "collider"}, "[simulation]");
   if (const auto* n = t.get("duration")) spec.duration = r.positive(*n, "duration", " s");
   if (const auto* n = t.get("level"))
     spec.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
@@ -310,6 +310,18 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
   }
   if (const auto* n = t.get("gravity")) spec.gravity = r.vec3(*n, "gravity");
   if (const auto* n = t.get("fps")) spec.fps = r.positive(*n, "fps", " frames per second");
+  if (const auto* n = t.get("collider")) {
+    const std::string c = r.string(*n, "collider");
+    if (c == "voxel")
+      spec.collider = ColliderMethod::kVoxel;
+    else if (c == "polygon")
+      spec.collider = ColliderMethod::kPolygon;
+    else
+      r.fail(*n,
+             "'collider' must be \"voxel\" (sphere trees) or \"polygon\" (the paper's "
+             "comparison method, convex meshes only), got \"" +
+                 c + "\"");
+  }
 }
 
 // --- [contact] ----------------------------------------------------------------------------

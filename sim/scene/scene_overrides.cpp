@@ -57,4 +57,10 @@ void applyStepOverride(SceneSpec& spec, const std::string& text) {
   spec.fixedStep = *v;
 }
 
+void applyColliderOverride(SceneSpec& spec, const std::string& method) {
+  if (method != "voxel" && method != "polygon")
+    throw InputError("", "--collider: expected 'voxel' or 'polygon', got '" + method + "'");
+  spec.collider = method == "polygon" ? ColliderMethod::kPolygon : ColliderMethod::kVoxel;
+}
+
 }  // namespace vf

@@ -12,6 +12,8 @@
 
 namespace vf {
 
+struct ConvexPolyhedron;
+
 struct Shape {
   std::string name;
   TriMesh mesh;             // body frame: centre of mass at the origin, mesh-file axes
@@ -24,6 +26,9 @@ struct Shape {
   bool centerInside = true; // the centre of mass lies inside the solid (false for a hollow
                             // body such as the barrel): only then can it witness tunnelling
   std::shared_ptr<const SphereTree> tree;  // shared between shapes with the same mesh+scale+level
+  // Set when the scene selects the polygon collider (collider = "polygon"): the body then
+  // collides by its convex polyhedron; the tree still serves eq. 20 and release checks.
+  std::shared_ptr<const ConvexPolyhedron> polyhedron;
 };
 
 // Builds a shape from a validated mesh in file coordinates: scales it, computes mass

@@ -75,20 +75,9 @@ TEST(Scenario, BoxDroppedFlatReboundsToEpsSquaredOfItsDropHeight) {
   b.shape = s;
   b.position = Vec3(0, 0, zTouch + h);
   world.addBody(b);
-  double apex = 0, vBefore = 0, vAfter = 0;
-  bool bounced = false;
-  while (world.time() < 0.7) {
-    const double v = world.velocity(0).z();
-    world.step(dt);
-    const double v2 = world.velocity(0).z();
-    if (!bounced && v < 0 && v2 > 0) {
-      bounced = true;
-      vBefore = v;
-      vAfter = v2;
-    }
-    if (bounced) apex = std::max(apex, world.state(0).x.z() - zTouch);
-  }
-  ASSERT_TRUE(bounced);
+  const test::Rebound r = test::dropAndWatchRebound(world, zTouch, dt, 0.7);
+  ASSERT_TRUE(r.bounced);
+  const double vBefore = r.vBefore, vAfter = r.vAfter, apex = r.apex;
   // The impact step adds g dt before the impulse: v+ = -eps (v- - g dt) exactly for a flat,
   // spin-free landing, so the ratio is eps to within eps g dt / |v-|.
   EXPECT_NEAR(vAfter / -vBefore, eps, eps * kG * dt / -vBefore + 1e-9);

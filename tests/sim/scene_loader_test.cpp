@@ -496,3 +496,24 @@ TEST_F(SceneTest, JitterIsSeededAndBounded) {
 
 }  // namespace
 }  // namespace vf
+
+namespace vf {
+namespace {
+
+// [simulation] collider: "voxel" (default) or "polygon"; anything else names the key's value.
+TEST_F(SceneTest, ColliderSelectsTheContactMethod) {
+  EXPECT_EQ(loadScene(write("a.toml", kShape)).collider, ColliderMethod::kVoxel);
+  EXPECT_EQ(loadScene(write("b.toml", "[simulation]\ncollider = \"polygon\"\n" + kShape)).collider,
+            ColliderMethod::kPolygon);
+  expectError("[simulation]\ncollider = \"polygons\"\n", "\"polygons\"",
+              "'collider' must be \"voxel\"");
+  // A convex cube builds with polygons: every body gets the cube's polyhedron.
+  SceneSpec spec =
+      loadScene(write("c.toml", "[simulation]\ncollider = \"polygon\"\n" + kShape +
+                                    "[[bodies]]\nshape = \"cube\"\nposition = [0, 0, 1]\n"));
+  const BuiltScene built = buildScene(spec);
+  EXPECT_NE(built.world->shape(0).polyhedron, nullptr);
+}
+
+}  // namespace
+}  // namespace vf

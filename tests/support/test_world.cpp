@@ -30,6 +30,22 @@ double restOffset(const Shape& s) {
   return -lowest;
 }
 
+Rebound dropAndWatchRebound(World& world, double zTouch, double dt, double until) {
+  Rebound r;
+  while (world.time() < until) {
+    const double v = world.velocity(0).z();
+    world.step(dt);
+    const double v2 = world.velocity(0).z();
+    if (!r.bounced && v < 0 && v2 > 0) {
+      r.bounced = true;
+      r.vBefore = v;
+      r.vAfter = v2;
+    }
+    if (r.bounced) r.apex = std::max(r.apex, world.state(0).x.z() - zTouch);
+  }
+  return r;
+}
+
 std::string sourcePath(const std::string& relative) {
   return std::string(VOXFALL_SOURCE_DIR) + "/" + relative;
 }

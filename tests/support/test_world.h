@@ -21,6 +21,16 @@ std::shared_ptr<const Shape> boxShape(double a, double b, double c, double densi
 // body at z = ground + restOffset(...) for its spheres to just touch the floor.
 double restOffset(const Shape& s);
 
+// A body dropped onto the floor: what its first bounce did. Steps `world` by `dt` until
+// `until` seconds; body 0's vertical velocity before and after the step in which it turned
+// from falling to rising, and the highest centre height after that, minus `zTouch`.
+struct Rebound {
+  bool bounced = false;
+  double vBefore = 0, vAfter = 0;  // m/s
+  double apex = 0;                 // m above zTouch
+};
+Rebound dropAndWatchRebound(World& world, double zTouch, double dt, double until);
+
 // Path of a file in the source tree.
 std::string sourcePath(const std::string& relative);
 

@@ -1,0 +1,42 @@
+// Figures drawn by gnuplot (Debian's gnuplot-nox: pngcairo and svg terminals), the one plotting
+// dependency. Callers describe panels and series over CSV files; this file alone knows
+// gnuplot's language and runs the gnuplot program. Every figure gets the same look: sans-serif
+// 11 pt, the same palette, grid, legend and margins, PNG at 1 px per point and SVG.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace vf::fig {
+
+// One curve or bar set read from a CSV file with a header row.
+struct Series {
+  std::string title;                  // legend entry ("" for none)
+  std::string csv;                    // path of the data file
+  std::string using_;                 // gnuplot `using` expression, e.g. "1:2" or "0:5:xtic(4)"
+  std::string style = "linespoints";  // "linespoints", "lines", "points", "boxes"
+  int color = 0;                      // index into the shared palette
+  bool hollow = false;  // open markers / unfilled boxes (e.g. runs that interpenetrated)
+};
+
+struct Panel {
+  std::string title;
+  std::string xLabel, yLabel;  // with units
+  bool logY = false;
+  bool logX = false;
+  std::vector<Series> series;
+  std::vector<std::string> settings;  // extra gnuplot `set ...` lines for this panel
+};
+
+struct Figure {
+  std::string title;               // above all panels
+  std::string footnote;            // small print under the panels (machine, threshold, ...)
+  std::vector<Panel> panels;       // drawn side by side
+  int width = 1100, height = 480;  // px for PNG (points for SVG)
+};
+
+// Writes BASE.png and BASE.svg (through temporary names, renamed when gnuplot succeeded).
+// Throws InputError naming gnuplot's complaint if it is missing or fails.
+void drawFigure(const Figure& figure, const std::string& basePath);
+
+}  // namespace vf::fig

@@ -1,0 +1,186 @@
+#include "render/figures/run_plots.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "render/output/output_file.h"
+#include "render/figures/gnuplot.h"
+#include "sim/core/error.h"
+
+namespace vf::fig {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Row {
+  int frame = 0;
+  double time = 0;
+  int body = 0;
+  Vec3 x, v, w;
+  Quat q;
+};
+
+constexpr const char* kHeader = "frame,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz";
+
+std::vector<Row> readRun(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot read the run CSV");
+  std::string line;
+  if (!std::getline(in, line) || line != kHeader)
+    throw InputError(sourceLocation(path, 1),
+                     std::string("not a voxfall run CSV: the first line must be ") + kHeader);
+  std::vector<Row> rows;
+  for (int n = 2; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    double f[16];
+    std::stringstream s(line);
+    std::string item;
+    int k = 0;
+    for (; k < 16 && std::getline(s, item, ','); ++k) {
+      char* end = nullptr;
+      f[k] = std::strtod(item.c_str(), &end);
+      if (item.empty() || *end != '\0' || !std::isfinite(f[k]))
+        throw InputError(sourceLocation(path, n), "field " + std::to_string(k + 1) + " '" + item +
+                                                      "' is not a finite number");
+    }
+    if (k != 16 || std::getline(s, item, ','))
+      throw InputError(sourceLocation(path, n),
+                       "expected 16 fields (" + std::string(kHeader) + ")");
+    Row r;
+    r.frame = static_cast<int>(f[0]);
+    r.time = f[1];
+    r.body = static_cast<int>(f[2]);
+    r.x = Vec3(f[3], f[4], f[5]);
+    r.q = Quat(f[6], f[7], f[8], f[9]);
+    r.v = Vec3(f[10], f[11], f[12]);
+    r.w = Vec3(f[13], f[14], f[15]);
+    if (r.body < 0) throw InputError(sourceLocation(path, n), "negative body id");
+    rows.push_back(r);
+  }
+  if (rows.empty()) throw InputError(path, "the run CSV has no rows");
+  return rows;
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  // Figures and plots rewrite their own output folder, as reports do.
+  OutputFile out(path, replaceOutputs());
+  std::fputs(text.c_str(), out.stream());
+  out.commit();
+}
+
+}  // namespace
+
+void plotRun(const std::string& runCsv, const RunPlotOptions& o) {
+  const std::vector<Row> rows = readRun(runCsv);
+  std::error_code ec;
+  fs::create_directories(o.outDir, ec);
+  if (ec) throw InputError(o.outDir, "cannot create the output folder: " + ec.message());
+  const bool perKg = o.bodies.empty();
+  int maxBody = 0;
+  for (const Row& r : rows) maxBody = std::max(maxBody, r.body);
+  if (!perKg && maxBody >= static_cast<int>(o.bodies.size()))
+    throw InputError(runCsv, "body " + std::to_string(maxBody) + " is not in the scene (" +
+                                 std::to_string(o.bodies.size()) + " bodies)");
+
+  // Energies per frame, in frame order (rows of one frame are consecutive).
+  std::ostringstream energy;
+  energy << "frame,time_s,kinetic_J,potential_J,total_J\n";
+  std::map<int, std::string> perBodyRows;  // body -> its rows, so each curve is consecutive
+  auto flush = [&](int frame, double time, double ke, double pe) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%d,%.17g,%.17g,%.17g,%.17g\n", frame, time, ke, pe, ke + pe);
+    energy << buf;
+  };
+  int frame = rows[0].frame;
+  double time = rows[0].time, ke = 0, pe = 0;
+  for (const Row& r : rows) {
+    if (r.frame != frame) {
+      flush(frame, time, ke, pe);
+      frame = r.frame, time = r.time, ke = 0, pe = 0;
+    }
+    const BodyMass m = perKg ? BodyMass{} : o.bodies[r.body];
+    const Mat3 R = r.q.normalized().toRotationMatrix();
+    ke += 0.5 * m.mass * r.v.squaredNorm() + 0.5 * r.w.dot(R * m.inertiaBody * R.transpose() * r.w);
+    pe -= m.mass * o.gravity.dot(r.x);
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%d,%.17g,%.17g,%.17g,%.17g,%.17g\n", r.body, r.time, r.v.norm(),
+                  r.x.x(), r.x.y(), r.x.z());
+    perBodyRows[r.body] += buf;
+  }
+  flush(frame, time, ke, pe);
+  std::string bodies = "body,time_s,speed_m_s,x_m,y_m,z_m\n";
+  for (const auto& [id, text] : perBodyRows) bodies += text;
+
+  const fs::path dir(o.outDir);
+  const std::string energyCsv = (dir / "energy.csv").string();
+  const std::string bodiesCsv = (dir / "bodies.csv").string();
+  writeText(energyCsv, energy.str());
+  writeText(bodiesCsv, bodies);
+
+  const std::string unit = perKg ? "energy per kg, translation only (J/kg)" : "energy (J)";
+  const std::string note = "from " + fs::path(runCsv).filename().string() +
+                           (perKg ? "; no scene given: every body counts as 1 kg" : "");
+  Figure e;
+  e.title = o.title + ": energy";
+  e.footnote = note;
+  e.panels = {{"",
+               "time (s)",
+               unit,
+               false,
+               false,
+               {{"kinetic", energyCsv, "2:3", "lines", 0, false},
+                {"potential", energyCsv, "2:4", "lines", 1, false},
+                {"total", energyCsv, "2:5", "lines", 6, false}},
+               {"set key top right"}}};
+  drawFigure(e, (dir / "energy").string());
+
+  const bool legend = maxBody < 10;
+  auto perBody = [&](const std::string& csv, const std::string& xy, int bodyColumn,
+                     const std::string& style) {
+    std::vector<Series> s;
+    for (int b = 0; b <= maxBody; ++b)
+      s.push_back({legend ? "body " + std::to_string(b) : "", csv,
+                   "(column(" + std::to_string(bodyColumn) + ") == " + std::to_string(b) + " ? " +
+                       xy.substr(0, xy.find(':')) + " : NaN):(" + xy.substr(xy.find(':') + 1) + ")",
+                   style, b, false});
+    return s;
+  };
+  Figure v;
+  v.title = o.title + ": speed of each body";
+  v.footnote = note;
+  v.panels = {{"",
+               "time (s)",
+               "speed (m/s)",
+               false,
+               false,
+               perBody(bodiesCsv, "$2:$3", 1, "lines"),
+               {legend ? "set key top right" : "unset key"}}};
+  drawFigure(v, (dir / "speed").string());
+
+  Figure t;
+  t.title = o.title + ": trajectories of the centres of mass";
+  t.footnote = note;
+  t.panels = {{"plan view",
+               "x (m)",
+               "y (m)",
+               false,
+               false,
+               perBody(bodiesCsv, "$4:$5", 1, "lines"),
+               {"set size ratio -1", legend ? "set key top left" : "unset key"}},
+              {"side view",
+               "x (m)",
+               "z (m)",
+               false,
+               false,
+               perBody(bodiesCsv, "$4:$6", 1, "lines"),
+               {"set size ratio -1", "unset key"}}};
+  t.width = 1200;
+  drawFigure(t, (dir / "trajectories").string());
+}
+
+}  // namespace vf::fig
