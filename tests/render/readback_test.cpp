@@ -162,6 +162,34 @@ TEST_F(Readback, SameDrawListRendersIdenticalBytes) {
   EXPECT_GT(distinct, 500);
 }
 
+TEST_F(Readback, ShadowMapIsReusedOnlyWhileTheCastersStayPut) {
+  // The renderer keeps the shadow map while the light and every caster are unchanged. A frame
+  // after a body moved must equal the same frame from a fresh renderer (the map was redrawn),
+  // and going back must give the first frame again. The moved cube's shadow is part of the
+  // picture, so a stale map would show it in the wrong place.
+  const auto cube = test::boxShape(Vec3(0.25, 0.25, 0.25));
+  const auto posed = [&](const Vec3& x) {
+    return std::vector<BodyView>{test::body(cube, Vec3(0, 0, 0.25)), test::body(cube, x)};
+  };
+  gl::RenderSettings settings = tinySettings(96, 64);
+  // One builder: the same automatic camera and shadow box for both poses (only the caster moves).
+  DrawListBuilder builder(CameraSpec{}, 0.0, 96.0 / 64.0);
+  builder.observe(posed(Vec3(0.7, 0.1, 0.6)));
+  builder.observe(posed(Vec3(0.7, 0.4, 0.6)));
+  const DrawList a = builder.build(posed(Vec3(0.7, 0.1, 0.6)));
+  DrawList b = builder.build(posed(Vec3(0.7, 0.4, 0.6)));
+  b.casterCentre = a.casterCentre;  // same light box: only the caster differs
+  b.casterRadius = a.casterRadius;
+  gl::Renderer renderer(*context_, settings);
+  const Image first = renderer.render(a);
+  const Image moved = renderer.render(b);
+  const Image back = renderer.render(a);
+  gl::Renderer fresh(*context_, settings);
+  EXPECT_EQ(moved.rgb, fresh.render(b).rgb);
+  EXPECT_EQ(first.rgb, back.rgb);
+  EXPECT_NE(first.rgb, moved.rgb);
+}
+
 TEST_F(Readback, OddSizesAndNoMultisamplingStillRender) {
   // 2x2 supersampling path (samples = 1 asked: none; samples = 64: more than llvmpipe has).
   const auto cube = test::boxShape(Vec3(0.25, 0.25, 0.25));
