@@ -49,6 +49,7 @@ struct RenderOptions {
   std::optional<int> crf;
   std::string gl = "osmesa";
   std::string shaders;
+  std::string camera;  // [cameras.NAME]; "": the scene's [camera]
   bool quiet = false;
 };
 
@@ -148,6 +149,7 @@ int runRender(const RenderOptions& o) {
   if (!o.size.empty())
     std::sscanf(o.size.c_str(), "%dx%d", &spec.output.width, &spec.output.height);
   if (o.crf) spec.output.crf = *o.crf;
+  if (!o.camera.empty()) selectCamera(spec, o.camera);
   const int width = spec.output.width, height = spec.output.height;
   const int frameCount = Recorder::frameCountFor(spec.fps, spec.duration);
   const FrameRange range = parseFrames(o.frames, frameCount);
@@ -293,6 +295,10 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "folder of the GLSL sources (default: next to the binary, else the source "
                   "tree's shaders/)")
       ->type_name("DIR");
+  sub->add_option("--camera", o->camera,
+                  "which of the scene's cameras to use: a [cameras.NAME] table, or 'camera' for "
+                  "[camera] (the default)")
+      ->type_name("NAME");
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
   sub->callback([o, &exitCode] { exitCode = runRender(*o); });
 }

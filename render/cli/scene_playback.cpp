@@ -49,7 +49,7 @@ struct ScenePlayback::Impl {
       : spec(s),
         built(buildScene(spec)),
         recorder(*built.world, spec.fps, spec.duration),
-        drawing(spec.camera, spec.groundPlane, static_cast<double>(width) / height),
+        drawing(spec.camera, spec.groundPlane, width, height, spec.fps),
         bodies(bodyViews(*built.world, built.colors)) {
     if (const auto& terrain = built.world->def().terrain) {
       // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
@@ -96,7 +96,7 @@ DrawList ScenePlayback::drawList(int k) {
   Impl& p = *impl_;
   VF_ASSERT(k >= 0 && static_cast<std::size_t>(k) < p.poses.size());
   applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
-  return p.drawing.build(p.bodies);
+  return p.drawing.build(p.bodies, k);
 }
 
 RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& frames,

@@ -80,6 +80,7 @@ struct Renderer::Impl {
     std::unique_ptr<GpuMesh> mesh;
   };
   std::unordered_map<const void*, MeshEntry> meshes;  // lookup only, never iterated
+  std::vector<std::unique_ptr<GpuMesh>> frameMeshes;  // transient ones, for the current frame
   std::vector<std::uint8_t> readback;
 
   Impl(Context& c, const RenderSettings& s) : context(c), gl(c.api()), settings(s) {}
@@ -93,6 +94,7 @@ struct Renderer::Impl {
 
 Renderer::Impl::~Impl() {
   meshes.clear();
+  frameMeshes.clear();
   gl.DeleteFramebuffers(1, &shadowFbo);
   gl.DeleteTextures(1, &shadowTexture);
   gl.DeleteFramebuffers(1, &sceneFbo);
@@ -175,6 +177,10 @@ void Renderer::Impl::createTargets() {
 }
 
 const GpuMesh& Renderer::Impl::mesh(const DrawMesh& m) {
+  if (m.transient) {
+    frameMeshes.push_back(std::make_unique<GpuMesh>(gl, *m.mesh, m.normals.get()));
+    return *frameMeshes.back();
+  }
   auto it = meshes.find(m.key);
   if (it == meshes.end()) {
     MeshEntry entry{m.mesh, std::make_unique<GpuMesh>(gl, *m.mesh, m.normals.get())};
@@ -334,6 +340,7 @@ void Renderer::render(const DrawList& list, Image& out) {
       fitShadowProjection(list.sunDirection, list.casterCentre, list.casterRadius,
                           list.groundHeight.value_or(list.casterCentre.z() - list.casterRadius),
                           r.settings.shadowMapSize);
+  r.frameMeshes.clear();  // last frame's trails
   r.shadowPass(list, shadow);
   r.scenePass(list, shadow);
   r.presentPass(list);
