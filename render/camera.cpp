@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace vf {
@@ -84,6 +85,71 @@ ShadowProjection fitShadowProjection(const Vec3& sunDirection, const Vec3& centr
   p.texelSize = texel;
   p.depthRange = farPlane - nearPlane;
   return p;
+}
+
+namespace {
+
+// Cubic Hermite on one segment: value at s in [0, 1] from the end values and the end slopes
+// (per second) over a segment of h seconds. At s = 0 and s = 1 the basis is exactly (1, 0, 0, 0)
+// and (0, 0, 1, 0), so the keys are hit bit for bit.
+template <class T>
+T hermite(const T& p0, const T& m0, const T& p1, const T& m1, double h, double s) {
+  const double s2 = s * s, s3 = s2 * s;
+  return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * h * m0 + (-2 * s3 + 3 * s2) * p1 +
+         (s3 - s2) * h * m1;
+}
+
+// Catmull-Rom slope at key i of values v(key): the chord of its neighbours over their time gap.
+template <class T, class Get>
+T slopeAt(std::span<const CameraKey> keys, std::size_t i, Get get) {
+  const std::size_t a = i > 0 ? i - 1 : i;
+  const std::size_t b = i + 1 < keys.size() ? i + 1 : i;
+  return (get(keys[b]) - get(keys[a])) / (keys[b].time - keys[a].time);
+}
+
+}  // namespace
+
+CameraView interpolateCameraPath(std::span<const CameraKey> keys, double t, const Vec3& up) {
+  CameraView view;
+  view.up = up;
+  const auto hold = [&](const CameraKey& k) {
+    view.position = k.position;
+    view.lookAt = k.lookAt;
+    view.fovYDegrees = k.fovDegrees;
+    return view;
+  };
+  if (keys.size() == 1 || t <= keys.front().time) return hold(keys.front());
+  if (t >= keys.back().time) return hold(keys.back());
+  // The segment [t_i, t_i+1) holding t.
+  std::size_t i = 0;
+  while (t >= keys[i + 1].time) ++i;
+  const double h = keys[i + 1].time - keys[i].time;
+  const double s = (t - keys[i].time) / h;
+  const auto position = [](const CameraKey& k) { return k.position; };
+  const auto lookAt = [](const CameraKey& k) { return k.lookAt; };
+  const auto fov = [](const CameraKey& k) { return k.fovDegrees; };
+  view.position = hermite<Vec3>(keys[i].position, slopeAt<Vec3>(keys, i, position),
+                                keys[i + 1].position, slopeAt<Vec3>(keys, i + 1, position), h, s);
+  view.lookAt = hermite<Vec3>(keys[i].lookAt, slopeAt<Vec3>(keys, i, lookAt), keys[i + 1].lookAt,
+                              slopeAt<Vec3>(keys, i + 1, lookAt), h, s);
+  view.fovYDegrees =
+      hermite<double>(keys[i].fovDegrees, slopeAt<double>(keys, i, fov), keys[i + 1].fovDegrees,
+                      slopeAt<double>(keys, i + 1, fov), h, s);
+  return view;
+}
+
+Vec3 chaseStep(const Vec3& current, const Vec3& target, double dt, double timeConstant) {
+  if (!(timeConstant > 0)) return target;
+  return current + (target - current) * (1 - std::exp(-dt / timeConstant));
+}
+
+double projectedDiameter(const CameraView& camera, const Vec3& centre, double radius,
+                         int imageHeight) {
+  const Vec3 forward = (camera.lookAt - camera.position).normalized();
+  const double depth = forward.dot(centre - camera.position);
+  if (!(depth > 0)) return std::numeric_limits<double>::infinity();  // at or behind the eye
+  const double halfHeight = depth * std::tan(camera.fovYDegrees * std::numbers::pi / 360);
+  return radius / halfHeight * imageHeight;
 }
 
 }  // namespace vf

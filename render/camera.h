@@ -4,8 +4,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <span>
 
 #include "sim/core/math.h"
+#include "sim/scene/scene.h"
 
 namespace vf {
 
@@ -47,5 +49,25 @@ struct ShadowProjection {
 };
 ShadowProjection fitShadowProjection(const Vec3& sunDirection, const Vec3& centre, double radius,
                                      double groundZ, int mapSize);
+
+// A keyframed camera path at time t (s): position, look-at point and field of view each follow
+// a cubic Hermite curve through the keys with Catmull-Rom tangents (the chord through the two
+// neighbouring keys, divided by their time difference; one-sided at the ends), so the camera
+// passes through every key exactly, with a velocity continuous across keys. Before the first
+// key and after the last it holds still there. `keys` must be non-empty, times increasing.
+CameraView interpolateCameraPath(std::span<const CameraKey> keys, double t, const Vec3& up);
+
+// One frame of a chase camera's lag: moves `current` towards `target` by the fraction
+// 1 - exp(-dt / timeConstant) of the gap, the exact solution over dt of dc/dt = (target - c) / T
+// for a target held still over the step. So a jump in the target decays as exp(-t / T) whatever
+// the frame rate, and a target moving at constant velocity v is followed at a lag that tends
+// to v dt a / (1 - a) with a = exp(-dt / T) (about v T). timeConstant 0: no lag.
+Vec3 chaseStep(const Vec3& current, const Vec3& target, double dt, double timeConstant);
+
+// Size in pixels, in an image `imageHeight` pixels high, of a segment 2 * radius (m) long at
+// `centre`, facing `camera`: the diameter of a small sphere there (off the axis a wide lens
+// stretches it a little further). Infinite at or behind the eye.
+double projectedDiameter(const CameraView& camera, const Vec3& centre, double radius,
+                         int imageHeight);
 
 }  // namespace vf

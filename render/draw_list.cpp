@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "sim/core/error.h"
+
 namespace vf {
 namespace {
 
@@ -15,6 +17,14 @@ constexpr double kDegrees = std::numbers::pi / 180.0;
 // with its sky gradient sits in the top fifth of the picture (tan 13 / tan 20 of the
 // half-height above the middle for the default 40 degree field of view).
 constexpr double kAutoPitch = 13 * kDegrees;
+
+// The shadow map is fitted to the view instead of the casters when the view's slice is under
+// a quarter of the casters' sphere: only at terrain scale, so scenes whose casters all lie in
+// view keep the fit they had (and their pixels).
+constexpr double kShadowFitRatio = 0.25;
+
+// Trails are drawn this many pixels wide at every distance.
+constexpr double kTrailPixels = 2;
 
 // The sun stands 50 degrees high, 55 degrees counter-clockwise of the camera's azimuth:
 // shadows fall sideways and away from the viewer, where they show the bodies' contact with
@@ -155,9 +165,75 @@ CameraView AutoFraming::camera() const {
   return c;
 }
 
+Sphere viewSlice(const CameraView& camera, double aspect, double depth) {
+  const Vec3 forward = (camera.lookAt - camera.position).normalized();
+  const Mat4 view = camera.viewMatrix();
+  const Vec3 right = view.block<1, 3>(0, 0).transpose();
+  const Vec3 up = view.block<1, 3>(1, 0).transpose();
+  const double h = depth * std::tan(camera.fovYDegrees * kDegrees / 2), w = h * aspect;
+  std::vector<Sphere> corners{Sphere{camera.position, 0}};
+  for (const double sx : {-1.0, 1.0}) {
+    for (const double sy : {-1.0, 1.0}) {
+      corners.push_back(
+          Sphere{camera.position + forward * depth + right * (sx * w) + up * (sy * h), 0});
+    }
+  }
+  return encloseAll(corners);
+}
+
+void DrawListBuilder::addTrails(DrawList& list, std::span<const BodyView> bodies, int frame) {
+  const CameraView& cam = list.camera;
+  const Vec3 forward = (cam.lookAt - cam.position).normalized();
+  const double pixel = 2 * std::tan(cam.fovYDegrees * kDegrees / 2) / height_;  // m per m depth
+  const int first = std::max(0, frame - static_cast<int>(std::ceil(spec_.trailSeconds * fps_)));
+  for (std::size_t id = 0; id < bodies.size(); ++id) {
+    if (!bodies[id].shape) continue;
+    auto mesh = std::make_shared<TriMesh>();
+    for (int f = first; f < frame; ++f) {
+      const FrameRecord& a = history_[static_cast<std::size_t>(f)];
+      const FrameRecord& b = history_[static_cast<std::size_t>(f + 1)];
+      if (id >= a.centres.size() || id >= b.centres.size() || !a.active[id] || !b.active[id]) {
+        continue;
+      }
+      const Vec3 p0 = a.centres[id], p1 = b.centres[id];
+      const Vec3 mid = (p0 + p1) / 2;
+      const double depth = forward.dot(mid - cam.position);
+      Vec3 side = (p1 - p0).cross(mid - cam.position);
+      if (!(depth > cam.nearPlane) || !(side.norm() > 0)) continue;
+      side *= 0.5 * kTrailPixels * pixel * depth / side.norm();
+      const auto base = static_cast<std::uint32_t>(mesh->vertices.size());
+      mesh->vertices.insert(mesh->vertices.end(), {p0 - side, p0 + side, p1 - side, p1 + side});
+      mesh->triangles.push_back({base, base + 1, base + 3});
+      mesh->triangles.push_back({base, base + 3, base + 2});
+    }
+    if (mesh->triangles.empty()) continue;
+    DrawMesh drawn;
+    drawn.mesh = mesh;
+    drawn.transient = true;
+    list.meshes.push_back(drawn);
+    DrawInstance inst;
+    inst.mesh = static_cast<int>(list.meshes.size()) - 1;
+    inst.color = bodies[id].color;
+    inst.surface = Surface::unlit;
+    inst.castsShadow = false;
+    list.instances.push_back(inst);
+  }
+}
+
+DrawListBuilder::DrawListBuilder(const CameraSpec& camera, std::optional<double> groundHeight,
+                                 int width, int height, double fps)
+    : spec_(camera),
+      ground_(groundHeight),
+      aspect_(static_cast<double>(width) / height),
+      height_(height),
+      fps_(fps),
+      framing_(camera.fovDegrees, aspect_) {}
+
 DrawListBuilder::DrawListBuilder(const CameraSpec& camera, std::optional<double> groundHeight,
                                  double aspect)
-    : spec_(camera), ground_(groundHeight), aspect_(aspect), framing_(camera.fovDegrees, aspect) {}
+    : DrawListBuilder(camera, groundHeight, static_cast<int>(std::lround(720 * aspect)), 720, 30) {
+  aspect_ = aspect;
+}
 
 void DrawListBuilder::setTerrain(std::shared_ptr<const TriMesh> mesh,
                                  std::shared_ptr<const std::vector<Vec3>> normals, Color color) {
@@ -165,6 +241,10 @@ void DrawListBuilder::setTerrain(std::shared_ptr<const TriMesh> mesh,
   terrainNormals_ = std::move(normals);
   terrainColor_ = color;
   terrainSphere_ = terrain_ ? meshSphere(*terrain_) : Sphere{};
+  terrainBox_.setEmpty();
+  if (terrain_) {
+    for (const Vec3& v : terrain_->vertices) terrainBox_.extend(v);
+  }
 }
 
 double DrawListBuilder::shapeRadius(const std::shared_ptr<const Shape>& shape) {
@@ -176,11 +256,27 @@ double DrawListBuilder::shapeRadius(const std::shared_ptr<const Shape>& shape) {
   return r;
 }
 
+bool DrawListBuilder::onStage(const BodyView& b) {
+  if (!b.shape) return false;
+  const double r = shapeRadius(b.shape);
+  if (terrain_ && !terrainBox_.isEmpty()) {
+    const Vec3& lo = terrainBox_.min();
+    const Vec3& hi = terrainBox_.max();
+    const bool over = b.x.x() >= lo.x() - r && b.x.x() <= hi.x() + r && b.x.y() >= lo.y() - r &&
+                      b.x.y() <= hi.y() + r;
+    if (!over) return false;
+    if (b.x.z() + r < std::min(lo.z(), ground_.value_or(lo.z()))) return false;
+    return true;
+  }
+  if (ground_ && b.x.z() + r < *ground_) return false;  // fell through the floor
+  return true;
+}
+
 std::vector<Sphere> DrawListBuilder::bodySpheres(std::span<const BodyView> bodies,
                                                  bool withGround) {
   std::vector<Sphere> spheres;
   for (const BodyView& b : bodies) {
-    if (!b.active || !b.shape) continue;
+    if (!b.active || !b.shape || !onStage(b)) continue;
     const double r = shapeRadius(b.shape);
     spheres.push_back(Sphere{b.x, r});
     // The floor under a body belongs in the picture: that is where it lands and its shadow
@@ -193,18 +289,98 @@ std::vector<Sphere> DrawListBuilder::bodySpheres(std::span<const BodyView> bodie
   return spheres;
 }
 
+std::optional<Vec3> DrawListBuilder::chaseTarget(std::span<const BodyView> bodies) const {
+  std::vector<int> ids = spec_.followGroup;
+  if (spec_.followBody) ids.push_back(*spec_.followBody);
+  Vec3 sum = Vec3::Zero();
+  int count = 0;
+  for (const int id : ids) {
+    if (id < 0 || static_cast<std::size_t>(id) >= bodies.size()) continue;
+    const BodyView& b = bodies[static_cast<std::size_t>(id)];
+    if (!b.active || !b.shape) continue;
+    sum += b.x;
+    ++count;
+  }
+  if (count == 0) return std::nullopt;
+  return Vec3(sum / count);
+}
+
 void DrawListBuilder::observe(std::span<const BodyView> bodies) {
   // The terrain is left out: a large one would shrink the bodies to specks; the bodies (and the
   // floor under them) are where the action is.
   for (const Sphere& s : bodySpheres(bodies, true)) framing_.add(s);
+  FrameRecord record;
+  record.centres.reserve(bodies.size());
+  for (const BodyView& b : bodies) {
+    record.centres.push_back(b.x);
+    record.active.push_back(b.active && b.shape);
+  }
+  // The chase target lags the followed bodies (chaseStep); before they appear it waits.
+  const std::optional<Vec3> target = chaseTarget(bodies);
+  const std::optional<Vec3> previous = history_.empty() ? std::nullopt : history_.back().chase;
+  if (target && previous) {
+    record.chase = chaseStep(*previous, *target, 1 / fps_, spec_.smoothing);
+  } else {
+    record.chase = target ? target : previous;
+  }
+  history_.push_back(std::move(record));
 }
 
 DrawList DrawListBuilder::build(std::span<const BodyView> bodies) {
   observe(bodies);
+  return build(bodies, observedFrames() - 1);
+}
+
+CameraView DrawListBuilder::chooseCamera(std::span<const BodyView> bodies, int frame,
+                                         const Sphere& region) {
+  const std::optional<Vec3>& chase = history_[static_cast<std::size_t>(frame)].chase;
+  if (!spec_.path.empty()) return interpolateCameraPath(spec_.path, frame / fps_, spec_.up);
+  if (spec_.given) {
+    CameraView cam;
+    cam.position = spec_.position;
+    cam.lookAt = spec_.lookAt;
+    cam.up = spec_.up;
+    cam.fovYDegrees = spec_.fovDegrees;
+    if (chase) {
+      // Keep the scene's camera offset and move it with the (smoothed) target.
+      cam.position = *chase + (spec_.position - spec_.lookAt);
+      cam.lookAt = *chase;
+    }
+    return cam;
+  }
+  if (chase) {
+    // The followed bodies with three body sizes of context, and the floor under them.
+    double r = 0;
+    std::vector<int> ids = spec_.followGroup;
+    if (spec_.followBody) ids.push_back(*spec_.followBody);
+    for (const int id : ids) {
+      if (id < 0 || static_cast<std::size_t>(id) >= bodies.size()) continue;
+      const BodyView& b = bodies[static_cast<std::size_t>(id)];
+      if (!b.active || !b.shape) continue;
+      r = std::max(r, (b.x - *chase).norm() + 3 * shapeRadius(b.shape));
+    }
+    AutoFraming own(spec_.fovDegrees, aspect_);
+    own.add(Sphere{*chase, r});
+    if (ground_) own.add(Sphere{Vec3(chase->x(), chase->y(), *ground_), 0.25 * r});
+    return own.camera();
+  }
+  (void)region;
+  return framing_.camera();
+}
+
+DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
+  VF_ASSERT(frame >= 0 && frame < observedFrames());
   DrawList list;
   list.groundHeight = ground_;
 
-  // Meshes in order of first use, so the list is the same for the same bodies.
+  // Camera.
+  const Sphere region = framing_.empty() ? Sphere{Vec3::Zero(), 1} : framing_.region();
+  CameraView& cam = list.camera;
+  cam = chooseCamera(bodies, frame, region);
+
+  // Meshes in order of first use, so the list is the same for the same bodies. A body smaller
+  // on screen than min_pixels is drawn as a flat marker of that size: its own shape, scaled
+  // up about its centre, unlit in its colour, casting no shadow.
   std::map<const void*, int> meshIndex;
   for (const BodyView& b : bodies) {
     if (!b.active || !b.shape) continue;
@@ -217,6 +393,15 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies) {
     inst.mesh = it->second;
     inst.model = bodyModelMatrix(b.x, b.q);
     inst.color = b.color;
+    if (spec_.minPixels > 0) {
+      const double pixels = projectedDiameter(cam, b.x, shapeRadius(b.shape), height_);
+      if (pixels < spec_.minPixels) {
+        const double scale = spec_.minPixels / std::max(pixels, 1e-9);
+        inst.model.block<3, 3>(0, 0) *= scale;
+        inst.surface = Surface::unlit;
+        inst.castsShadow = false;
+      }
+    }
     list.instances.push_back(inst);
   }
   if (terrain_) {
@@ -228,42 +413,11 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies) {
     list.instances.push_back(inst);
   }
 
-  // Shadow casters: this frame's bodies (tight, for shadow-map resolution) and the terrain.
+  // Shadow casters: this frame's bodies on the stage (tight, for shadow-map resolution) and
+  // the terrain.
   std::vector<Sphere> casters = bodySpheres(bodies, false);
   if (terrain_) casters.push_back(terrainSphere_);
-  const Sphere casterSphere = encloseAll(casters);
-  list.casterCentre = casterSphere.centre;
-  list.casterRadius = casterSphere.radius;
-
-  // Camera.
-  const Sphere region = framing_.empty() ? Sphere{Vec3::Zero(), 1} : framing_.region();
-  const BodyView* followed = nullptr;
-  if (spec_.followBody && *spec_.followBody >= 0 &&
-      static_cast<std::size_t>(*spec_.followBody) < bodies.size() &&
-      bodies[static_cast<std::size_t>(*spec_.followBody)].shape) {
-    followed = &bodies[static_cast<std::size_t>(*spec_.followBody)];
-  }
-  CameraView& cam = list.camera;
-  if (spec_.given) {
-    cam.position = spec_.position;
-    cam.lookAt = spec_.lookAt;
-    cam.up = spec_.up;
-    cam.fovYDegrees = spec_.fovDegrees;
-    if (followed) {
-      // Keep the scene's camera offset and move it with the body.
-      cam.position = followed->x + (spec_.position - spec_.lookAt);
-      cam.lookAt = followed->x;
-    }
-  } else if (followed) {
-    const double r = shapeRadius(followed->shape);
-    // The body with three body sizes of context, and the floor under it.
-    AutoFraming own(spec_.fovDegrees, aspect_);
-    own.add(Sphere{followed->x, 3 * r});
-    if (ground_) own.add(Sphere{Vec3(followed->x.x(), followed->x.y(), *ground_), 0.75 * r});
-    cam = own.camera();
-  } else {
-    cam = framing_.camera();
-  }
+  Sphere casterSphere = encloseAll(casters);
 
   // Depth range and floor fade from the distances involved: near as far out as the framed
   // region allows (depth precision where bodies touch the floor), far past the fade.
@@ -282,6 +436,16 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies) {
   // Terrain may come much closer to the camera than any body.
   if (terrain_) cam.nearPlane = std::min(cam.nearPlane, 0.02 * distance);
   cam.farPlane = list.groundFadeEnd * 1.05 + 2 * extent;
+  if (spec_.trailSeconds > 0) addTrails(list, bodies, frame);
+
+  // Kilometre scale: one 2048-texel map over a whole 2 km terrain has metre-wide texels, and a
+  // metre-sized rock casts no visible shadow. When the part of the view around what the camera
+  // looks at (out to the framed bodies' far side) is much smaller than the casters, the map
+  // covers that part only; casters further towards the sun still fall inside its depth range.
+  const Sphere viewed = viewSlice(cam, aspect_, distance + 2 * extent);
+  if (viewed.radius < kShadowFitRatio * casterSphere.radius) casterSphere = viewed;
+  list.casterCentre = casterSphere.centre;
+  list.casterRadius = casterSphere.radius;
 
   list.sunDirection = sunFromCamera(cam.position - cam.lookAt);
   return list;

@@ -21,6 +21,7 @@ struct DrawMesh {
   const void* key = nullptr;            // identity in the GPU cache: the Shape, or the terrain
   std::shared_ptr<const TriMesh> mesh;  // body frame (centre of mass at the origin) or world
   std::shared_ptr<const std::vector<Vec3>> normals;  // per-vertex smooth normals; null: faceted
+  bool transient = false;  // made for this frame only (trails): uploaded, drawn, dropped
 };
 
 // How an instance is shaded.
@@ -65,7 +66,6 @@ struct BodyView {
 // The bodies of a world with their colours; a body without a colour in `colors` gets
 // defaultBodyColor(id).
 std::vector<BodyView> bodyViews(const World& world, const std::vector<Color>& colors);
-
 
 // Per-vertex normals of a mesh with shared vertices: the mean of the normals of the triangles
 // around each vertex, weighted by their angles there (for smooth shading of terrain grids). A
@@ -112,14 +112,23 @@ class AutoFraming {
   bool empty_ = true;
 };
 
+// The part of a camera's view from the eye out to `depth` (m) along its axis, as a sphere.
+Sphere viewSlice(const CameraView& camera, double aspect, double depth);
+
 // Builds draw lists frame after frame for one run. Holds what persists between frames: the
-// camera settings, the terrain, the per-shape radii, and the region the automatic camera has
-// to frame: every body position observe()d so far (the framing only grows). `voxfall render`
-// observes every frame of the scene before drawing any, so the automatic camera holds still for
-// the whole clip and frame k looks the same whatever range is rendered; build() also observes
-// its own frame, so a lone build() frames the bodies it is given.
+// camera settings, the terrain, the per-shape radii, the region the automatic camera has to
+// frame (every body position observe()d so far: the framing only grows), and per observed
+// frame the bodies' centres (trails) and the chase camera's smoothed target. `voxfall render`
+// observes every frame of the scene, in order from frame 0, before drawing any, and then calls
+// build(bodies, k): the automatic camera holds still for the whole clip, and frame k (its
+// trails and its chase camera, which depend on frames 0..k) looks the same whatever range is
+// rendered. A lone build(bodies) observes its bodies as the next frame and draws that.
 class DrawListBuilder {
  public:
+  // For frames of width x height pixels at `fps` frames per second (frame k at t = k / fps).
+  DrawListBuilder(const CameraSpec& camera, std::optional<double> groundHeight, int width,
+                  int height, double fps);
+  // The same for an aspect ratio width / height, 720 pixels high, 30 frames per second.
   DrawListBuilder(const CameraSpec& camera, std::optional<double> groundHeight, double aspect);
 
   // A static terrain mesh in world coordinates, drawn with slope shading and casting shadows.
@@ -128,20 +137,47 @@ class DrawListBuilder {
                   std::shared_ptr<const std::vector<Vec3>> normals = nullptr,
                   Color color = Color{0.16f, 0.22f, 0.09f});
 
-  // Folds this frame's active bodies into the automatic framing.
+  // Folds the next frame's active bodies into the automatic framing and records the frame's
+  // body centres and chase target. Frames are observed in order, starting at frame 0.
   void observe(std::span<const BodyView> bodies);
-  // The draw list of this frame (calls observe() first).
+  // The draw list of observed frame `frame` drawn with these bodies (its poses).
+  DrawList build(std::span<const BodyView> bodies, int frame);
+  // Observes the bodies as the next frame and draws it.
   DrawList build(std::span<const BodyView> bodies);
+  // Frames observed so far.
+  int observedFrames() const { return static_cast<int>(history_.size()); }
+
+  // Whether a body is still on the stage: on the terrain's extent (or anywhere over a floor
+  // plane) and not wholly below the lowest ground. Bodies that left it are still drawn, but
+  // neither the automatic camera nor the shadow map makes room for them.
+  bool onStage(const BodyView& body);
 
   // Radius of a shape's mesh about its centre of mass (m), cached per shape.
   double shapeRadius(const std::shared_ptr<const Shape>& shape);
 
  private:
   std::vector<Sphere> bodySpheres(std::span<const BodyView> bodies, bool withGround);
+  // The chase camera's target this frame: the followed body or the group's centroid (active
+  // bodies only); none when nothing is followed or all followed bodies are inactive.
+  std::optional<Vec3> chaseTarget(std::span<const BodyView> bodies) const;
+  CameraView chooseCamera(std::span<const BodyView> bodies, int frame, const Sphere& region);
+  // Trails: each body's centre over the last trailSeconds up to `frame`, as a ribbon about
+  // kTrailPixels wide facing the camera, unlit in the body's colour.
+  void addTrails(DrawList& list, std::span<const BodyView> bodies, int frame);
+
+  // What one observed frame leaves for later draws.
+  struct FrameRecord {
+    std::vector<Vec3> centres;  // per body id
+    std::vector<bool> active;
+    std::optional<Vec3> chase;  // smoothed chase target
+  };
 
   CameraSpec spec_;
   std::optional<double> ground_;
   double aspect_;
+  int height_ = 720;  // pixels
+  double fps_ = 30;
+  std::vector<FrameRecord> history_;
   AutoFraming framing_;
   // Keyed by address; the shared_ptr keeps the shape alive so an address is never reused.
   std::map<const Shape*, std::pair<std::shared_ptr<const Shape>, double>> radii_;
@@ -149,6 +185,7 @@ class DrawListBuilder {
   std::shared_ptr<const std::vector<Vec3>> terrainNormals_;
   Color terrainColor_{};
   Sphere terrainSphere_;
+  Eigen::AlignedBox3d terrainBox_;
 };
 
 }  // namespace vf

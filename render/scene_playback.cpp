@@ -52,7 +52,7 @@ struct ScenePlayback::Impl {
   Impl(const SceneSpec& s, int width, int height)
       : spec(s),
         built(buildScene(spec)),
-        drawing(spec.camera, spec.groundPlane, static_cast<double>(width) / height),
+        drawing(spec.camera, spec.groundPlane, width, height, spec.fps),
         bodies(bodyViews(*built->world, built->colors)) {
     recorder.emplace(*built->world, spec.fps, spec.duration);
     addTerrain(built->world->def().terrain);
@@ -61,7 +61,7 @@ struct ScenePlayback::Impl {
   Impl(std::shared_ptr<const Bake> b, int width, int height)
       : spec(b->scene),
         bake(std::move(b)),
-        drawing(spec.camera, spec.groundPlane, static_cast<double>(width) / height) {
+        drawing(spec.camera, spec.groundPlane, width, height, spec.fps) {
     const auto shapes = bakeShapes(*bake);
     for (const BakeBody& body : bake->bodies) {
       BodyView v;
@@ -146,7 +146,7 @@ DrawList ScenePlayback::drawList(int k) {
   Impl& p = *impl_;
   VF_ASSERT(k >= 0 && static_cast<std::size_t>(k) < p.poses.size());
   applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
-  return p.drawing.build(p.bodies);
+  return p.drawing.build(p.bodies, k);
 }
 
 std::vector<BodyView> ScenePlayback::bodiesAt(int k) {

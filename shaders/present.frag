@@ -1,10 +1,20 @@
 #version 450 core
-// Linear HDR scene -> 8-bit output: average the supersamples (if any), roll highlights off
-// above 0.8 instead of clipping them, encode sRGB, dither. Restated in
-// tests/render/readback_test.cpp: change both.
-uniform sampler2D uImage;  // resolved scene, linear RGB
-uniform int uSupersample;  // scene pixels per output pixel along each axis
-uniform int uDither;       // 1: add the ordered dither
+// Scene target -> 8-bit output, in one pass: average the pixel's samples (MSAA) or sub-pixels
+// (supersampling), filling every one the geometry left empty (alpha 0) with the sky along its
+// view ray; roll highlights off above 0.8 instead of clipping them; encode sRGB; dither.
+// The sky is drawn here rather than as a full-screen pass into the multisampled target: on
+// llvmpipe that pass cost a quarter of a frame, all of it spent writing 4 identical samples
+// per pixel, and the resolve blit another fifth. Restated in tests/render/readback_test.cpp:
+// change both.
+#include "common.glsl"
+
+uniform sampler2DMS uScene;   // multisampled scene, linear RGB, alpha 1 where drawn (unit 0)
+uniform sampler2D uImage;     // single-sampled scene at uSupersample x the size (unit 1)
+uniform int uSamples;         // > 1: read uScene's samples; otherwise uImage's sub-pixels
+uniform int uSupersample;     // scene pixels per output pixel along each axis (uImage)
+uniform int uDither;          // 1: add the ordered dither
+uniform mat4 uInverseViewProjection;  // of projection * view rotation (no translation)
+uniform vec2 uSceneSize;              // scene target size in pixels
 
 out vec4 fragColor;
 
@@ -23,20 +33,44 @@ vec3 encodeSrgb(vec3 c) {
 }
 
 // 4x4 Bayer matrix, values (0.5 .. 15.5) / 16: a fixed pattern, so frames stay deterministic.
+// Bit-interleaved form of the table {0 8 2 10, 12 4 14 6, 3 11 1 9, 15 7 13 5} (row y, column
+// x): no indexed constant array, which llvmpipe would spill to memory per fragment.
 float bayer(ivec2 p) {
-  const int m[16] = int[](0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5);
-  return (float(m[(p.y & 3) * 4 + (p.x & 3)]) + 0.5) / 16.0;
+  int a = (p.x ^ p.y) & 3, b = p.y & 3;
+  int m = ((a & 1) << 3) | ((b & 1) << 2) | (a & 2) | ((b >> 1) & 1);
+  return (float(m) + 0.5) / 16.0;
+}
+
+// The sky behind scene pixel position `at` (pixels, centre at +0.5).
+vec3 skyAt(vec2 at) {
+  vec4 p = uInverseViewProjection * vec4(at / uSceneSize * 2.0 - 1.0, 1.0, 1.0);
+  return skyColor(normalize(p.xyz / p.w));
 }
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   vec3 sum = vec3(0.0);
-  for (int y = 0; y < uSupersample; ++y) {
-    for (int x = 0; x < uSupersample; ++x) {
-      sum += texelFetch(uImage, pixel * uSupersample + ivec2(x, y), 0).rgb;
+  float count;
+  if (uSamples > 1) {
+    // Every sample of a pixel sees the sky along the pixel centre's ray, as a full-screen
+    // pass shaded once per pixel would have written it.
+    vec3 sky = skyAt(gl_FragCoord.xy);
+    for (int i = 0; i < uSamples; ++i) {
+      vec4 c = texelFetch(uScene, pixel, i);
+      sum += c.a == 0.0 ? sky : c.rgb;
     }
+    count = float(uSamples);
+  } else {
+    for (int y = 0; y < uSupersample; ++y) {
+      for (int x = 0; x < uSupersample; ++x) {
+        ivec2 at = pixel * uSupersample + ivec2(x, y);
+        vec4 c = texelFetch(uImage, at, 0);
+        sum += c.a == 0.0 ? skyAt(vec2(at) + 0.5) : c.rgb;
+      }
+    }
+    count = float(uSupersample * uSupersample);
   }
-  vec3 c = encodeSrgb(shoulder(sum / float(uSupersample * uSupersample)));
+  vec3 c = encodeSrgb(shoulder(sum / count));
   if (uDither == 1) c += (bayer(pixel) - 0.5) / 255.0;
   fragColor = vec4(c, 1.0);
 }

@@ -55,6 +55,7 @@ struct RenderOptions {
   std::optional<int> crf;
   std::string gl = "osmesa";
   std::string shaders;
+  std::string camera;  // [cameras.NAME]; "": the scene's [camera]
   bool quiet = false;
   bool overwrite = false;       // -y
   bool neverOverwrite = false;  // -n
@@ -113,6 +114,7 @@ int runRender(const RenderOptions& o) {
   if (o.fps) spec.fps = *o.fps;
   if (o.size) std::tie(spec.output.width, spec.output.height) = *o.size;
   if (o.crf) spec.output.crf = *o.crf;
+  if (!o.camera.empty()) selectCamera(spec, o.camera);
   const int width = spec.output.width, height = spec.output.height;
   const int frameCount = Recorder::frameCountFor(spec.fps, spec.duration);
   const FrameRange range = parseFrames(o.frames, frameCount);
@@ -247,6 +249,10 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "folder of the GLSL sources (default: next to the binary, else the source "
                   "tree's shaders/)")
       ->type_name("DIR");
+  sub->add_option("--camera", o->camera,
+                  "which of the scene's cameras to use: a [cameras.NAME] table, or 'camera' for "
+                  "[camera] (the default)")
+      ->type_name("NAME");
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
   addOverwriteFlags(*sub, o->overwrite, o->neverOverwrite);
   sub->callback([o, &exitCode] { exitCode = runRender(*o); });

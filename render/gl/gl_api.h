@@ -46,6 +46,7 @@ namespace vf::gl {
   X(PFNGLBINDTEXTUREPROC, BindTexture)                                       \
   X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                   \
   X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                         \
+  X(PFNGLTEXIMAGE2DMULTISAMPLEPROC, TexImage2DMultisample)                   \
   X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                   \
   X(PFNGLTEXPARAMETERFVPROC, TexParameterfv)                                 \
   X(PFNGLCREATESHADERPROC, CreateShader)                                     \

@@ -57,12 +57,22 @@ struct Renderer::Impl {
   int supersample = 1;  // scene target is this many times the frame size per axis
   int sceneWidth = 0, sceneHeight = 0;
 
-  std::unique_ptr<ShaderProgram> sceneProgram, groundProgram, skyProgram, shadowProgram,
-      presentProgram;
+  std::unique_ptr<ShaderProgram> sceneProgram, groundProgram, shadowProgram, presentProgram;
   unsigned emptyVao = 0;  // core profile needs a bound VAO even for attribute-less draws
   unsigned shadowFbo = 0, shadowTexture = 0;
+  // What the shadow map holds: the light's matrix and every caster (mesh, model matrix). A
+  // frame with the same ones reuses it (bodies at rest, a still terrain).
+  struct Caster {
+    const void* mesh;
+    Mat4 model;
+    bool operator==(const Caster&) const = default;
+  };
+  bool shadowValid = false;
+  Mat4 shadowViewProjection = Mat4::Zero();
+  std::vector<Caster> shadowCasters;
+  // Scene colour: a multisample texture (MSAA) or a plain one (supersampling), read directly
+  // by the present pass, so there is no resolve blit.
   unsigned sceneFbo = 0, sceneColor = 0, sceneDepth = 0;
-  unsigned resolveFbo = 0, resolveTexture = 0;
   unsigned presentFbo = 0, presentColor = 0;
 
   struct MeshEntry {
@@ -70,6 +80,7 @@ struct Renderer::Impl {
     std::unique_ptr<GpuMesh> mesh;
   };
   std::unordered_map<const void*, MeshEntry> meshes;  // lookup only, never iterated
+  std::vector<std::unique_ptr<GpuMesh>> frameMeshes;  // transient ones, for the current frame
   std::vector<std::uint8_t> readback;
 
   Impl(Context& c, const RenderSettings& s) : context(c), gl(c.api()), settings(s) {}
@@ -78,18 +89,17 @@ struct Renderer::Impl {
   const GpuMesh& mesh(const DrawMesh& m);
   void shadowPass(const DrawList& list, const ShadowProjection& shadow);
   void scenePass(const DrawList& list, const ShadowProjection& shadow);
-  void presentPass();
+  void presentPass(const DrawList& list);
 };
 
 Renderer::Impl::~Impl() {
   meshes.clear();
+  frameMeshes.clear();
   gl.DeleteFramebuffers(1, &shadowFbo);
   gl.DeleteTextures(1, &shadowTexture);
   gl.DeleteFramebuffers(1, &sceneFbo);
-  gl.DeleteRenderbuffers(1, &sceneColor);
+  gl.DeleteTextures(1, &sceneColor);
   gl.DeleteRenderbuffers(1, &sceneDepth);
-  gl.DeleteFramebuffers(1, &resolveFbo);
-  gl.DeleteTextures(1, &resolveTexture);
   gl.DeleteFramebuffers(1, &presentFbo);
   gl.DeleteRenderbuffers(1, &presentColor);
   gl.DeleteVertexArrays(1, &emptyVao);
@@ -128,32 +138,30 @@ void Renderer::Impl::createTargets() {
   checkFramebuffer(gl, "shadow-map");
 
   // Scene: linear light in half floats (no banding in dark shadows before encoding), 32-bit
-  // float depth (bodies resting on the floor do not z-fight with it).
-  gl.GenRenderbuffers(1, &sceneColor);
-  gl.BindRenderbuffer(GL_RENDERBUFFER, sceneColor);
-  gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples > 1 ? samples : 0, GL_RGBA16F,
-                                    sceneWidth, sceneHeight);
+  // float depth (bodies resting on the floor do not z-fight with it). Alpha 0 marks samples
+  // no geometry covered: present.frag puts the sky there.
+  gl.GenTextures(1, &sceneColor);
+  if (samples > 1) {
+    gl.BindTexture(GL_TEXTURE_2D_MULTISAMPLE, sceneColor);
+    gl.TexImage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, samples, GL_RGBA16F, sceneWidth,
+                             sceneHeight, GL_TRUE);
+  } else {
+    gl.BindTexture(GL_TEXTURE_2D, sceneColor);
+    gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA16F, sceneWidth, sceneHeight, 0, GL_RGBA, GL_FLOAT,
+                  nullptr);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
   gl.GenRenderbuffers(1, &sceneDepth);
   gl.BindRenderbuffer(GL_RENDERBUFFER, sceneDepth);
   gl.RenderbufferStorageMultisample(GL_RENDERBUFFER, samples > 1 ? samples : 0,
                                     GL_DEPTH_COMPONENT32F, sceneWidth, sceneHeight);
   gl.GenFramebuffers(1, &sceneFbo);
   gl.BindFramebuffer(GL_FRAMEBUFFER, sceneFbo);
-  gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, sceneColor);
+  gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                          samples > 1 ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D, sceneColor, 0);
   gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, sceneDepth);
   checkFramebuffer(gl, "scene");
-
-  // Resolved scene, read by the present pass.
-  gl.GenTextures(1, &resolveTexture);
-  gl.BindTexture(GL_TEXTURE_2D, resolveTexture);
-  gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA16F, sceneWidth, sceneHeight, 0, GL_RGBA, GL_FLOAT,
-                nullptr);
-  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  gl.GenFramebuffers(1, &resolveFbo);
-  gl.BindFramebuffer(GL_FRAMEBUFFER, resolveFbo);
-  gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, resolveTexture, 0);
-  checkFramebuffer(gl, "resolve");
 
   // Output: 8-bit sRGB-encoded values (the encoding is done in present.frag).
   gl.GenRenderbuffers(1, &presentColor);
@@ -169,6 +177,10 @@ void Renderer::Impl::createTargets() {
 }
 
 const GpuMesh& Renderer::Impl::mesh(const DrawMesh& m) {
+  if (m.transient) {
+    frameMeshes.push_back(std::make_unique<GpuMesh>(gl, *m.mesh, m.normals.get()));
+    return *frameMeshes.back();
+  }
   auto it = meshes.find(m.key);
   if (it == meshes.end()) {
     MeshEntry entry{m.mesh, std::make_unique<GpuMesh>(gl, *m.mesh, m.normals.get())};
@@ -178,6 +190,14 @@ const GpuMesh& Renderer::Impl::mesh(const DrawMesh& m) {
 }
 
 void Renderer::Impl::shadowPass(const DrawList& list, const ShadowProjection& shadow) {
+  std::vector<Caster> casters;
+  for (const DrawInstance& inst : list.instances) {
+    if (!inst.castsShadow || inst.surface == Surface::unlit) continue;
+    casters.push_back(Caster{list.meshes[static_cast<std::size_t>(inst.mesh)].key, inst.model});
+  }
+  if (shadowValid && shadow.viewProjection == shadowViewProjection && casters == shadowCasters) {
+    return;  // the map already holds exactly this
+  }
   gl.BindFramebuffer(GL_FRAMEBUFFER, shadowFbo);
   gl.Viewport(0, 0, settings.shadowMapSize, settings.shadowMapSize);
   gl.ClearDepth(1.0);
@@ -192,6 +212,9 @@ void Renderer::Impl::shadowPass(const DrawList& list, const ShadowProjection& sh
     setMatrix(gl, shadowProgram->uniform("uModel"), inst.model);
     mesh(list.meshes[static_cast<std::size_t>(inst.mesh)]).draw();
   }
+  shadowValid = true;
+  shadowViewProjection = shadow.viewProjection;
+  shadowCasters = std::move(casters);
 }
 
 void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& shadow) {
@@ -204,7 +227,7 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
 
   gl.BindFramebuffer(GL_FRAMEBUFFER, sceneFbo);
   gl.Viewport(0, 0, sceneWidth, sceneHeight);
-  gl.ClearColor(0, 0, 0, 1);
+  gl.ClearColor(0, 0, 0, 0);
   gl.ClearDepth(1.0);
   gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   gl.Enable(GL_DEPTH_TEST);
@@ -246,7 +269,7 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
   if (list.groundHeight) {
     setCommon(*groundProgram);
     // A square around the camera reaching past the fade distance: beyond it the floor has
-    // faded into the sky colour, which the sky pass continues seamlessly.
+    // faded into the sky colour, which present.frag continues seamlessly.
     const double half = list.groundFadeEnd * 1.02;
     const Eigen::Vector2d c = list.camera.position.head<2>();
     gl.Uniform1f(groundProgram->uniform("uGroundHeight"), static_cast<float>(*list.groundHeight));
@@ -261,37 +284,28 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
     gl.DrawArrays(GL_TRIANGLE_STRIP, 0, 4);
     gl.Disable(GL_POLYGON_OFFSET_FILL);
   }
-
-  // Sky: a full-screen triangle at the far plane, drawn only where nothing else was.
-  setCommon(*skyProgram);
-  Mat4 viewRotation = view;
-  viewRotation.block<3, 1>(0, 3).setZero();
-  setMatrix(gl, skyProgram->uniform("uInverseViewProjection"),
-            (projection * viewRotation).inverse());
-  gl.Uniform2f(skyProgram->uniform("uViewportSize"), static_cast<float>(sceneWidth),
-               static_cast<float>(sceneHeight));
-  gl.DepthFunc(GL_LEQUAL);
-  gl.DepthMask(GL_FALSE);
-  gl.DrawArrays(GL_TRIANGLES, 0, 3);
-  gl.DepthMask(GL_TRUE);
-  gl.DepthFunc(GL_LESS);
-
-  // Resolve the samples (averaging linear light, which is what makes edges look right).
-  gl.BindFramebuffer(GL_READ_FRAMEBUFFER, sceneFbo);
-  gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, resolveFbo);
-  gl.BlitFramebuffer(0, 0, sceneWidth, sceneHeight, 0, 0, sceneWidth, sceneHeight,
-                     GL_COLOR_BUFFER_BIT, GL_NEAREST);
 }
 
-void Renderer::Impl::presentPass() {
+void Renderer::Impl::presentPass(const DrawList& list) {
   gl.BindFramebuffer(GL_FRAMEBUFFER, presentFbo);
   gl.Viewport(0, 0, settings.width, settings.height);
   gl.Disable(GL_DEPTH_TEST);
   presentProgram->use();
-  gl.ActiveTexture(GL_TEXTURE0);
-  gl.BindTexture(GL_TEXTURE_2D, resolveTexture);
-  gl.Uniform1i(presentProgram->uniform("uImage"), 0);
+  gl.ActiveTexture(samples > 1 ? GL_TEXTURE0 : GL_TEXTURE1);
+  gl.BindTexture(samples > 1 ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D, sceneColor);
+  gl.Uniform1i(presentProgram->uniform("uScene"), 0);
+  gl.Uniform1i(presentProgram->uniform("uImage"), 1);
+  gl.Uniform1i(presentProgram->uniform("uSamples"), samples);
   gl.Uniform1i(presentProgram->uniform("uSupersample"), supersample);
+  // The sky: view rays from the camera's rotation alone (the sky is infinitely far).
+  const Mat4 projection =
+      list.camera.projectionMatrix(static_cast<double>(settings.width) / settings.height);
+  Mat4 viewRotation = list.camera.viewMatrix();
+  viewRotation.block<3, 1>(0, 3).setZero();
+  setMatrix(gl, presentProgram->uniform("uInverseViewProjection"),
+            (projection * viewRotation).inverse());
+  gl.Uniform2f(presentProgram->uniform("uSceneSize"), static_cast<float>(sceneWidth),
+               static_cast<float>(sceneHeight));
   gl.Uniform1i(presentProgram->uniform("uDither"), settings.dither ? 1 : 0);
   gl.BindVertexArray(emptyVao);
   gl.DrawArrays(GL_TRIANGLES, 0, 3);
@@ -308,7 +322,6 @@ Renderer::Renderer(Context& context, const RenderSettings& settings)
   const std::string& dir = settings.shaderDir;
   r.sceneProgram = std::make_unique<ShaderProgram>(r.gl, dir, "scene.vert", "scene.frag");
   r.groundProgram = std::make_unique<ShaderProgram>(r.gl, dir, "ground.vert", "ground.frag");
-  r.skyProgram = std::make_unique<ShaderProgram>(r.gl, dir, "fullscreen.vert", "sky.frag");
   r.shadowProgram = std::make_unique<ShaderProgram>(r.gl, dir, "shadow.vert", "shadow.frag");
   r.presentProgram = std::make_unique<ShaderProgram>(r.gl, dir, "fullscreen.vert", "present.frag");
   r.createTargets();
@@ -327,9 +340,10 @@ void Renderer::render(const DrawList& list, Image& out) {
       fitShadowProjection(list.sunDirection, list.casterCentre, list.casterRadius,
                           list.groundHeight.value_or(list.casterCentre.z() - list.casterRadius),
                           r.settings.shadowMapSize);
+  r.frameMeshes.clear();  // last frame's trails
   r.shadowPass(list, shadow);
   r.scenePass(list, shadow);
-  r.presentPass();
+  r.presentPass(list);
 
   const int w = r.settings.width, h = r.settings.height;
   r.readback.resize(static_cast<std::size_t>(w) * h * 4);

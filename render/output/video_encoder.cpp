@@ -9,9 +9,14 @@ extern "C" {
 }
 
 #include <algorithm>
+#include <condition_variable>
 #include <cstdio>
+#include <deque>
+#include <exception>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
+#include <thread>
 
 #include "render/output/output_file.h"
 #include "sim/core/error.h"
@@ -43,8 +48,30 @@ struct VideoEncoder::Impl {
   int lastIndex = -1;
   bool finished = false;
 
-  ~Impl() { release(); }
+  // The encoding thread: write() queues a copy of the frame and returns, so the caller draws
+  // frame k + 1 while frame k is converted and encoded. One worker, frames in order, x264 on
+  // one thread inside it: the bytes are those of encoding in the caller's thread.
+  struct Queued {
+    int index;
+    Image image;
+  };
+  std::thread worker;
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::deque<Queued> queue;    // at most kQueueDepth frames waiting
+  bool closing = false;        // no more frames will come
+  std::exception_ptr failure;  // the worker's first error, rethrown to the caller
+  static constexpr std::size_t kQueueDepth = 2;
+
+  ~Impl() {
+    stopWorker();
+    release();
+  }
   void release();
+  void encodeLoop();
+  void encode(int index, const Image& image);
+  void stopWorker();  // lets the worker finish the queue and joins it
+  void rethrowFailure();
   void fail(const std::string& what, int code) {
     throw InputError(path, what + (code < 0 ? ": " + avError(code) : std::string()));
   }
@@ -62,6 +89,56 @@ void VideoEncoder::Impl::release() {
     avformat_free_context(format);
     format = nullptr;
   }
+}
+
+void VideoEncoder::Impl::encodeLoop() {
+  for (;;) {
+    Queued next;
+    {
+      std::unique_lock lock(mutex);
+      changed.wait(lock, [this] { return !queue.empty() || closing; });
+      if (queue.empty()) return;
+      next = std::move(queue.front());
+    }
+    try {
+      if (!failure) encode(next.index, next.image);
+    } catch (...) {
+      std::lock_guard lock(mutex);
+      failure = std::current_exception();
+    }
+    {
+      std::lock_guard lock(mutex);
+      queue.pop_front();
+    }
+    changed.notify_all();
+  }
+}
+
+void VideoEncoder::Impl::encode(int index, const Image& image) {
+  int status = av_frame_make_writable(frame);
+  if (status < 0) fail("out of memory", status);
+  const std::uint8_t* source[1] = {image.rgb.data()};
+  const int sourceStride[1] = {image.width * 3};
+  sws_scale(scaler, source, sourceStride, 0, image.height, frame->data, frame->linesize);
+  frame->pts = index;  // in 1/fps: frame k at t = k / fps
+  status = avcodec_send_frame(codec, frame);
+  if (status < 0) fail("H.264 encoding failed", status);
+  drain();
+}
+
+void VideoEncoder::Impl::stopWorker() {
+  if (!worker.joinable()) return;
+  {
+    std::lock_guard lock(mutex);
+    closing = true;
+  }
+  changed.notify_all();
+  worker.join();
+}
+
+void VideoEncoder::Impl::rethrowFailure() {
+  std::lock_guard lock(mutex);
+  if (failure) std::rethrow_exception(failure);
 }
 
 void VideoEncoder::Impl::drain() {
@@ -176,6 +253,7 @@ VideoEncoder::VideoEncoder(const std::string& path, const VideoSettings& setting
     e.release();
     throw InputError(path, "cannot write the MP4 header: " + avError(status));
   }
+  e.worker = std::thread([&e] { e.encodeLoop(); });
 }
 
 VideoEncoder::~VideoEncoder() {
@@ -189,6 +267,7 @@ VideoEncoder::~VideoEncoder() {
     } catch (...) {
     }
   }
+  e.stopWorker();
   e.release();  // the OutputFile removes the temporary file
 }
 
@@ -199,15 +278,13 @@ void VideoEncoder::write(int index, const Image& image) {
   if (image.width != e.settings.width || image.height != e.settings.height) {
     throw std::logic_error("VideoEncoder: frame size differs from the video's");
   }
-  int status = av_frame_make_writable(e.frame);
-  if (status < 0) e.fail("out of memory", status);
-  const std::uint8_t* source[1] = {image.rgb.data()};
-  const int sourceStride[1] = {image.width * 3};
-  sws_scale(e.scaler, source, sourceStride, 0, image.height, e.frame->data, e.frame->linesize);
-  e.frame->pts = index;  // in 1/fps: frame k at t = k / fps
-  status = avcodec_send_frame(e.codec, e.frame);
-  if (status < 0) e.fail("H.264 encoding failed", status);
-  e.drain();
+  e.rethrowFailure();
+  {
+    std::unique_lock lock(e.mutex);
+    e.changed.wait(lock, [&e] { return e.queue.size() < Impl::kQueueDepth; });
+    e.queue.push_back(Impl::Queued{index, image});
+  }
+  e.changed.notify_all();
   e.lastIndex = index;
   ++e.frames;
 }
@@ -217,6 +294,8 @@ void VideoEncoder::finish() {
   if (e.finished) return;
   e.finished = true;  // whatever happens below, the destructor must not try again
   try {
+    e.stopWorker();  // every queued frame encoded
+    e.rethrowFailure();
     int status = avcodec_send_frame(e.codec, nullptr);  // flush the delayed frames
     if (status < 0) e.fail("H.264 encoding failed", status);
     e.drain();

@@ -60,13 +60,33 @@ struct EmitterSpec {
   std::string where;
 };
 
+// One key of a camera path: where the camera is, what it looks at and its field of view at a
+// time. Between keys all three are interpolated smoothly (render/camera.h).
+struct CameraKey {
+  double time = 0;  // s
+  Vec3 position = Vec3::Zero();
+  Vec3 lookAt = Vec3::Zero();
+  double fovDegrees = 40;
+};
+
+// A camera. Which kind follows from the keys given: `path`: a keyframed path; `follow`: a chase
+// camera keeping the offset position - look_at from the body (or the group's centroid), with
+// an exponential lag of time constant `smoothing`; `position`/`look_at`: a fixed camera;
+// neither: the automatic camera, which frames every body still on the ground or terrain.
 struct CameraSpec {
-  bool given = false;  // false: the renderer frames all bodies and the ground automatically
+  std::string name = "camera";  // "camera" for [camera], NAME for [cameras.NAME]
+  bool given = false;           // a view is given (fixed or chase); false: automatic, or the path
   Vec3 position = Vec3(4, -6, 3);
   Vec3 lookAt = Vec3::Zero();
   Vec3 up = Vec3::UnitZ();
   double fovDegrees = 40;         // vertical
   std::optional<int> followBody;  // body index whose centre of mass the camera looks at
+  std::vector<int> followGroup;   // or several bodies: the camera looks at their centroid
+  double smoothing = 0;           // s, time constant of the chase camera's lag; 0: rigid
+  std::vector<CameraKey> path;    // keys in increasing time; empty: no path
+  double minPixels = 0;           // bodies smaller on screen are drawn as markers this wide (px)
+  double trailSeconds = 0;        // s of trajectory drawn behind each body; 0: no trails
+  std::string where;              // "file:line:column" of the table
 };
 
 struct OutputSpec {
@@ -98,7 +118,8 @@ struct SceneSpec {
   std::vector<ShapeSpec> shapes;
   std::vector<BodySpec> bodies;
   std::vector<EmitterSpec> emitters;
-  CameraSpec camera;
+  CameraSpec camera;                // [camera], or the one `render --camera NAME` chose
+  std::vector<CameraSpec> cameras;  // [cameras.NAME] tables, in file order
   OutputSpec output;
 };
 
@@ -121,6 +142,9 @@ void applyStepOverride(SceneSpec& spec, const std::string& text);
 // The contact method of every body: "voxel" (sphere trees) or "polygon" (the paper's
 // comparison method, convex meshes only); throws InputError for anything else.
 void applyColliderOverride(SceneSpec& spec, const std::string& method);
+// Makes [cameras.NAME] (or "camera", the [camera] table) the scene's camera. Throws
+// InputError naming the scene's cameras when there is none by that name.
+void selectCamera(SceneSpec& spec, const std::string& name);
 
 // A World built from a spec, with what the renderer needs to draw it.
 struct BuiltScene {

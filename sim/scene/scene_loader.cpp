@@ -566,39 +566,112 @@ void readEmitters(const Reader& r, const toml::array& emitters, SceneSpec& spec)
 
 // --- [camera], [output] -------------------------------------------------------------------
 
-void readCamera(const Reader& r, const toml::table& t, SceneSpec& spec) {
-  r.checkKeys(t, {"position", "look_at", "up", "fov", "follow"}, "[camera]");
-  CameraSpec& c = spec.camera;
-  c.given = true;
+// A body index for `follow`: [[bodies]] in file order, then each emitter's releases in turn.
+int readBodyIndex(const Reader& r, const toml::node& n, const std::string& name,
+                  const SceneSpec& spec) {
+  std::int64_t total = static_cast<std::int64_t>(spec.bodies.size());
+  for (const auto& e : spec.emitters) total += e.count;
+  const std::int64_t id = r.integer(n, name);
+  if (id < 0 || id >= total)
+    r.fail(n, "'" + name + "' must be a body index from 0 to " + std::to_string(total - 1) +
+                  " ([[bodies]] in order, then the emitters' bodies), got " + std::to_string(id) +
+                  (total == 0 ? " (the scene has no bodies)" : ""));
+  return static_cast<int>(id);
+}
+
+double readFov(const Reader& r, const toml::node& n, const std::string& name) {
+  const double fov = r.number(n, name);
+  if (!(fov > 0 && fov < 180))
+    r.fail(n, "'" + name + "' must be a vertical field of view in degrees, > 0 and < 180, got " +
+                  formatNumber(fov));
+  return fov;
+}
+
+// `path = [{ time = 0, position = [...], look_at = [...], fov = 40 }, ...]`: times increase;
+// fov defaults to the camera's.
+void readCameraPath(const Reader& r, const toml::node& n, CameraSpec& c) {
+  const toml::array* keys = n.as_array();
+  if (keys == nullptr || keys->empty())
+    r.fail(n, "'path' must be an array of keys {time, position, look_at, fov}, got " + typeName(n));
+  for (std::size_t i = 0; i < keys->size(); ++i) {
+    const std::string label = "path[" + std::to_string(i) + "]";
+    const toml::table& k = r.table(*keys->get(i), label);
+    r.checkKeys(k, {"time", "position", "look_at", "fov"}, label);
+    CameraKey key;
+    key.time = r.nonNegative(r.require(k, "time", label), "time", " s");
+    key.position = r.vec3(r.require(k, "position", label), "position");
+    key.lookAt = r.vec3(r.require(k, "look_at", label), "look_at");
+    key.fovDegrees = c.fovDegrees;
+    if (const auto* f = k.get("fov")) key.fovDegrees = readFov(r, *f, "fov");
+    if (!((key.lookAt - key.position).norm() > 0))
+      r.fail(k, "'look_at' must differ from 'position' in " + label);
+    if (!c.path.empty() && !(key.time > c.path.back().time))
+      r.fail(*k.get("time"), "path key times must increase, got " + formatNumber(key.time) +
+                                 " after " + formatNumber(c.path.back().time));
+    c.path.push_back(key);
+  }
+}
+
+// [camera] and [cameras.NAME] share their keys.
+CameraSpec readCamera(const Reader& r, const toml::table& t, const std::string& name,
+                      const std::string& label, const SceneSpec& spec) {
+  r.checkKeys(
+      t, {"position", "look_at", "up", "fov", "follow", "smoothing", "path", "min_pixels", "trail"},
+      label);
+  CameraSpec c;
+  c.name = name;
+  c.where = r.where(t);
+  // A view is given by any of these; a table with only trail or min_pixels keeps the
+  // automatic camera, and a path replaces the fixed view.
+  c.given = t.get("path") == nullptr && (t.get("position") || t.get("look_at") || t.get("up") ||
+                                         t.get("fov") || t.get("follow"));
   if (const auto* n = t.get("position")) c.position = r.vec3(*n, "position");
   if (const auto* n = t.get("look_at")) c.lookAt = r.vec3(*n, "look_at");
   if (const auto* n = t.get("up")) {
     c.up = r.vec3(*n, "up");
     if (!(c.up.norm() > 0)) r.fail(*n, "'up' must be a non-zero vector, e.g. [0, 0, 1]");
   }
-  if (const auto* n = t.get("fov")) {
-    c.fovDegrees = r.number(*n, "fov");
-    if (!(c.fovDegrees > 0 && c.fovDegrees < 180))
-      r.fail(*n, "'fov' must be a vertical field of view in degrees, > 0 and < 180, got " +
-                     formatNumber(c.fovDegrees));
-  }
+  if (const auto* n = t.get("fov")) c.fovDegrees = readFov(r, *n, "fov");
   if (const auto* n = t.get("follow")) {
-    // Body ids: [[bodies]] in file order, then each emitter's releases in turn.
-    std::int64_t total = static_cast<std::int64_t>(spec.bodies.size());
-    for (const auto& e : spec.emitters) total += e.count;
-    const std::int64_t id = r.integer(*n, "follow");
-    if (id < 0 || id >= total)
-      r.fail(*n, "'follow' must be a body index from 0 to " + std::to_string(total - 1) +
-                     " ([[bodies]] in order, then the emitters' bodies), got " +
-                     std::to_string(id) + (total == 0 ? " (the scene has no bodies)" : ""));
-    c.followBody = static_cast<int>(id);
+    if (const toml::array* group = n->as_array()) {
+      if (group->empty()) r.fail(*n, "'follow' must be a body index or a non-empty array of them");
+      for (std::size_t i = 0; i < group->size(); ++i)
+        c.followGroup.push_back(
+            readBodyIndex(r, *group->get(i), "follow[" + std::to_string(i) + "]", spec));
+    } else {
+      c.followBody = readBodyIndex(r, *n, "follow", spec);
+    }
   }
+  if (const auto* n = t.get("smoothing")) c.smoothing = r.nonNegative(*n, "smoothing", " s");
+  if (const auto* n = t.get("min_pixels")) c.minPixels = r.inRange(*n, "min_pixels", 0, 256);
+  if (const auto* n = t.get("trail")) c.trailSeconds = r.nonNegative(*n, "trail", " s");
+  if (const auto* n = t.get("path")) {
+    if (t.get("follow")) r.fail(*n, "a camera has either a 'path' or 'follow', not both");
+    readCameraPath(r, *n, c);
+  }
+  const bool follows = c.followBody || !c.followGroup.empty();
   const toml::node* where = t.get("look_at") ? t.get("look_at") : t.get("position");
-  if (where != nullptr && !c.followBody) {
+  if (where != nullptr && !follows) {
     const Vec3 view = c.lookAt - c.position;
     if (!(view.norm() > 0)) r.fail(*where, "camera 'look_at' must differ from 'position'");
     if (!(view.normalized().cross(c.up.normalized()).norm() > 1e-9))
       r.fail(*where, "camera 'up' must not be parallel to the view direction (look_at - position)");
+  }
+  return c;
+}
+
+void readCameras(const Reader& r, const toml::table& t, SceneSpec& spec) {
+  std::vector<std::pair<const toml::key*, const toml::node*>> entries;
+  for (auto&& [k, v] : t) entries.emplace_back(&k, &v);
+  std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+    return before(a.first->source(), b.first->source());
+  });
+  for (const auto& [k, v] : entries) {
+    const std::string name(k->str());
+    const std::string label = "[cameras." + name + "]";
+    if (name == "camera")
+      r.fail(k->source(), "'camera' names the [camera] table; pick another name");
+    spec.cameras.push_back(readCamera(r, r.table(*v, "cameras." + name), name, label, spec));
   }
 }
 
@@ -641,9 +714,10 @@ SceneSpec loadScene(const std::string& path) {
   }
 
   const Reader r(path);
-  r.checkKeys(
-      root, {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera", "output"},
-      "the scene's top level");
+  r.checkKeys(root,
+              {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera", "cameras",
+               "output"},
+              "the scene's top level");
   const fs::path sceneFolder = fs::path(path).parent_path();
 
   // Shapes before bodies and emitters (which name them); bodies and emitters before the camera
@@ -654,7 +728,9 @@ SceneSpec loadScene(const std::string& path) {
   if (const auto* n = root.get("shapes")) readShapes(r, r.table(*n, "shapes"), sceneFolder, spec);
   if (const auto* n = root.get("bodies")) readBodies(r, arrayOfTables(r, *n, "bodies"), spec);
   if (const auto* n = root.get("emitters")) readEmitters(r, arrayOfTables(r, *n, "emitters"), spec);
-  if (const auto* n = root.get("camera")) readCamera(r, r.table(*n, "camera"), spec);
+  if (const auto* n = root.get("camera"))
+    spec.camera = readCamera(r, r.table(*n, "camera"), "camera", "[camera]", spec);
+  if (const auto* n = root.get("cameras")) readCameras(r, r.table(*n, "cameras"), spec);
   if (const auto* n = root.get("output")) readOutput(r, r.table(*n, "output"), spec);
 
   // Frame k is at k / fps for k = 0 .. floor(duration * fps): keep that count allocatable.
@@ -665,6 +741,19 @@ SceneSpec loadScene(const std::string& path) {
                          " frames; at most " + formatNumber(kMaxFrames) + " are supported");
   }
   return spec;
+}
+
+void selectCamera(SceneSpec& spec, const std::string& name) {
+  if (name == "camera") return;  // [camera], or the automatic camera without one
+  std::string names = "camera";
+  for (const CameraSpec& c : spec.cameras) {
+    if (c.name == name) {
+      spec.camera = c;
+      return;
+    }
+    names += ", " + c.name;
+  }
+  throw InputError(spec.path, "no camera named '" + name + "'; the scene has: " + names);
 }
 
 }  // namespace vf

@@ -218,5 +218,211 @@ TEST(Camera, LookAtMatrixMapsTargetOntoTheNegativeZAxis) {
   EXPECT_NEAR(rotation.determinant(), 1, 1e-12);
 }
 
+// --- cameras for big scenes ------------------------------------------------------------------
+
+// A fixed camera (CameraSpec with a given view).
+CameraSpec fixedCamera(const Vec3& position, const Vec3& lookAt) {
+  CameraSpec spec;
+  spec.given = true;
+  spec.position = position;
+  spec.lookAt = lookAt;
+  return spec;
+}
+
+std::vector<CameraKey> threeKeys() {
+  return {CameraKey{0.0, Vec3(0, -10, 2), Vec3(0, 0, 0), 40},
+          CameraKey{1.5, Vec3(8, -6, 5), Vec3(1, 1, 0.5), 30},
+          CameraKey{4.0, Vec3(12, 4, 3), Vec3(2, 3, 1), 55}};
+}
+
+TEST(Camera, PathPassesThroughEveryKeyExactlyAndHoldsBeyondTheEnds) {
+  const std::vector<CameraKey> keys = threeKeys();
+  for (const CameraKey& k : keys) {
+    const CameraView v = interpolateCameraPath(keys, k.time, Vec3::UnitZ());
+    EXPECT_EQ(v.position, k.position) << "t = " << k.time;
+    EXPECT_EQ(v.lookAt, k.lookAt) << "t = " << k.time;
+    EXPECT_EQ(v.fovYDegrees, k.fovDegrees) << "t = " << k.time;
+  }
+  EXPECT_EQ(interpolateCameraPath(keys, -3, Vec3::UnitZ()).position, keys.front().position);
+  EXPECT_EQ(interpolateCameraPath(keys, 99, Vec3::UnitZ()).lookAt, keys.back().lookAt);
+  // Between keys it moves: not a step function.
+  const Vec3 mid = interpolateCameraPath(keys, 0.75, Vec3::UnitZ()).position;
+  EXPECT_GT((mid - keys[0].position).norm(), 1);
+  EXPECT_GT((mid - keys[1].position).norm(), 1);
+}
+
+TEST(Camera, PathVelocityIsContinuousAtAKeyAndEqualsTheCatmullRomSlope) {
+  // At the middle key the derivative from the left and from the right must both equal the
+  // chord of the neighbouring keys over their time gap. One-sided differences over eps are off
+  // by at most eps/2 * max |p''|; on a Hermite segment of h seconds |p''| <= (6 |dp| + 4 h |m0|
+  // + 4 h |m1|) / h^2, under 60 units/s^2 for these keys (the fov's first segment: 54 deg/s^2),
+  // so eps = 1e-6 s leaves under 3e-5; rounding adds ~1e-15 * 55 / 1e-6 = 6e-8.
+  const std::vector<CameraKey> keys = threeKeys();
+  const double t = keys[1].time, eps = 1e-6;
+  const auto at = [&](double time) { return interpolateCameraPath(keys, time, Vec3::UnitZ()); };
+  const Vec3 slope = (keys[2].position - keys[0].position) / (keys[2].time - keys[0].time);
+  const Vec3 left = (at(t).position - at(t - eps).position) / eps;
+  const Vec3 right = (at(t + eps).position - at(t).position) / eps;
+  EXPECT_LT((left - slope).norm(), 1e-4);
+  EXPECT_LT((right - slope).norm(), 1e-4);
+  const double fovSlope = (keys[2].fovDegrees - keys[0].fovDegrees) / (keys[2].time - keys[0].time);
+  EXPECT_NEAR((at(t).fovYDegrees - at(t - eps).fovYDegrees) / eps, fovSlope, 1e-4);
+  EXPECT_NEAR((at(t + eps).fovYDegrees - at(t).fovYDegrees) / eps, fovSlope, 1e-4);
+}
+
+TEST(Camera, ChaseLagDecaysAsTheExponentialOfTheFormula) {
+  // A target that jumps by 1 m: after n frames of dt the gap is exp(-n dt / T) exactly (the
+  // factors exp(-dt/T) multiply), up to ~n roundings of 1e-16.
+  const double dt = 1.0 / 30, T = 0.4;
+  Vec3 c = Vec3::Zero();
+  const Vec3 target(1, 0, 0);
+  for (int n = 1; n <= 60; ++n) {
+    c = chaseStep(c, target, dt, T);
+    EXPECT_NEAR((target - c).norm(), std::exp(-n * dt / T), 1e-13) << "frame " << n;
+  }
+  // A target moving at v: the lag tends to v dt a / (1 - a), a = exp(-dt / T) (about v T).
+  const Vec3 v(2, -1, 0.5);
+  c = Vec3::Zero();
+  Vec3 x = Vec3::Zero();
+  for (int n = 1; n <= 600; ++n) {
+    x += v * dt;
+    c = chaseStep(c, x, dt, T);
+  }
+  const double a = std::exp(-dt / T);
+  EXPECT_LT(((x - c) - v * (dt * a / (1 - a))).norm(), 1e-9);
+  // T = 0: no lag at all.
+  EXPECT_EQ(chaseStep(Vec3(5, 5, 5), Vec3(1, 2, 3), dt, 0), Vec3(1, 2, 3));
+}
+
+TEST(DrawList, ChaseCameraOfAGroupLooksAtTheSmoothedCentroid) {
+  // Two bodies jump at frame 10 from around (0, 0, 1) to around (3, 0, 1): frame by frame the
+  // camera's look-at point must follow chaseStep of the centroid, and frame k drawn after all
+  // frames were observed must equal frame k drawn right after it was observed.
+  CameraSpec spec = fixedCamera(Vec3(0, -6, 3), Vec3(0, 0, 1));
+  spec.followGroup = {0, 1};
+  spec.smoothing = 0.3;
+  const auto shape = boxShape(Vec3(0.2, 0.2, 0.2));
+  const auto posed = [&](int k) {
+    const double x = k < 10 ? 0 : 3;
+    return std::vector<BodyView>{body(shape, Vec3(x - 0.5, 0, 1)),
+                                 body(shape, Vec3(x + 0.5, 0, 1))};
+  };
+  DrawListBuilder live(spec, 0.0, 1280, 720, 30);
+  DrawListBuilder twoPass(spec, 0.0, 1280, 720, 30);
+  std::vector<DrawList> liveLists;
+  for (int k = 0; k < 40; ++k) liveLists.push_back(live.build(posed(k)));
+  for (int k = 0; k < 40; ++k) twoPass.observe(posed(k));
+  Vec3 expected(0, 0, 1);
+  for (int k = 0; k < 40; ++k) {
+    const Vec3 centroid(k < 10 ? 0 : 3, 0, 1);
+    expected = k == 0 ? centroid : chaseStep(expected, centroid, 1.0 / 30, 0.3);
+    const DrawList list = twoPass.build(posed(k), k);
+    EXPECT_LT((list.camera.lookAt - expected).norm(), 1e-12) << "frame " << k;
+    EXPECT_LT((list.camera.position - (expected + Vec3(0, -6, 2))).norm(), 1e-12);
+    EXPECT_EQ(list.camera.lookAt, liveLists[static_cast<std::size_t>(k)].camera.lookAt);
+  }
+}
+
+// A flat square terrain of side `size` m at z = 0, two triangles.
+std::shared_ptr<TriMesh> flatTerrain(double size) {
+  auto t = std::make_shared<TriMesh>();
+  const double h = size / 2;
+  t->vertices = {Vec3(-h, -h, 0), Vec3(h, -h, 0), Vec3(-h, h, 0), Vec3(h, h, 0)};
+  t->triangles = {{0, 1, 3}, {0, 3, 2}};
+  return t;
+}
+
+TEST(DrawList, AutomaticCameraFramesBodiesOnTheTerrainAndIgnoresOnesThatLeftIt) {
+  const auto shape = boxShape(Vec3(0.5, 0.5, 0.5));
+  const std::vector<BodyView> onTerrain{body(shape, Vec3(-20, 10, 0.5)),
+                                        body(shape, Vec3(30, -15, 4))};
+  std::vector<BodyView> bodies = onTerrain;
+  bodies.push_back(body(shape, Vec3(400, 0, -30)));  // fell off the 200 m map
+  bodies.push_back(body(shape, Vec3(0, 0, -500)));   // far below it (tunnelled, say)
+  DrawListBuilder builder(CameraSpec{}, std::nullopt, 1280, 720, 30);
+  builder.setTerrain(flatTerrain(200));
+  EXPECT_TRUE(builder.onStage(bodies[0]));
+  EXPECT_TRUE(builder.onStage(bodies[1]));
+  EXPECT_FALSE(builder.onStage(bodies[2]));
+  EXPECT_FALSE(builder.onStage(bodies[3]));
+  const DrawList list = builder.build(bodies);
+  const double aspect = 1280.0 / 720.0;
+  for (const BodyView& b : onTerrain) {
+    EXPECT_GE(frustumClearance(list.camera, aspect, b.x, 0.87), 0) << b.x.transpose();
+  }
+  // The leavers are not what the picture is about: the camera did not back off to show them.
+  EXPECT_LT(frustumClearance(list.camera, aspect, bodies[2].x, 0), 0);
+  EXPECT_LT(frustumClearance(list.camera, aspect, bodies[3].x, 0), 0);
+  // Same camera as without them.
+  DrawListBuilder without(CameraSpec{}, std::nullopt, 1280, 720, 30);
+  without.setTerrain(flatTerrain(200));
+  EXPECT_EQ(without.build(onTerrain).camera.position, list.camera.position);
+}
+
+TEST(DrawList, SmallBodiesInAWideShotAreDrawnAsMarkersOfTheMinimumSize) {
+  CameraSpec spec = fixedCamera(Vec3(0, -1000, 200), Vec3(0, 0, 0));
+  spec.minPixels = 6;
+  const auto rock = boxShape(Vec3(0.3, 0.3, 0.3));  // 1 m across: about 1 pixel at 1 km
+  const auto house = boxShape(Vec3(20, 20, 20));    // big enough as it is
+  const std::vector<BodyView> bodies{body(rock, Vec3(10, 0, 0.3)), body(house, Vec3(-50, 0, 20))};
+  DrawListBuilder builder(spec, 0.0, 1280, 720, 30);
+  const DrawList list = builder.build(bodies);
+  ASSERT_EQ(list.instances.size(), 2u);
+  const DrawInstance& marker = list.instances[0];
+  EXPECT_EQ(marker.surface, Surface::unlit);
+  EXPECT_FALSE(marker.castsShadow);
+  // Scaled about its centre so that it projects exactly min_pixels across.
+  const double scale = marker.model.block<3, 1>(0, 0).norm();
+  const double radius = builder.shapeRadius(rock);
+  EXPECT_NEAR(projectedDiameter(list.camera, bodies[0].x, scale * radius, 720), 6, 1e-9);
+  EXPECT_EQ(Vec3(marker.model.block<3, 1>(0, 3)), bodies[0].x);
+  EXPECT_EQ(list.instances[1].surface, Surface::body);
+  EXPECT_EQ(Mat3(list.instances[1].model.block<3, 3>(0, 0)), Mat3::Identity());
+}
+
+TEST(DrawList, ShadowMapFollowsTheViewAtKilometreScale) {
+  // A 1 m rock on a 2.6 km terrain, seen from 60 m: fitted to all casters, one texel of a
+  // 2048 map would be 2 * 1840 m / 2048 = 1.8 m and the rock would cast no visible shadow. The
+  // map must give the rock at least 8 texels across.
+  CameraSpec spec = fixedCamera(Vec3(40, -40, 30), Vec3(0, 0, 0));
+  const auto rock = boxShape(Vec3(0.5, 0.5, 0.5));
+  const std::vector<BodyView> bodies{body(rock, Vec3(0, 0, 0.5))};
+  DrawListBuilder builder(spec, std::nullopt, 1280, 720, 30);
+  builder.setTerrain(flatTerrain(2600));
+  const DrawList list = builder.build(bodies);
+  const ShadowProjection shadow =
+      fitShadowProjection(list.sunDirection, list.casterCentre, list.casterRadius, 0, 2048);
+  EXPECT_GE(1.0 / shadow.texelSize, 8) << "texel " << shadow.texelSize << " m";
+  // And the rock itself is inside the map.
+  const Vec4 c = shadow.viewProjection * Vec4(0, 0, 0.5, 1);
+  EXPECT_LE(c.head<2>().cwiseAbs().maxCoeff(), 1.0);
+}
+
+TEST(DrawList, TrailsFollowTheBodyOverTheLastSeconds) {
+  CameraSpec spec = fixedCamera(Vec3(0, -20, 2), Vec3(0, 0, 2));
+  spec.trailSeconds = 0.5;  // 15 frames at 30 fps
+  const auto shape = boxShape(Vec3(0.1, 0.1, 0.1));
+  DrawListBuilder builder(spec, std::nullopt, 640, 360, 30);
+  DrawList list;
+  for (int k = 0; k < 40; ++k)
+    list = builder.build(std::vector<BodyView>{body(shape, Vec3(0.1 * k, 0, 2))});
+  ASSERT_EQ(list.instances.size(), 2u);  // the body and its trail
+  const DrawInstance& trail = list.instances[1];
+  EXPECT_EQ(trail.surface, Surface::unlit);
+  const DrawMesh& mesh = list.meshes[static_cast<std::size_t>(trail.mesh)];
+  EXPECT_TRUE(mesh.transient);
+  // 15 segments, from x = 0.1 * 24 to 0.1 * 39, each a quad around the path.
+  EXPECT_EQ(mesh.mesh->triangles.size(), 30u);
+  double lo = 1e9, hi = -1e9;
+  for (const Vec3& v : mesh.mesh->vertices) {
+    lo = std::min(lo, v.x());
+    hi = std::max(hi, v.x());
+    EXPECT_NEAR(v.y(), 0, 1e-12);  // the ribbon faces the camera (it looks along +y)
+    EXPECT_NEAR(v.z(), 2, 0.05);
+  }
+  EXPECT_NEAR(lo, 2.4, 1e-9);
+  EXPECT_NEAR(hi, 3.9, 1e-9);
+}
+
 }  // namespace
 }  // namespace vf

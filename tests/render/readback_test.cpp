@@ -162,6 +162,104 @@ TEST_F(Readback, SameDrawListRendersIdenticalBytes) {
   EXPECT_GT(distinct, 500);
 }
 
+TEST_F(Readback, ShadowMapIsReusedOnlyWhileTheCastersStayPut) {
+  // The renderer keeps the shadow map while the light and every caster are unchanged. A frame
+  // after a body moved must equal the same frame from a fresh renderer (the map was redrawn),
+  // and going back must give the first frame again. The moved cube's shadow is part of the
+  // picture, so a stale map would show it in the wrong place.
+  const auto cube = test::boxShape(Vec3(0.25, 0.25, 0.25));
+  const auto posed = [&](const Vec3& x) {
+    return std::vector<BodyView>{test::body(cube, Vec3(0, 0, 0.25)), test::body(cube, x)};
+  };
+  gl::RenderSettings settings = tinySettings(96, 64);
+  // One builder: the same automatic camera and shadow box for both poses (only the caster moves).
+  DrawListBuilder builder(CameraSpec{}, 0.0, 96.0 / 64.0);
+  builder.observe(posed(Vec3(0.7, 0.1, 0.6)));
+  builder.observe(posed(Vec3(0.7, 0.4, 0.6)));
+  const DrawList a = builder.build(posed(Vec3(0.7, 0.1, 0.6)));
+  DrawList b = builder.build(posed(Vec3(0.7, 0.4, 0.6)));
+  b.casterCentre = a.casterCentre;  // same light box: only the caster differs
+  b.casterRadius = a.casterRadius;
+  gl::Renderer renderer(*context_, settings);
+  const Image first = renderer.render(a);
+  const Image moved = renderer.render(b);
+  const Image back = renderer.render(a);
+  gl::Renderer fresh(*context_, settings);
+  EXPECT_EQ(moved.rgb, fresh.render(b).rgb);
+  EXPECT_EQ(first.rgb, back.rgb);
+  EXPECT_NE(first.rgb, moved.rgb);
+}
+
+// Pixel position (x right, y down, pixel centres at +0.5) where a world point projects.
+Eigen::Vector2d projectToPixel(const CameraView& c, int w, int h, const Vec3& p) {
+  const Vec4 clip =
+      c.projectionMatrix(double(w) / h) * c.viewMatrix() * Vec4(p.x(), p.y(), p.z(), 1);
+  const double ndcX = clip.x() / clip.w(), ndcY = clip.y() / clip.w();
+  return Eigen::Vector2d((ndcX + 1) / 2 * w, (1 - ndcY) / 2 * h);
+}
+
+TEST_F(Readback, TrailAndMinimumSizeMarkerAppearWhereProjected) {
+  // A 2 cm cube 300 m away (well under a pixel) flies left to right in front of the sky. With
+  // min_pixels = 9 it is drawn as a flat marker; its trail of the last second is a ribbon two
+  // pixels wide. Oracles: the camera's own projection matrices (restated in projectToPixel),
+  // and the unlit colour through the sRGB encoding (srgbByte).
+  const int w = 160, h = 90;
+  CameraSpec spec;
+  spec.given = true;
+  spec.position = Vec3(0, -300, 10);
+  spec.lookAt = Vec3(0, 0, 10);
+  spec.fovDegrees = 20;
+  spec.minPixels = 9;
+  spec.trailSeconds = 1;
+  const auto pebble = test::boxShape(Vec3(0.01, 0.01, 0.01));
+  const Color red{0.7f, 0.05f, 0.05f};
+  DrawListBuilder builder(spec, std::nullopt, w, h, 30);
+  DrawList list;
+  const auto at = [](int k) { return Vec3(-20 + 0.8 * k, 0, 6 + 0.1 * k); };
+  for (int k = 0; k <= 40; ++k) {
+    BodyView b = test::body(pebble, at(k));
+    b.color = red;
+    list = builder.build(std::vector<BodyView>{b});
+  }
+  gl::Renderer renderer(*context_, tinySettings(w, h));
+  const Image image = renderer.render(list);
+  const int r = srgbByte(0.7), g = srgbByte(0.05), b = srgbByte(0.05);
+  const auto isRed = [&](int x, int y) {
+    const std::uint8_t* p = image.pixel(x, y);
+    return std::abs(p[0] - r) <= 1 && std::abs(p[1] - g) <= 1 && std::abs(p[2] - b) <= 1;
+  };
+  // The marker: centred where the body projects, as wide as its scaled cube projects.
+  const Eigen::Vector2d centre = projectToPixel(list.camera, w, h, at(40));
+  const int cx = static_cast<int>(centre.x()), cy = static_cast<int>(centre.y());
+  EXPECT_TRUE(isRed(cx, cy)) << "marker centre at " << cx << ", " << cy;
+  // Measured up and down (the trail joins the marker from the left).
+  const Mat4& model = list.instances[0].model;
+  double lo = 1e9, hi = -1e9;
+  for (const Vec3& v : pebble->mesh.vertices) {
+    const Vec4 world = model * Vec4(v.x(), v.y(), v.z(), 1);
+    const double y = projectToPixel(list.camera, w, h, world.head<3>()).y();
+    lo = std::min(lo, y);
+    hi = std::max(hi, y);
+  }
+  int top = cy, bottom = cy;
+  while (top > 0 && isRed(cx, top - 1)) --top;
+  while (bottom + 1 < h && isRed(cx, bottom + 1)) ++bottom;
+  // Fully covered pixels lie within the projected extent; partly covered edge pixels are mixed.
+  EXPECT_GE(top, std::floor(lo));
+  EXPECT_LE(bottom + 1, std::ceil(hi));
+  EXPECT_GE(bottom - top + 1, std::floor(hi - lo) - 1);
+  EXPECT_GE(hi - lo, 9 / std::sqrt(3.0) - 1e-9);  // the cube inside a 9-pixel sphere
+  // The trail: where the body was 10 and 25 frames ago, in its colour; nothing red off it.
+  for (const int k : {15, 30}) {
+    const Eigen::Vector2d p = projectToPixel(list.camera, w, h, at(k));
+    EXPECT_TRUE(isRed(static_cast<int>(p.x()), static_cast<int>(p.y()))) << "frame " << k;
+    EXPECT_FALSE(isRed(static_cast<int>(p.x()), static_cast<int>(p.y()) + 4)) << "frame " << k;
+  }
+  // And nothing before the trail's one second (30 frames) begins: frame 5 is 35 frames ago.
+  const Eigen::Vector2d old = projectToPixel(list.camera, w, h, at(5));
+  EXPECT_FALSE(isRed(static_cast<int>(old.x()), static_cast<int>(old.y())));
+}
+
 TEST_F(Readback, OddSizesAndNoMultisamplingStillRender) {
   // 2x2 supersampling path (samples = 1 asked: none; samples = 64: more than llvmpipe has).
   const auto cube = test::boxShape(Vec3(0.25, 0.25, 0.25));

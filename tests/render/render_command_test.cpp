@@ -140,6 +140,32 @@ TEST_F(RenderCommand, InterruptLeavesAPlayableMp4AndExitCode130) {
   EXPECT_LT(frames, 121);  // interrupted, not finished
 }
 
+TEST_F(RenderCommand, ANamedChaseCameraWithTrailsDrawsFrameKAloneAsInTheFullRun) {
+  // The chase camera's lag and the trails depend on frames 0..k: frame 30 drawn alone must
+  // still equal frame 30 of the whole clip, and differ from the default camera's frame 30.
+  std::string scene = readFile(kCubes);
+  const std::string mesh = std::string(VOXFALL_SOURCE_DIR) + "/scenes/meshes/cube.obj";
+  scene = std::regex_replace(scene, std::regex("\"meshes/cube.obj\""), "\"" + mesh + "\"");
+  scene +=
+      "\n[cameras.chase]\nfollow = 1\nsmoothing = 0.3\ntrail = 0.5\n"
+      "position = [1.5, -3.0, 1.2]\nlook_at = [0.0, 0.0, 0.2]\n";
+  std::ofstream(dir_.path() / "chase.toml") << scene;
+  ASSERT_EQ(run("render chase.toml --camera chase -o 'seq/f_####.png' --size 96x64 -q"), 0) << err_;
+  ASSERT_EQ(run("render chase.toml --camera chase -o alone.png --frames 30:30 --size 96x64 -q"), 0)
+      << err_;
+  const std::string alone = readFile(dir_.path() / "alone.png");
+  ASSERT_FALSE(alone.empty());
+  EXPECT_TRUE(alone == readFile(dir_.path() / "seq/f_0030.png"))
+      << "frame 30 differs between --frames 30:30 and a full run";
+  ASSERT_EQ(run("render chase.toml -o default.png --frames 30:30 --size 96x64 -q"), 0) << err_;
+  EXPECT_FALSE(alone == readFile(dir_.path() / "default.png"));
+  // An unknown name is an input error naming the choices.
+  EXPECT_EQ(run("render chase.toml --camera drone -o x.png --frames 0:0 -q"), 1);
+  EXPECT_NE(err_.find("no camera named 'drone'; the scene has: camera, chase"), std::string::npos)
+      << err_;
+  EXPECT_FALSE(fs::exists(dir_.path() / "x.png"));
+}
+
 TEST_F(RenderCommand, BadOptionsFailBeforeAnyOutput) {
   // Odd size for an MP4, frames outside the scene, an unknown output kind.
   EXPECT_EQ(run("render '" + kCubes + "' -o odd.mp4 --size 101x64 -q"), 1);

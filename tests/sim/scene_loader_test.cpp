@@ -266,6 +266,53 @@ TEST_F(SceneTest, CameraFollowMustNameABody) {
   EXPECT_EQ(spec.camera.fovDegrees, 50);
 }
 
+TEST_F(SceneTest, SeveralNamedCamerasAndPickingOne) {
+  const std::string text = kShape +
+                           "[[bodies]]\nshape = \"cube\"\n[[bodies]]\nshape = \"cube\"\n"
+                           "[camera]\nposition = [4, -6, 3]\nlook_at = [0, 0, 0]\n"
+                           "[cameras.wide]\nmin_pixels = 5\ntrail = 2.5\n"
+                           "[cameras.chase]\nfollow = [0, 1]\nsmoothing = 0.4\n"
+                           "position = [0, -5, 2]\nlook_at = [0, 0, 0]\n"
+                           "[cameras.fly]\npath = [{ time = 0, position = [0, -9, 3], look_at = "
+                           "[0, 0, 0] }, { time = 2, position = [9, 0, 3], look_at = [0, 0, 1], "
+                           "fov = 30 }]\n";
+  SceneSpec spec = loadScene(write("scene.toml", text));
+  EXPECT_TRUE(spec.camera.given);
+  ASSERT_EQ(spec.cameras.size(), 3u);  // file order, not key order
+  EXPECT_EQ(spec.cameras[0].name, "wide");
+  EXPECT_FALSE(spec.cameras[0].given);  // automatic, with markers and trails
+  EXPECT_EQ(spec.cameras[0].minPixels, 5);
+  EXPECT_EQ(spec.cameras[0].trailSeconds, 2.5);
+  EXPECT_EQ(spec.cameras[1].followGroup, (std::vector<int>{0, 1}));
+  EXPECT_EQ(spec.cameras[1].smoothing, 0.4);
+  ASSERT_EQ(spec.cameras[2].path.size(), 2u);
+  EXPECT_EQ(spec.cameras[2].path[0].fovDegrees, 40);  // the camera's fov by default
+  EXPECT_EQ(spec.cameras[2].path[1].fovDegrees, 30);
+  EXPECT_EQ(spec.cameras[2].path[1].lookAt, Vec3(0, 0, 1));
+  selectCamera(spec, "chase");
+  EXPECT_EQ(spec.camera.name, "chase");
+  EXPECT_EQ(spec.camera.smoothing, 0.4);
+  try {
+    selectCamera(spec, "drone");
+    ADD_FAILURE() << "an unknown camera was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no camera named 'drone'; the scene has: camera, wide, "
+                                         "chase, fly"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST_F(SceneTest, CameraPathKeysMustBeInTimeOrder) {
+  expectError(kShape +
+                  "[cameras.fly]\npath = [{ time = 1, position = [0, -9, 3], look_at = [0, "
+                  "0, 0] }, { time = 0.5, position = [9, 0, 3], look_at = [0, 0, 1] }]\n",
+              "0.5, position", "path key times must increase");
+  expectError(kShape + "[cameras.fly]\npath = [{ time = 1, position = [0, -9, 3] }]\n", "{ time",
+              "missing required key 'look_at'");
+  expectError(kShape + "[cameras.x]\ntrails = 2\n", "trails", "did you mean 'trail'?");
+}
+
 // --- what loads -------------------------------------------------------------------------------
 
 TEST_F(SceneTest, DefaultsAndNormalisation) {
