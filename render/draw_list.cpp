@@ -331,8 +331,7 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies) {
   return build(bodies, observedFrames() - 1);
 }
 
-CameraView DrawListBuilder::chooseCamera(std::span<const BodyView> bodies, int frame,
-                                         const Sphere& region) {
+CameraView DrawListBuilder::chooseCamera(std::span<const BodyView> bodies, int frame) {
   const std::optional<Vec3>& chase = history_[static_cast<std::size_t>(frame)].chase;
   if (!spec_.path.empty()) return interpolateCameraPath(spec_.path, frame / fps_, spec_.up);
   if (spec_.given) {
@@ -364,7 +363,6 @@ CameraView DrawListBuilder::chooseCamera(std::span<const BodyView> bodies, int f
     if (ground_) own.add(Sphere{Vec3(chase->x(), chase->y(), *ground_), 0.25 * r});
     return own.camera();
   }
-  (void)region;
   return framing_.camera();
 }
 
@@ -376,7 +374,7 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
   // Camera.
   const Sphere region = framing_.empty() ? Sphere{Vec3::Zero(), 1} : framing_.region();
   CameraView& cam = list.camera;
-  cam = chooseCamera(bodies, frame, region);
+  cam = chooseCamera(bodies, frame);
 
   // Meshes in order of first use, so the list is the same for the same bodies. A body smaller
   // on screen than min_pixels is drawn as a flat marker of that size: its own shape, scaled

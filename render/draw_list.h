@@ -160,7 +160,9 @@ class DrawListBuilder {
   // The chase camera's target this frame: the followed body or the group's centroid (active
   // bodies only); none when nothing is followed or all followed bodies are inactive.
   std::optional<Vec3> chaseTarget(std::span<const BodyView> bodies) const;
-  CameraView chooseCamera(std::span<const BodyView> bodies, int frame, const Sphere& region);
+  // The view of observed frame `frame`: path, fixed or chase (scene's view), chase (framed), or
+  // the automatic framing.
+  CameraView chooseCamera(std::span<const BodyView> bodies, int frame);
   // Trails: each body's centre over the last trailSeconds up to `frame`, as a ribbon about
   // kTrailPixels wide facing the camera, unlit in the body's colour.
   void addTrails(DrawList& list, std::span<const BodyView> bodies, int frame);

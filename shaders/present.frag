@@ -41,10 +41,16 @@ float bayer(ivec2 p) {
   return (float(m) + 0.5) / 16.0;
 }
 
+// c cut to half precision as llvmpipe stores into a half-float target (the 13 low mantissa
+// bits dropped: rounding towards zero, for the positive normal values light has here). The sky
+// and the sample average get the rounding they had when they went through such targets (a sky
+// pass and a resolve blit), so the frames stay byte for byte what they were.
+vec3 roundToHalf(vec3 c) { return uintBitsToFloat(floatBitsToUint(c) & uvec3(0xFFFFE000u)); }
+
 // The sky behind scene pixel position `at` (pixels, centre at +0.5).
 vec3 skyAt(vec2 at) {
   vec4 p = uInverseViewProjection * vec4(at / uSceneSize * 2.0 - 1.0, 1.0, 1.0);
-  return skyColor(normalize(p.xyz / p.w));
+  return roundToHalf(skyColor(normalize(p.xyz / p.w)));
 }
 
 void main() {
@@ -59,7 +65,8 @@ void main() {
       vec4 c = texelFetch(uScene, pixel, i);
       sum += c.a == 0.0 ? sky : c.rgb;
     }
-    count = float(uSamples);
+    sum = roundToHalf(sum / float(uSamples));
+    count = 1.0;
   } else {
     for (int y = 0; y < uSupersample; ++y) {
       for (int x = 0; x < uSupersample; ++x) {
