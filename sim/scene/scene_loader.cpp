@@ -279,7 +279,8 @@ class Reader {
 // --- [simulation] -------------------------------------------------------------------------
 
 void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
-  r.checkKeys(t, {"duration", "level", "step", "gravity", "fps"}, "[simulation]");
+  r.checkKeys(t, {"duration", "level", "step", "gravity", "fps", "contact_reduction", "sleep"},
+              "[simulation]");
   if (const auto* n = t.get("duration")) spec.duration = r.positive(*n, "duration", " s");
   if (const auto* n = t.get("level"))
     spec.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
@@ -300,6 +301,9 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
   }
   if (const auto* n = t.get("gravity")) spec.gravity = r.vec3(*n, "gravity");
   if (const auto* n = t.get("fps")) spec.fps = r.positive(*n, "fps", " frames per second");
+  if (const auto* n = t.get("contact_reduction"))
+    spec.contactReduction = r.boolean(*n, "contact_reduction");
+  if (const auto* n = t.get("sleep")) spec.sleep = r.boolean(*n, "sleep");
 }
 
 // --- [contact] ----------------------------------------------------------------------------

@@ -4,9 +4,11 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "sim/core/math.h"
 #include "sim/geometry/mass_properties.h"
+#include "sim/geometry/mesh_bvh.h"
 #include "sim/geometry/tri_mesh.h"
 #include "sim/shape/sphere_tree.h"
 
@@ -24,6 +26,10 @@ struct Shape {
   bool centerInside = true; // the centre of mass lies inside the solid (false for a hollow
                             // body such as the barrel): only then can it witness tunnelling
   std::shared_ptr<const SphereTree> tree;  // shared between shapes with the same mesh+scale+level
+  // Diagnostics only (collide/penetration.cpp): the triangle hierarchy for exact point queries
+  // and the surface samples (vertices, edge midpoints, centroids) whose depth is measured.
+  std::shared_ptr<const MeshBvh> bvh;
+  std::vector<Vec3> surfaceSamples;
 };
 
 // Builds a shape from a validated mesh in file coordinates: scales it, computes mass
