@@ -7,10 +7,10 @@
 // over all leaf contacts before).
 //
 // Per body pair:
-//  1. Patches: contacts are taken deepest first; each joins the first patch whose normal is
-//     within 60 degrees of its own, else starts a new one. Leaf-sphere normals of one flat
-//     patch tilt by up to 45 degrees (centre-to-centre directions of voxels), while the faces of
-//     an interlocking non-convex pair (the crosses) meet at 90 degrees and stay apart.
+//  1. Patches: contacts are taken in narrow-phase order; each joins the first patch whose first
+//     contact's normal is within 60 degrees of its own, else starts a new one. Leaf-sphere normals
+//     of one flat patch tilt by up to 45 degrees (centre-to-centre directions of voxels), while the
+//     faces of an interlocking non-convex pair (the crosses) meet at 90 degrees and stay apart.
 //  2. A patch of at most kContactsPerPatch contacts is kept as it is (its own normals): a single
 //     contact is exactly eq. 15.
 //  3. A larger patch keeps: its deepest contact; the one farthest from it; the one that
@@ -27,7 +27,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 namespace vf {
 namespace {
@@ -35,64 +34,75 @@ namespace {
 constexpr double kSamePatchCos = 0.5;  // cos 60 degrees
 
 // Indices into `cs` of the representatives of one patch (size > kContactsPerPatch), in the
-// order chosen; `n` is the patch normal.
+// order chosen; `n` is the patch normal. Points are compared in 2-D coordinates of the patch
+// plane, computed once.
 std::vector<int> spanningSubset(const std::vector<Contact>& cs, const std::vector<int>& patch,
                                 const Vec3& n) {
-  auto flat = [&](int i) {  // point projected into the patch plane
-    const Vec3& p = cs[i].point;
-    return Vec3(p - n.dot(p) * n);
-  };
-  std::vector<int> keep;
-  // Deepest (patch is sorted deepest first, ties in narrow-phase order).
-  keep.push_back(patch[0]);
-  const Vec3 p0 = flat(patch[0]);
+  Vec3 t1, t2;  // any basis of the plane: only distances and areas in it matter
+  t1 = (std::abs(n.x()) < 0.57 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
+  t2 = n.cross(t1);
+  const std::size_t m = patch.size();
+  std::vector<Eigen::Vector2d> flat(m);
+  std::size_t deepest = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const Vec3& p = cs[patch[k]].point;
+    flat[k] = Eigen::Vector2d(p.dot(t1), p.dot(t2));
+    if (cs[patch[k]].depth > cs[patch[deepest]].depth) deepest = k;  // ties: narrow-phase order
+  }
+  std::vector<std::size_t> keep{deepest};
+  // The contact (not kept yet) with the largest positive score, or m if none scores > 0.
   auto best = [&](auto score) {
-    int arg = -1;
+    std::size_t arg = m;
     double top = 0;
-    for (int i : patch) {
-      if (std::find(keep.begin(), keep.end(), i) != keep.end()) continue;
-      const double s = score(flat(i));
-      if (s > top) top = s, arg = i;
+    for (std::size_t k = 0; k < m; ++k) {
+      if (std::find(keep.begin(), keep.end(), k) != keep.end()) continue;
+      const double sc = score(flat[k]);
+      if (sc > top) top = sc, arg = k;
     }
     return arg;
   };
-  const int i1 = best([&](const Vec3& p) { return (p - p0).squaredNorm(); });
-  if (i1 < 0) return keep;
-  keep.push_back(i1);
-  const Vec3 p1 = flat(i1);
-  const int i2 = best([&](const Vec3& p) { return (p1 - p0).cross(p - p0).squaredNorm(); });
-  if (i2 < 0) return keep;
-  keep.push_back(i2);
-  const Vec3 p2 = flat(i2);
-  // Farthest outside the triangle: largest area added on the far side of one of its edges.
-  const Vec3 triN = (p1 - p0).cross(p2 - p0);
-  const int i3 = best([&](const Vec3& p) {
-    return std::max({-(p1 - p0).cross(p - p0).dot(triN), -(p2 - p1).cross(p - p1).dot(triN),
-                     -(p0 - p2).cross(p - p2).dot(triN)});
-  });
-  if (i3 >= 0) keep.push_back(i3);
-  return keep;
+  auto cross2 = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() * b.y() - a.y() * b.x();
+  };
+  const Eigen::Vector2d p0 = flat[deepest];
+  const std::size_t i1 = best([&](const Eigen::Vector2d& p) { return (p - p0).squaredNorm(); });
+  if (i1 < m) {
+    keep.push_back(i1);
+    const Eigen::Vector2d p1 = flat[i1];
+    const std::size_t i2 =
+        best([&](const Eigen::Vector2d& p) { return std::abs(cross2(p1 - p0, p - p0)); });
+    if (i2 < m) {
+      keep.push_back(i2);
+      const Eigen::Vector2d p2 = flat[i2];
+      // Farthest outside the triangle: the largest area added beyond one of its edges.
+      const double side = cross2(p1 - p0, p2 - p0) > 0 ? 1.0 : -1.0;
+      const std::size_t i3 = best([&](const Eigen::Vector2d& p) {
+        return -side * std::min({cross2(p1 - p0, p - p0), cross2(p2 - p1, p - p1),
+                                 cross2(p0 - p2, p - p2)});
+      });
+      if (i3 < m) keep.push_back(i3);
+    }
+  }
+  std::vector<int> out;
+  for (std::size_t k : keep) out.push_back(patch[k]);
+  return out;
 }
 
 void reducePair(const std::vector<Contact>& cs, std::size_t begin, std::size_t end,
                 std::vector<Contact>& out) {
-  std::vector<int> order(end - begin);
-  std::iota(order.begin(), order.end(), static_cast<int>(begin));
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int x, int y) { return cs[x].depth > cs[y].depth; });
+  // Patches in narrow-phase order: a contact joins the first patch whose first contact's normal
+  // is within 60 degrees of its own.
   std::vector<std::vector<int>> patches;
-  std::vector<Vec3> seeds;
-  for (int i : order) {
+  for (std::size_t i = begin; i < end; ++i) {
     std::size_t k = 0;
-    while (k < patches.size() && seeds[k].dot(cs[i].normal) < kSamePatchCos) ++k;
-    if (k == patches.size()) {
-      patches.emplace_back();
-      seeds.push_back(cs[i].normal);
-    }
-    patches[k].push_back(i);
+    while (k < patches.size() && cs[patches[k][0]].normal.dot(cs[i].normal) < kSamePatchCos) ++k;
+    if (k == patches.size()) patches.emplace_back();
+    patches[k].push_back(static_cast<int>(i));
   }
-  for (const std::vector<int>& patch : patches) {
+  for (std::vector<int>& patch : patches) {
     if (static_cast<int>(patch.size()) <= kContactsPerPatch) {
+      std::stable_sort(patch.begin(), patch.end(),
+                       [&](int x, int y) { return cs[x].depth > cs[y].depth; });
       for (int i : patch) out.push_back(cs[i]);
       continue;
     }
