@@ -2,9 +2,13 @@
 //   step size (eq. 20)        solve/time_step.cpp
 //   gravity                   solve/integrate.cpp
 //   broad phase               collide/broad_phase.cpp
-//   narrow phase (fig. 3)     collide/narrow_phase.cpp
+//   narrow phase (fig. 3)     collide/narrow_phase.cpp (waking sleepers: solve/sleep.cpp)
+//   contact reduction         collide/contact_reduction.cpp (optional)
 //   impulses (eq. 15)         solve/impulse.cpp
 //   explicit Euler, renormalise q   solve/integrate.cpp
+//   sleeping islands          solve/sleep.cpp (optional)
+//   releases (emitters)       World::releaseBodies below
+// The diagnostics (World::measure) live in collide/penetration.cpp.
 #include "sim/world.h"
 
 #include <algorithm>
@@ -131,10 +135,10 @@ void World::stepToward(double target) {
   contacts_.clear();
   s.sphereTests = findContacts(bodies_, states_, pairs_, def_.groundHeight, def_.terrain.get(),
                                def_.threads, contacts_);
-  const std::vector<int> woken = def_.sleep ? wakeTouched(contacts_, bodies_) : std::vector<int>();
-  if (!woken.empty()) {
-    // Woken bodies start from rest with this step's gravity, and their own contacts (skipped
-    // while they slept) are found again with everyone else's, in the usual order.
+  // Woken bodies start from rest with this step's gravity, and their own contacts (skipped
+  // while they slept) are found again with everyone else's, in the usual order; repeated while
+  // those wake further islands.
+  for (std::vector<int> woken; def_.sleep && !(woken = wakeTouched(contacts_, bodies_)).empty();) {
     for (int i : woken) states_[i].P = (s.dt / bodies_[i].invMass) * def_.gravity;
     contacts_.clear();
     s.sphereTests += findContacts(bodies_, states_, pairs_, def_.groundHeight, def_.terrain.get(),

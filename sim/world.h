@@ -115,7 +115,9 @@ class World {
   double stableStep() const;
   // Hash of time and every body's state, bit-exact (see core/hash.h).
   std::uint64_t stateHash() const;
-  // True-mesh diagnostics of the current state: O(bodies^2 * mesh size); call per frame.
+  // True-mesh diagnostics of the current state (collide/penetration.h): every surface sample of
+  // each pair whose bounding spheres overlap, tested exactly through the other mesh's triangle
+  // hierarchy: O(pairs * samples * log triangles); call per frame.
   Diagnostics measure() const;
 
  private:
