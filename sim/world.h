@@ -10,10 +10,12 @@
 #include <vector>
 
 #include "sim/collide/contact.h"
+#include "sim/collide/penetration.h"
 #include "sim/core/body.h"
 #include "sim/core/math.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
+#include "sim/solve/sleep.h"
 
 namespace vf {
 
@@ -21,15 +23,6 @@ namespace vf {
 // start + i * interval and frame times as k / fps, which can differ in the last bit where they
 // are meant to agree.
 inline constexpr double kTimeTolerance = 1e-9;
-
-// Rigid-body state y = {x, q, P, L} (eqs. 1-7): centre of mass (m), unit orientation
-// quaternion (body -> world), linear momentum (kg m/s), angular momentum (kg m^2/s).
-struct BodyState {
-  Vec3 x = Vec3::Zero();
-  Quat q = Quat::Identity();
-  Vec3 P = Vec3::Zero();
-  Vec3 L = Vec3::Zero();
-};
 
 // Creation descriptor of a body (Box2D's *Def habit: every field has a default).
 struct BodyDef {
@@ -45,14 +38,6 @@ struct BodyDef {
   double dropHeight = -1;
 };
 
-// Restitution eps and kinetic friction mu per kind of contact pair (section 5 defaults).
-struct ContactMaterial {
-  double restitutionBodyBody = 0.5;
-  double restitutionBodyGround = 0.3;
-  double frictionBodyBody = 0.3;
-  double frictionBodyGround = 0.8;
-};
-
 struct WorldDef {
   Vec3 gravity = Vec3(0, 0, -9.81);    // m/s^2
   double fixedStep = 0;                // s; 0 selects the eq.-20 rule every step
@@ -62,20 +47,32 @@ struct WorldDef {
   std::optional<double> groundHeight;  // floor plane z = h; none: no floor
   std::shared_ptr<const Heightfield> terrain;  // heightfield ground; none: no terrain
   ContactMaterial contact;
-  int solverIterations = 12;  // sequential-impulse passes over the contacts
+  int solverIterations = 12;             // sequential-impulse passes over the contacts
+  // Extensions beyond the paper (README, "Performance"). Both change trajectories, so both are
+  // off by default: the paper's method, and the pinned golden checksums, stay the default.
+  bool contactReduction = false;  // a few representative contacts per patch (contact_reduction.h)
+  bool sleep = false;             // bodies at rest sleep until touched (solve/sleep.h)
+  SleepSettings sleepSettings;
+  // Threads for the narrow phase; results are merged in a fixed order, so the trajectory and
+  // the checksum do not depend on it.
+  int threads = 1;
 };
 
 // What one step did. Counters are deterministic; the stage times are wall-clock and are never
 // hashed or fed back into the simulation.
 struct StepStats {
   double dt = 0;
-  std::uint64_t pairs = 0;        // body pairs whose bounding spheres overlap
-  std::uint64_t sphereTests = 0;  // sphere-sphere and sphere-plane tests in the narrow phase
-  std::uint64_t contacts = 0;     // leaf contacts handed to the solver
-  std::uint64_t nonFinite = 0;    // bodies whose state went non-finite and were frozen
-  std::uint64_t floored = 0;      // 1 if eq. 20 asked for less than WorldDef::minStep
+  std::uint64_t pairs = 0;         // body pairs whose bounding spheres overlap
+  std::uint64_t sphereTests = 0;   // sphere-sphere and sphere-plane tests in the narrow phase
+  std::uint64_t leafContacts = 0;  // colliding leaf pairs the narrow phase found
+  std::uint64_t contacts = 0;      // contacts handed to the solver (after reduction, if on)
+  std::uint64_t sleeping = 0;      // bodies asleep at the end of the step
+  std::uint64_t nonFinite = 0;     // bodies whose state went non-finite and were frozen
+  std::uint64_t floored = 0;       // 1 if eq. 20 asked for less than WorldDef::minStep
   std::uint64_t overlappingReleases = 0;  // bodies released into another body's spheres
-  double secondsPairs = 0, secondsContacts = 0, secondsSolve = 0, secondsIntegrate = 0;
+  // One timer per stage, in step order.
+  double secondsStepSize = 0, secondsPairs = 0, secondsContacts = 0, secondsReduce = 0,
+         secondsSolve = 0, secondsIntegrate = 0, secondsSleep = 0, secondsRelease = 0;
 };
 
 // Totals over a run.
@@ -84,17 +81,11 @@ struct RunStats {
   double dtMin = 0, dtMax = 0;
   std::uint64_t pairs = 0, sphereTests = 0, contacts = 0, nonFinite = 0, floored = 0;
   std::uint64_t overlappingReleases = 0;
-  double secondsPairs = 0, secondsContacts = 0, secondsSolve = 0, secondsIntegrate = 0;
+  std::uint64_t leafContacts = 0;
+  std::uint64_t sleepingBodySteps = 0;  // sum over steps of the bodies asleep
+  double secondsStepSize = 0, secondsPairs = 0, secondsContacts = 0, secondsReduce = 0,
+         secondsSolve = 0, secondsIntegrate = 0, secondsSleep = 0, secondsRelease = 0;
   void add(const StepStats& s);
-};
-
-// Checks of the TRUE meshes (not the spheres) at one instant; see World::measure().
-struct Diagnostics {
-  double maxPenetrationBodyBody = 0;    // m, deepest point of one mesh inside another
-  double maxPenetrationBodyGround = 0;  // m, deepest vertex below the floor or the terrain
-  int tunnelled = 0;  // bodies whose centre of mass is inside another body or below the ground
-  double kineticEnergy = 0;    // J, dynamic bodies
-  double potentialEnergy = 0;  // J, -m g.x relative to the origin
 };
 
 class World {
@@ -139,6 +130,8 @@ class World {
   bool isStatic(int id) const { return bodies_[id].isStatic; }
   // Released and simulated (bodies of an emitter join at their release time).
   bool isActive(int id) const { return bodies_[id].active; }
+  // Asleep (WorldDef::sleep): at rest, not stepped until something touches it.
+  bool isSleeping(int id) const { return bodies_[id].sleeping; }
   Vec3 velocity(int id) const;         // m/s
   Vec3 angularVelocity(int id) const;  // rad/s, world frame
   // The same for body id in state y (e.g. one of statesAt(t)).
@@ -152,7 +145,9 @@ class World {
   double stableStep() const;
   // Hash of time and every body's state, bit-exact (see core/hash.h).
   std::uint64_t stateHash() const;
-  // True-mesh diagnostics of the current state: O(bodies^2 * mesh size); call per frame.
+  // True-mesh diagnostics of the current state (collide/penetration.h): every surface sample of
+  // each pair whose bounding spheres overlap, tested exactly through the other mesh's triangle
+  // hierarchy: O(pairs * samples * log triangles); call per frame.
   Diagnostics measure() const;
   // The same for other states of these bodies (one per body, e.g. statesAt(t)).
   Diagnostics measure(const std::vector<BodyState>& states) const;

@@ -5,12 +5,12 @@
 
 #include "sim/collide/contact.h"
 #include "sim/core/body.h"
-#include "sim/world.h"
 
 namespace vf {
 
 // Appends to `pairs` every pair (a < b) of active bodies, not both static, whose bounding
-// spheres (SphereTree::boundingRadius about the centre of mass) overlap. Ordered by (a, b),
+// spheres (SphereTree::boundingRadius about the centre of mass) overlap, found by sweep and
+// prune along x. Ordered by (a, b),
 // so contacts are generated in a fixed order.
 void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
                std::vector<BodyPair>& pairs);

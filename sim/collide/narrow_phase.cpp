@@ -18,10 +18,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <thread>
+#include <utility>
 
 #include "sim/collide/polygon_contact.h"
 #include "sim/core/error.h"
 #include "sim/shape/convex_polyhedron.h"
+#include "sim/geometry/mesh_bvh.h"
 
 namespace vf {
 namespace {
@@ -73,10 +76,25 @@ class TreeTreeDescent {
       return;
     }
     std::array<NodeRef, 8> kidsA, kidsB;
-    const int nA = leafA ? 1 : children(ta_, a_, na, kidsA);
-    const int nB = leafB ? 1 : children(tb_, b_, nb, kidsB);
+    int nA = leafA ? 1 : children(ta_, a_, na, kidsA);
+    int nB = leafB ? 1 : children(tb_, b_, nb, kidsB);
     if (leafA) kidsA[0] = na;
     if (leafB) kidsB[0] = nb;
+    // Early exit: a child that misses the other side's node misses all that node's children
+    // (they lie inside it), so it is dropped before the nA x nB child pairs are tested. The
+    // order of the survivors is kept: the contacts and their order are those of the full test.
+    if (!leafB && nA > 1) {
+      int kept = 0;
+      for (int i = 0; i < nA; ++i)
+        if (overlap(kidsA[i], nb)) kidsA[kept++] = kidsA[i];
+      nA = kept;
+    }
+    if (!leafA && nB > 1) {
+      int kept = 0;
+      for (int j = 0; j < nB; ++j)
+        if (overlap(na, kidsB[j])) kidsB[kept++] = kidsB[j];
+      nB = kept;
+    }
     for (int i = 0; i < nA; ++i)
       for (int j = 0; j < nB; ++j)
         if (overlap(kidsA[i], kidsB[j])) descend(kidsA[i], kidsB[j]);
@@ -212,8 +230,6 @@ std::uint64_t collideTreeTree(const Collider& a, const Collider& b, std::vector<
   return TreeTreeDescent(a, b, out).run();
 }
 
-
-
 using CollideFn = std::uint64_t (*)(const Collider&, const Collider&, std::vector<Contact>&);
 
 // Which pair does what. Rows: type of a (body 1); columns: type of b (body 2). The plane and
@@ -228,6 +244,10 @@ constexpr CollideFn kCollide[kTypes][kTypes] = {
     /* kPolygon     */
     {nullptr, collidePolygonPlane, collidePolygonHeightfield, collidePolygonPolygon},
 };
+
+// Fewer collider pairs than this per thread are not worth starting a thread for (a thread start
+// costs about as much as a few dozen sphere-tree descents at rest).
+constexpr int kJobsPerThread = 16;
 
 }  // namespace
 
@@ -263,25 +283,8 @@ Collider heightfieldCollider(const Heightfield& terrain) {
 }
 
 Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  // Voronoi regions of the triangle: vertices, then edges, then the face (barycentric).
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const double denom = 1 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
+  TriangleFeature feature;
+  return closestPointOnTriangle(p, a, b, c, feature);
 }
 
 Collider planeCollider(double height) {
@@ -300,28 +303,51 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
 }
 
 std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
-                           const std::vector<BodyState>& states,
-                           const std::vector<BodyPair>& pairs,
+                           const std::vector<BodyState>& states, const std::vector<BodyPair>& pairs,
                            const std::optional<double>& groundHeight, const Heightfield* terrain,
-                           std::vector<Contact>& out) {
+                           int threads, std::vector<Contact>& out) {
   auto treeOf = [&](int i) {
     const Shape& s = *bodies[i].shape;
     return s.polyhedron ? polygonCollider(i, *s.polyhedron, states[i].x, states[i].q)
                         : sphereTreeCollider(i, *s.tree, states[i].x, states[i].q);
   };
-  std::uint64_t tests = 0;
-  for (const BodyPair& p : pairs) tests += collide(treeOf(p.a), treeOf(p.b), out);
+  // The collider pairs of this step, in the order their contacts must come out.
+  std::vector<std::pair<Collider, Collider>> jobs;
+  jobs.reserve(pairs.size() + 2 * bodies.size());
+  for (const BodyPair& p : pairs)  // a pair of which nothing moves (asleep, static) has no news
+    if (bodies[p.a].moves() || bodies[p.b].moves()) jobs.emplace_back(treeOf(p.a), treeOf(p.b));
   if (groundHeight) {
     const Collider ground = planeCollider(*groundHeight);
     for (std::size_t i = 0; i < bodies.size(); ++i)
-      if (bodies[i].moves()) tests += collide(treeOf(static_cast<int>(i)), ground, out);
+      if (bodies[i].moves()) jobs.emplace_back(treeOf(static_cast<int>(i)), ground);
   }
   if (terrain) {
     const Collider ground = heightfieldCollider(*terrain);
     for (std::size_t i = 0; i < bodies.size(); ++i)
-      if (bodies[i].moves()) tests += collide(treeOf(static_cast<int>(i)), ground, out);
+      if (bodies[i].moves()) jobs.emplace_back(treeOf(static_cast<int>(i)), ground);
   }
-  return tests;
+  // Contiguous chunks, one per thread, each into its own list; the lists are appended in chunk
+  // order, so the contacts are exactly the serial ones in the serial order whatever `threads`.
+  const int chunks =
+      std::max(1, std::min<int>(threads, static_cast<int>(jobs.size() / kJobsPerThread)));
+  std::vector<std::vector<Contact>> found(chunks);
+  std::vector<std::uint64_t> tests(chunks, 0);
+  auto runChunk = [&](int c) {
+    const std::size_t begin = jobs.size() * c / chunks, end = jobs.size() * (c + 1) / chunks;
+    std::vector<Contact>& sink = c == 0 ? out : found[c];
+    for (std::size_t k = begin; k < end; ++k)
+      tests[c] += collide(jobs[k].first, jobs[k].second, sink);
+  };
+  std::vector<std::thread> workers;
+  for (int c = 1; c < chunks; ++c) workers.emplace_back(runChunk, c);
+  runChunk(0);
+  for (std::thread& w : workers) w.join();
+  std::uint64_t total = tests[0];
+  for (int c = 1; c < chunks; ++c) {
+    out.insert(out.end(), found[c].begin(), found[c].end());
+    total += tests[c];
+  }
+  return total;
 }
 
 }  // namespace vf

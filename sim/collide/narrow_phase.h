@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "sim/collide/contact.h"
@@ -10,7 +11,6 @@
 #include "sim/core/math.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/sphere_tree.h"
-#include "sim/world.h"
 
 namespace vf {
 
@@ -54,13 +54,13 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
 
 // The narrow-phase stage of a step: contacts of every broad-phase pair, in pair order, then
 // of every moving body with the floor plane and the terrain (if any), by body id. A body whose
-// shape has a polyhedron collides by the polygon method, else by its sphere tree. Returns the
-// sphere tests.
+// shape has a polyhedron collides by the polygon method, else by its sphere tree. Pairs of
+// which neither body moves (static or asleep) are skipped. Up to `threads` threads share the
+// work; the contacts and their order do not depend on it. Returns the sphere tests.
 std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
-                           const std::vector<BodyState>& states,
-                           const std::vector<BodyPair>& pairs,
+                           const std::vector<BodyState>& states, const std::vector<BodyPair>& pairs,
                            const std::optional<double>& groundHeight, const Heightfield* terrain,
-                           std::vector<Contact>& out);
+                           int threads, std::vector<Contact>& out);
 
 // Closest point of the triangle (a, b, c) to p.
 Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "sim/geometry/mesh_query.h"
+#include "sim/collide/broad_phase.h"
 
 namespace vf {
 
@@ -13,11 +13,15 @@ Vec3 toBody(const Pose& p, const Vec3& world) { return p.q.conjugate() * (world 
 
 double meshPenetration(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb) {
   const Eigen::AlignedBox3d boxB = b.mesh.bounds();
+  // A -> B body frames in one rotation and one offset.
+  const Mat3 R = (pb.q.conjugate() * pa.q).toRotationMatrix();
+  const Vec3 t = pb.q.conjugate() * (pa.x - pb.x);
   double deepest = 0;
-  for (const Vec3& s : surfaceSamples(a.mesh)) {
-    const Vec3 inB = toBody(pb, pa.x + pa.q * s);
-    if (!boxB.contains(inB) || !pointInsideMesh(b.mesh, inB)) continue;
-    deepest = std::max(deepest, distanceToMesh(b.mesh, inB));
+  for (const Vec3& s : a.surfaceSamples) {
+    const Vec3 inB = t + R * s;
+    if (!boxB.contains(inB)) continue;  // outside B's bounds: outside B
+    const MeshBvh::Nearest n = b.bvh->nearest(inB);
+    if (n.inside) deepest = std::max(deepest, n.distance);
   }
   return deepest;
 }
@@ -42,7 +46,52 @@ double terrainPenetration(const Shape& s, const Pose& p, const Heightfield& terr
 
 bool pointInsideBody(const Shape& s, const Pose& p, const Vec3& point) {
   const Vec3 local = toBody(p, point);
-  return s.mesh.bounds().contains(local) && pointInsideMesh(s.mesh, local);
+  return s.mesh.bounds().contains(local) && s.bvh->nearest(local).inside;
+}
+
+Diagnostics measureDiagnostics(const std::vector<BodyInfo>& bodies,
+                               const std::vector<BodyState>& states, const Vec3& gravity,
+                               const std::optional<double>& groundHeight,
+                               const Heightfield* terrain) {
+  Diagnostics d;
+  const int n = static_cast<int>(bodies.size());
+  std::vector<char> tunnelled(n, 0);
+  for (int i = 0; i < n; ++i) {
+    const BodyInfo& b = bodies[i];
+    if (!b.dynamic()) continue;
+    const BodyState& y = states[i];
+    d.kineticEnergy += 0.5 * y.P.dot(velocityOf(b, y)) + 0.5 * y.L.dot(angularVelocityOf(b, y));
+    d.potentialEnergy -= b.shape->mass * gravity.dot(y.x);
+    if (groundHeight) {
+      d.maxPenetrationBodyGround = std::max(d.maxPenetrationBodyGround,
+                                            groundPenetration(*b.shape, {y.x, y.q}, *groundHeight));
+      if (y.x.z() < *groundHeight) tunnelled[i] = 1;
+    }
+    if (terrain) {
+      d.maxPenetrationBodyGround =
+          std::max(d.maxPenetrationBodyGround, terrainPenetration(*b.shape, {y.x, y.q}, *terrain));
+      if (y.x.z() < terrain->heightAt(y.x.x(), y.x.y())) tunnelled[i] = 1;
+    }
+  }
+  // The broad phase's bounding spheres enclose every leaf sphere and so the mesh: a superset of
+  // the pairs whose meshes may overlap (sleeping bodies included: diagnostics see every body).
+  std::vector<BodyPair> pairs;
+  findPairs(bodies, states, pairs);
+  for (const BodyPair& p : pairs) {
+    const int a = p.a, b = p.b;
+    const Shape& sa = *bodies[a].shape;
+    const Shape& sb = *bodies[b].shape;
+    const double reach = 0.5 * (sa.diameter + sb.diameter);
+    if ((states[a].x - states[b].x).squaredNorm() >= reach * reach) continue;
+    const Pose pa{states[a].x, states[a].q}, pb{states[b].x, states[b].q};
+    d.maxPenetrationBodyBody = std::max({d.maxPenetrationBodyBody, meshPenetration(sa, pa, sb, pb),
+                                         meshPenetration(sb, pb, sa, pa)});
+    // A centre of mass outside its own solid (a hollow body) says nothing about tunnelling.
+    if (bodies[a].dynamic() && sa.centerInside && pointInsideBody(sb, pb, pa.x)) tunnelled[a] = 1;
+    if (bodies[b].dynamic() && sb.centerInside && pointInsideBody(sa, pa, pb.x)) tunnelled[b] = 1;
+  }
+  d.tunnelled = static_cast<int>(std::count(tunnelled.begin(), tunnelled.end(), 1));
+  return d;
 }
 
 }  // namespace vf

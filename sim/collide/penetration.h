@@ -2,6 +2,10 @@
 // eq.-20 step keeps bodies apart. Diagnostics only; never used to resolve contacts.
 #pragma once
 
+#include <optional>
+#include <vector>
+
+#include "sim/core/body.h"
 #include "sim/core/math.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
@@ -26,5 +30,22 @@ double terrainPenetration(const Shape& s, const Pose& p, const Heightfield& terr
 
 // True if the world point lies inside the body's mesh.
 bool pointInsideBody(const Shape& s, const Pose& p, const Vec3& point);
+
+// Checks of the TRUE meshes (not the spheres) at one instant; see World::measure().
+struct Diagnostics {
+  double maxPenetrationBodyBody = 0;    // m, deepest point of one mesh inside another
+  double maxPenetrationBodyGround = 0;  // m, deepest vertex below the floor or the terrain
+  int tunnelled = 0;  // bodies whose centre of mass is inside another body or below the ground
+  double kineticEnergy = 0;    // J, dynamic bodies
+  double potentialEnergy = 0;  // J, -m g.x relative to the origin
+};
+
+// World::measure(): the diagnostics of every active body in the given state, pairs culled by
+// their bounding spheres (SAP, as the broad phase) and every surface sample tested exactly
+// against the other mesh through its triangle hierarchy (mesh_bvh.h).
+Diagnostics measureDiagnostics(const std::vector<BodyInfo>& bodies,
+                               const std::vector<BodyState>& states, const Vec3& gravity,
+                               const std::optional<double>& groundHeight,
+                               const Heightfield* terrain);
 
 }  // namespace vf

@@ -110,6 +110,9 @@ struct SceneSpec {
   Vec3 gravity = Vec3(0, 0, -9.81);
   double fps = 30;
   ColliderMethod collider = ColliderMethod::kVoxel;  // collider = "voxel" | "polygon"
+  bool contactReduction = false;  // a few contacts per patch (README, "Performance")
+  bool sleep = false;             // bodies at rest sleep until touched
+  int threads = 1;  // not a scene key (results do not depend on it): set by the caller
   // [contact]
   ContactMaterial contact;
   // [ground]

@@ -120,6 +120,9 @@ BuiltScene buildScene(const SceneSpec& spec) {
   if (!spec.terrainPath.empty())
     def.terrain = std::make_shared<const Heightfield>(loadEsriAsciiGrid(spec.terrainPath));
   def.contact = spec.contact;
+  def.contactReduction = spec.contactReduction;
+  def.sleep = spec.sleep;
+  def.threads = spec.threads;
 
   BuiltScene out;
   out.world = std::make_unique<World>(def);

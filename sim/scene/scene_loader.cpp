@@ -289,7 +289,9 @@ class Reader {
 // --- [simulation] -------------------------------------------------------------------------
 
 void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
-  r.checkKeys(t, {"duration", "level", "step", "gravity", "fps", "collider"}, "[simulation]");
+  r.checkKeys(
+      t, {"duration", "level", "step", "gravity", "fps", "collider", "contact_reduction", "sleep"},
+      "[simulation]");
   if (const auto* n = t.get("duration")) spec.duration = r.positive(*n, "duration", " s");
   if (const auto* n = t.get("level"))
     spec.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
@@ -322,6 +324,9 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
              "comparison method, convex meshes only), got \"" +
                  c + "\"");
   }
+  if (const auto* n = t.get("contact_reduction"))
+    spec.contactReduction = r.boolean(*n, "contact_reduction");
+  if (const auto* n = t.get("sleep")) spec.sleep = r.boolean(*n, "sleep");
 }
 
 // --- [contact] ----------------------------------------------------------------------------

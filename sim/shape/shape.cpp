@@ -1,6 +1,5 @@
 #include "sim/shape/shape.h"
 
-
 #include <algorithm>
 #include <utility>
 
@@ -48,6 +47,8 @@ std::shared_ptr<const Shape> makeShape(std::string name, TriMesh meshFileCoords,
   for (const Vec3& v : shape->mesh.vertices) farthest = std::max(farthest, v.norm());
   shape->diameter = 2 * farthest;  // l of eqs. 18-20
   shape->centerInside = pointInsideMesh(shape->mesh, Vec3::Zero());
+  shape->bvh = std::make_shared<const MeshBvh>(shape->mesh);
+  shape->surfaceSamples = surfaceSamples(shape->mesh);
 
   if (tree == nullptr)
     tree = std::make_shared<const SphereTree>(buildSphereTree(shape->mesh, level));

@@ -4,9 +4,11 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "sim/core/math.h"
 #include "sim/geometry/mass_properties.h"
+#include "sim/geometry/mesh_bvh.h"
 #include "sim/geometry/tri_mesh.h"
 #include "sim/shape/sphere_tree.h"
 
@@ -29,6 +31,10 @@ struct Shape {
   // Set when the scene selects the polygon collider (collider = "polygon"): the body then
   // collides by its convex polyhedron; the tree still serves eq. 20 and release checks.
   std::shared_ptr<const ConvexPolyhedron> polyhedron;
+  // Diagnostics only (collide/penetration.cpp): the triangle hierarchy for exact point queries
+  // and the surface samples (vertices, edge midpoints, centroids) whose depth is measured.
+  std::shared_ptr<const MeshBvh> bvh;
+  std::vector<Vec3> surfaceSamples;
 };
 
 // Builds a shape from a validated mesh in file coordinates: scales it, computes mass

@@ -122,11 +122,10 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
   for (int i = 0; i < n; ++i) {
     if (!bodies[i].moves()) continue;
     const BodyState& y = states[i];
-    const Mat3 R = y.q.toRotationMatrix();
     Motion& m = motion[i];
     m.invMass = bodies[i].invMass;
-    m.invI = R * bodies[i].inertiaBodyInv * R.transpose();
-    m.v = y.P * m.invMass;
+    m.invI = inverseInertiaWorld(bodies[i], y);
+    m.v = velocityOf(bodies[i], y);
     m.w = m.invI * y.L;
   }
 

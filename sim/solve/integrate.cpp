@@ -22,8 +22,7 @@ std::uint64_t integrate(const std::vector<BodyInfo>& bodies, std::vector<BodySta
     const BodyInfo& b = bodies[i];
     if (!b.moves()) continue;
     BodyState& y = states[i];
-    const Mat3 R = y.q.toRotationMatrix();                      // eq. 6
-    const Vec3 w = R * b.inertiaBodyInv * R.transpose() * y.L;  // w = I(t)^-1 L
+    const Vec3 w = angularVelocityOf(b, y);  // w = I(t)^-1 L, R from q by eq. 6
     const Vec3 x = y.x + dt * b.invMass * y.P;
     const Quat dq = quaternionRate(w, y.q);
     Quat q(y.q.w() + dt * dq.w(), y.q.x() + dt * dq.x(), y.q.y() + dt * dq.y(),

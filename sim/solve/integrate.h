@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "sim/core/body.h"
-#include "sim/world.h"
 
 namespace vf {
 

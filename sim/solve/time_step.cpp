@@ -21,6 +21,20 @@ double eq20Step(double diameter, int level, double speed, double angularSpeed) {
   return diameter / (std::ldexp(1.0, level + 1) * (speed + 0.5 * diameter * angularSpeed));
 }
 
+double chooseStep(double remaining, double fixedStep, double stable, double minStep, bool& lands,
+                  bool& floored) {
+  double rule = fixedStep > 0 ? fixedStep : stable;
+  floored = fixedStep <= 0 && rule < minStep;  // a runaway body, not the user's choice
+  if (floored) rule = minStep;
+  lands = false;
+  if (!std::isfinite(remaining)) return rule;  // no end in sight: the rule's own step
+  // The 1e-9 keeps a fixed step that divides the interval up to rounding from producing one
+  // extra tiny step.
+  const double n = std::max(1.0, std::ceil(remaining / rule - 1e-9));
+  lands = n == 1.0;
+  return lands ? remaining : remaining / n;
+}
+
 double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
                   const Vec3& gravity, double maxStep) {
   double radius = INFINITY;  // eq. 19, smallest over moving bodies
@@ -31,11 +45,9 @@ double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodySta
     if (!b.moves()) continue;
     const Shape& s = *b.shape;
     const BodyState& y = states[i];
-    const Mat3 R = y.q.toRotationMatrix();
-    const Vec3 w = R * b.inertiaBodyInv * R.transpose() * y.L;
     radius = std::min(radius, std::ldexp(s.diameter, -(s.tree->leafLevel() + 1)));
-    speed = std::max(speed, (y.P * b.invMass).norm());
-    rimSpeed = std::max(rimSpeed, 0.5 * s.diameter * w.norm());
+    speed = std::max(speed, velocityOf(b, y).norm());
+    rimSpeed = std::max(rimSpeed, 0.5 * s.diameter * angularVelocityOf(b, y).norm());
   }
   if (!std::isfinite(radius)) return maxStep;  // nothing moves
   const double v = speed + rimSpeed;

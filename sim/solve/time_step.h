@@ -4,7 +4,6 @@
 #include <vector>
 
 #include "sim/core/body.h"
-#include "sim/world.h"
 
 namespace vf {
 
@@ -12,6 +11,14 @@ namespace vf {
 // (eq. 17), for the current state, capped at maxStep. See time_step.cpp for the details.
 double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
                   const Vec3& gravity, double maxStep);
+
+// The length of the next step towards `remaining` seconds ahead: the rule (the fixed step if
+// fixedStep > 0, else `stable`, the eq.-20 step, raised to minStep if a runaway body asks for
+// less: then `floored` is set), split so that the interval is covered by equal steps none
+// longer than the rule. `lands` is set when this step reaches the end of the interval exactly.
+// An infinite `remaining` (no target) gives the rule's step.
+double chooseStep(double remaining, double fixedStep, double stable, double minStep, bool& lands,
+                  bool& floored);
 
 // dt_max of eq. 20 for one kind of body: l / (2^(Lv+1) (v + (l/2) w)).
 double eq20Step(double diameter, int level, double speed, double angularSpeed);

@@ -1,15 +1,25 @@
 // voxfall's simulation benchmark (Google Benchmark). Build and run:
 //   cmake --build build --target sim_bench && build/tests/bench/sim_bench
 // Rows:
-//   Scene/<name>/<level>: a whole run of scenes/<name>.toml (the same scene files the CLI and
-//     the tests use) at voxel level Lv (every shape) with the eq.-20 step. Counters: wall seconds per
-//     simulated second (sec_per_sim_s), steps, sphere tests, contacts; the label carries the
-//     trajectory checksum, so every benchmark run is also a determinism check.
-//   TreeBuild/<level>: voxel sphere tree of a 100k-triangle closed mesh (a bumpy sphere).
+//   Scene/<name>/<level>/<ext>/<threads>: a whole run of scenes/<name>.toml (the same scene
+//     files the CLI and the tests use) at voxel level Lv (every shape) with the eq.-20 step;
+//     ext 0 is the paper's method, ext 1 adds contact reduction and sleeping (README,
+//     "Performance"). Counters: wall seconds per simulated second (sec_per_sim_s) and its split
+//     into stepping (step_s, the sum of the per-stage timers of StepStats) and the per-frame
+//     true-mesh diagnostics (diag_s, the rest of the run); the share of each stage of the step
+//     (pct_*); steps, sphere tests, leaf contacts and contacts after reduction per step, mean
+//     bodies asleep per step; the label carries the trajectory checksum, so every benchmark run
+//     is also a determinism check (it must not change with the thread count).
+//   Rockfall/<n>: n rocks released together over the cliff terrain (scenes/cliff.toml's
+//     shapes and ground) at level 3 with reduction and sleeping, 4 simulated seconds.
+//   TreeBuild/<level>: voxel sphere tree of a 100k-triangle closed mesh (a bumpy sphere);
+//   TreeBuild1M/7: of a 1M-triangle one at level 7, with the tree's memory.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "sim/recorder.h"
 #include "sim/scene/scene.h"
@@ -21,11 +31,15 @@ std::string scenePath(const std::string& name) {
   return std::string(VOXFALL_SOURCE_DIR) + "/scenes/" + name + ".toml";
 }
 
-void runScene(benchmark::State& state, const std::string& name) {
-  vf::SceneSpec spec = vf::loadScene(scenePath(name));
-  spec.level = static_cast<int>(state.range(0));
-  for (vf::ShapeSpec& shape : spec.shapes) shape.level.reset();  // as `--level` does
+double stepSeconds(const vf::RunStats& t) {
+  return t.secondsStepSize + t.secondsPairs + t.secondsContacts + t.secondsReduce + t.secondsSolve +
+         t.secondsIntegrate + t.secondsSleep + t.secondsRelease;
+}
+
+// Runs `spec` through all its frames (as `voxfall simulate` does) and reports the counters.
+void runSpec(benchmark::State& state, const vf::SceneSpec& spec) {
   vf::RunSummary summary;
+  double wall = 0;
   for (auto _ : state) {
     state.PauseTiming();
     vf::BuiltScene built = vf::buildScene(spec);  // shape building is not the step's cost
@@ -33,14 +47,63 @@ void runScene(benchmark::State& state, const std::string& name) {
     vf::Recorder recorder(*built.world, spec.fps, spec.duration);
     for (int k = 0; k < recorder.frameCount(); ++k) recorder.advanceToFrame(k);
     summary = recorder.summary();
+    wall = summary.wallSeconds;
   }
-  state.counters["sec_per_sim_s"] =
-      benchmark::Counter(spec.duration, benchmark::Counter::kIsIterationInvariantRate |
-                                            benchmark::Counter::kInvert);
-  state.counters["steps"] = static_cast<double>(summary.totals.steps);
-  state.counters["sphere_tests"] = static_cast<double>(summary.totals.sphereTests);
-  state.counters["contacts"] = static_cast<double>(summary.totals.contacts);
+  const vf::RunStats& t = summary.totals;
+  const double step = stepSeconds(t);
+  const double steps = static_cast<double>(t.steps);
+  state.counters["sec_per_sim_s"] = benchmark::Counter(
+      spec.duration, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["step_s"] = step;
+  state.counters["diag_s"] = wall - step;
+  const std::pair<const char*, double> stages[] = {
+      {"pct_pairs", t.secondsPairs},
+      {"pct_narrow", t.secondsContacts},
+      {"pct_reduce", t.secondsReduce},
+      {"pct_solve", t.secondsSolve},
+      {"pct_integrate", t.secondsIntegrate},
+      {"pct_other", t.secondsStepSize + t.secondsSleep + t.secondsRelease}};
+  for (const auto& [name, seconds] : stages)
+    state.counters[name] = step > 0 ? 100 * seconds / step : 0;
+  state.counters["steps"] = steps;
+  state.counters["tests_per_step"] = static_cast<double>(t.sphereTests) / steps;
+  state.counters["leaf_contacts_per_step"] = static_cast<double>(t.leafContacts) / steps;
+  state.counters["contacts_per_step"] = static_cast<double>(t.contacts) / steps;
+  state.counters["asleep_per_step"] = static_cast<double>(t.sleepingBodySteps) / steps;
+  state.counters["max_pen_mm"] =
+      1e3 * std::max(summary.maxPenetrationBodyBody, summary.maxPenetrationBodyGround);
   state.SetLabel("checksum " + summary.checksumHex());
+}
+
+void runScene(benchmark::State& state, const std::string& name) {
+  vf::SceneSpec spec = vf::loadScene(scenePath(name));
+  spec.level = static_cast<int>(state.range(0));
+  for (vf::ShapeSpec& shape : spec.shapes) shape.level.reset();  // as `--level` does
+  spec.contactReduction = spec.sleep = state.range(1) != 0;
+  spec.threads = static_cast<int>(state.range(2));
+  runSpec(state, spec);
+}
+
+// n rocks released at t = 0 over the cliff terrain, one per 0.8 m grid cell and layer by
+// layer upwards, each dropped 0.3 m onto what lies below it (drop_height).
+void rockfall(benchmark::State& state) {
+  vf::SceneSpec spec = vf::loadScene(scenePath("cliff"));
+  spec.level = 3;
+  spec.duration = 4.0;
+  spec.contactReduction = spec.sleep = true;
+  spec.emitters.resize(1);
+  vf::EmitterSpec& e = spec.emitters[0];
+  e.count = static_cast<int>(state.range(0));
+  e.start = 0;
+  e.interval = 0;
+  e.positions.clear();
+  for (int j = 0; j < 29; ++j)
+    for (int i = 0; i < 48; ++i) e.positions.push_back(vf::Vec3(0.4 + 0.8 * i, 0.8 + 0.8 * j, 12));
+  e.dropHeight = 0.3;
+  e.velocity = vf::Vec3(0.5, 0, 0);
+  spec.camera.followBody.reset();
+  runSpec(state, spec);
+  state.counters["rocks"] = static_cast<double>(e.count);
 }
 
 // A closed UV sphere of radius ~1 with a bumpy surface: rows x cols quads, two poles.
@@ -55,12 +118,14 @@ vf::TriMesh bumpySphere(int rows, int cols) {
     for (int j = 0; j < cols; ++j) {
       const double ph = 2 * M_PI * j / cols;
       const double r = radius(th, ph);
-      m.vertices.push_back(
-          vf::Vec3(r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph), r * std::cos(th)));
+      m.vertices.push_back(vf::Vec3(r * std::sin(th) * std::cos(ph),
+                                    r * std::sin(th) * std::sin(ph), r * std::cos(th)));
     }
   }
   m.vertices.push_back(vf::Vec3(0, 0, -radius(M_PI, 0)));
-  const auto ring = [&](int i, int j) { return static_cast<std::uint32_t>(1 + (i - 1) * cols + (j % cols)); };
+  const auto ring = [&](int i, int j) {
+    return static_cast<std::uint32_t>(1 + (i - 1) * cols + (j % cols));
+  };
   const auto south = static_cast<std::uint32_t>(m.vertices.size() - 1);
   for (int j = 0; j < cols; ++j) m.triangles.push_back({0, ring(1, j), ring(1, j + 1)});
   for (int i = 1; i < rows - 1; ++i)
@@ -68,38 +133,99 @@ vf::TriMesh bumpySphere(int rows, int cols) {
       m.triangles.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
       m.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
     }
-  for (int j = 0; j < cols; ++j) m.triangles.push_back({south, ring(rows - 1, j + 1), ring(rows - 1, j)});
+  for (int j = 0; j < cols; ++j)
+    m.triangles.push_back({south, ring(rows - 1, j + 1), ring(rows - 1, j)});
   return m;
 }
 
-void treeBuild(benchmark::State& state) {
-  const vf::TriMesh mesh = bumpySphere(200, 251);  // 2 * 251 * 199 = 99,898 triangles
-  std::size_t leaves = 0;
+void treeBuildOf(benchmark::State& state, const vf::TriMesh& mesh) {
+  std::size_t leaves = 0, bytes = 0;
   for (auto _ : state) {
     const vf::SphereTree tree = vf::buildSphereTree(mesh, static_cast<int>(state.range(0)));
     leaves = tree.leaves().centers.size();
+    bytes = 0;
+    for (const vf::SphereTreeLevel& lv : tree.levels)
+      bytes += lv.centers.capacity() * sizeof(vf::Vec3) +
+               lv.childBegin.capacity() * sizeof(std::uint32_t);
     benchmark::DoNotOptimize(leaves);
   }
   state.counters["triangles"] = static_cast<double>(mesh.triangles.size());
   state.counters["leaf_spheres"] = static_cast<double>(leaves);
+  state.counters["tree_MB"] = static_cast<double>(bytes) / 1e6;
+}
+
+void treeBuild(benchmark::State& state) {
+  treeBuildOf(state, bumpySphere(200, 251));  // 2 * 251 * 199 = 99,898 triangles
+}
+
+void treeBuild1M(benchmark::State& state) {
+  treeBuildOf(state, bumpySphere(708, 708));  // 2 * 708 * 707 = 1,001,112 triangles
 }
 
 }  // namespace
 
 BENCHMARK_CAPTURE(runScene, cubes, std::string("cubes"))
-    ->Name("Scene/cubes")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Name("Scene/cubes")
+    ->ArgsProduct({{2, 3, 4}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(runScene, blocks, std::string("blocks"))
-    ->Name("Scene/blocks")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Name("Scene/blocks")
+    ->ArgsProduct({{2, 3, 4}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(runScene, highpoly, std::string("highpoly"))
-    ->Name("Scene/highpoly")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Name("Scene/highpoly")
+    ->ArgsProduct({{2, 3, 4}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(runScene, stack, std::string("stack"))
-    ->Name("Scene/stack")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Name("Scene/stack")
+    ->ArgsProduct({{2, 3, 4}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(runScene, crosses, std::string("crosses"))
-    ->Name("Scene/crosses")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Name("Scene/crosses")
+    ->ArgsProduct({{2, 3, 4}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(runScene, barrel, std::string("barrel"))
-    ->Name("Scene/barrel")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Name("Scene/barrel")
+    ->ArgsProduct({{2, 3, 4}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(runScene, cliff, std::string("cliff"))
-    ->Name("Scene/cliff")->DenseRange(2, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Name("Scene/cliff")
+    ->ArgsProduct({{2, 3, 4}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+// Threads: the checksum must equal the one-thread row's.
+BENCHMARK_CAPTURE(runScene, crosses2, std::string("crosses"))
+    ->Name("Scene/crosses")
+    ->Args({4, 1, 2})
+    ->Args({4, 0, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(runScene, crosses6, std::string("crosses"))
+    ->Name("Scene/crosses")
+    ->Args({6, 1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(rockfall)
+    ->Name("Rockfall")
+    ->Arg(100)
+    ->Arg(300)
+    ->Arg(1000)
+    ->Arg(3000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 BENCHMARK(treeBuild)->Name("TreeBuild")->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(treeBuild1M)
+    ->Name("TreeBuild1M")
+    ->Arg(7)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 BENCHMARK_MAIN();

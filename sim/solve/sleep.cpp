@@ -1,0 +1,90 @@
+// Islands by union-find over the contacts between two moving bodies (the ground and static
+// bodies join nothing: a pile on the floor is many islands if its bodies do not touch each
+// other). Everything runs in body-id order over the fixed contact order, so who sleeps and when
+// is a function of the state alone: the trajectory stays deterministic.
+//
+// Why island-wide: a body resting on another one that still moves must not freeze under it.
+// Why the momenta are zeroed: a sleeping body is not integrated; any residual velocity would
+// be lost anyway, and zero makes waking up start from rest.
+#include "sim/solve/sleep.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace vf {
+namespace {
+
+int findRoot(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+}  // namespace
+
+std::vector<int> wakeTouched(const std::vector<Contact>& contacts, std::vector<BodyInfo>& bodies) {
+  std::vector<int> woken;
+  auto wakeIsland = [&](int island) {
+    for (std::size_t i = 0; i < bodies.size(); ++i)
+      if (bodies[i].sleeping && bodies[i].sleepIsland == island) {
+        bodies[i].sleeping = false;
+        bodies[i].restTime = 0;
+        woken.push_back(static_cast<int>(i));
+      }
+  };
+  for (const Contact& c : contacts) {
+    if (c.b == kGround) continue;
+    const BodyInfo &a = bodies[c.a], &b = bodies[c.b];
+    if (a.sleeping && b.moves()) wakeIsland(a.sleepIsland);
+    if (b.sleeping && a.moves()) wakeIsland(b.sleepIsland);
+  }
+  std::sort(woken.begin(), woken.end());
+  return woken;
+}
+
+int updateSleep(const std::vector<Contact>& contacts, std::vector<BodyInfo>& bodies,
+                std::vector<BodyState>& states, double dt, const SleepSettings& settings) {
+  const int n = static_cast<int>(bodies.size());
+  // Only a supported body rests: one slow at the top of a throw, or drifting slowly through
+  // empty space, is not at rest and must not freeze there.
+  std::vector<char> touching(n, 0);
+  for (const Contact& c : contacts) {
+    touching[c.a] = 1;
+    if (c.b != kGround) touching[c.b] = 1;
+  }
+  for (int i = 0; i < n; ++i) {
+    BodyInfo& b = bodies[i];
+    if (!b.moves()) continue;
+    if (!touching[i]) {
+      b.restTime = 0;
+      continue;
+    }
+    const double fastest = velocityOf(b, states[i]).norm() +
+                           0.5 * b.shape->diameter * angularVelocityOf(b, states[i]).norm();
+    b.restTime = fastest < settings.speed ? b.restTime + dt : 0.0;
+  }
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const Contact& c : contacts) {
+    if (c.b == kGround || !bodies[c.a].moves() || !bodies[c.b].moves()) continue;
+    const int ra = findRoot(parent, c.a), rb = findRoot(parent, c.b);
+    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);  // root = lowest id
+  }
+  // An island is ready if every moving member has rested long enough.
+  std::vector<char> ready(n, 1);
+  for (int i = 0; i < n; ++i)
+    if (bodies[i].moves() && bodies[i].restTime < settings.time) ready[findRoot(parent, i)] = 0;
+  int slept = 0;
+  for (int i = 0; i < n; ++i) {
+    BodyInfo& b = bodies[i];
+    const int root = findRoot(parent, i);
+    if (!b.moves() || !ready[root]) continue;
+    b.sleeping = true;
+    b.sleepIsland = root;
+    states[i].P.setZero();
+    states[i].L.setZero();
+    ++slept;
+  }
+  return slept;
+}
+
+}  // namespace vf

@@ -1,0 +1,100 @@
+// Sleeping (sim/solve/sleep.h) against what it promises:
+//   - a body at rest on the floor falls asleep after SleepSettings::time, and then costs no
+//     sphere test and does not move by a single bit;
+//   - a body dropped onto a sleeping pile wakes it, and the three end up resting on each other
+//     (no interpenetration, no tunnelling) and asleep again;
+//   - a body drifting slower than the threshold in empty space never sleeps (it touches
+//     nothing) and keeps its exact free-flight motion;
+//   - the same run twice gives the same state hash (sleep decisions depend on the state only).
+#include <gtest/gtest.h>
+
+#include "sim/world.h"
+#include "tests/support/test_world.h"
+
+namespace vf {
+namespace {
+
+WorldDef sleepingWorld() {
+  WorldDef def;
+  def.groundHeight = 0.0;
+  def.sleep = true;
+  return def;
+}
+
+BodyDef boxAt(std::shared_ptr<const Shape> s, const Vec3& x, double release = 0) {
+  BodyDef b;
+  b.shape = std::move(s);
+  b.position = x;
+  b.releaseTime = release;
+  return b;
+}
+
+TEST(Sleep, BodyAtRestSleepsAndThenCostsNothing) {
+  World world(sleepingWorld());
+  auto s = test::boxShape(0.3, 0.3, 0.3, 800, 3);
+  world.addBody(boxAt(s, Vec3(0, 0, test::restOffset(*s) + 0.2)));
+  world.advanceTo(0.3);
+  EXPECT_FALSE(world.isSleeping(0)) << "still falling or settling";
+  world.advanceTo(3.0);  // lands at ~0.2 s, settles, then rests SleepSettings::time = 0.5 s
+  ASSERT_TRUE(world.isSleeping(0));
+  const BodyState before = world.state(0);
+  world.advanceTo(4.0);
+  EXPECT_EQ(world.lastStep().sphereTests, 0u);
+  EXPECT_EQ(world.lastStep().contacts, 0u);
+  EXPECT_EQ(world.lastStep().sleeping, 1u);
+  EXPECT_EQ(world.state(0).x, before.x);
+  EXPECT_EQ(world.state(0).q.coeffs(), before.q.coeffs());
+  EXPECT_TRUE(world.state(0).P.isZero());
+}
+
+TEST(Sleep, DroppedBodyWakesThePileAndAllComeToRestAgain) {
+  auto run = [] {
+    World world(sleepingWorld());
+    auto s = test::boxShape(0.3, 0.3, 0.3, 800, 3);
+    const double lift = test::restOffset(*s);
+    world.addBody(boxAt(s, Vec3(0, 0, lift)));
+    world.addBody(boxAt(s, Vec3(0.02, 0, 3 * lift + 0.005)));
+    BodyDef dropped = boxAt(s, Vec3(-0.03, 0.01, 0), 2.5);
+    dropped.dropHeight = 0.3;  // 0.3 m above the top of the pile at 2.5 s
+    world.addBody(dropped);
+    world.advanceTo(2.4);
+    EXPECT_TRUE(world.isSleeping(0) && world.isSleeping(1)) << "the pile settled first";
+    bool woke = false;
+    while (world.time() < 3.0) {
+      world.step(1.0 / 60);
+      woke = woke || (!world.isSleeping(0) && !world.isSleeping(1));
+    }
+    EXPECT_TRUE(woke) << "the impact must wake the pile (both bodies: one island)";
+    world.advanceTo(6.0);
+    for (int i = 0; i < 3; ++i) EXPECT_TRUE(world.isSleeping(i)) << "body " << i;
+    // Resting on each other in order: each centre one box height (0.3 m, plus up to two leaf
+    // sphere hulls, 2 * 2 * lift - 0.3 in all) above the one below.
+    for (int i = 1; i < 3; ++i) {
+      const double gap = world.state(i).x.z() - world.state(i - 1).x.z();
+      EXPECT_GT(gap, 0.3);
+      EXPECT_LT(gap, 2 * lift + 1e-3);
+    }
+    const Diagnostics d = world.measure();
+    EXPECT_EQ(d.tunnelled, 0);
+    EXPECT_EQ(d.maxPenetrationBodyBody, 0.0);
+    return world.stateHash();
+  };
+  EXPECT_EQ(run(), run());
+}
+
+TEST(Sleep, SlowBodyInEmptySpaceNeverSleeps) {
+  WorldDef def;
+  def.gravity = Vec3::Zero();
+  def.sleep = true;
+  World world(def);
+  auto s = test::boxShape(0.3, 0.3, 0.3, 800, 3);
+  BodyDef b = boxAt(s, Vec3::Zero());
+  b.velocity = Vec3(0.01, 0, 0);  // a fifth of the sleep threshold
+  world.addBody(b);
+  world.advanceTo(5.0);
+  EXPECT_FALSE(world.isSleeping(0));
+  EXPECT_NEAR(world.state(0).x.x(), 0.05, 1e-12);  // 0.01 m/s for 5 s, to rounding
+}
+
+}  // namespace
+}  // namespace vf
