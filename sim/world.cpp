@@ -245,12 +245,18 @@ void World::placeAbove(int id, double clearance) {
     touching[c.a] = 1;
     if (c.b != kGround) touching[c.b] = 1;
   }
+  // Leaf spheres stick out of a mesh's bounding box by up to their radius, so boxes are
+  // compared grown by both bodies' leaf radii: a body placed clear of these boxes is clear of
+  // the spheres the narrow phase tests (no overlapping release).
+  const double ownPad = bodies_[id].shape->tree->leaves().radius;
   std::vector<Eigen::AlignedBox3d> others(bodyCount());
   for (int j = 0; j < bodyCount(); ++j) {
     if (j == id || !bodies_[j].active) continue;
     others[j] = worldBounds(j);
+    const Vec3 pad = Vec3::Constant(ownPad + bodies_[j].shape->tree->leaves().radius);
+    others[j] = Eigen::AlignedBox3d(others[j].min() - pad, others[j].max() + pad);
     if (touching[j] && footprint(others[j]).intersects(footprint(box)))
-      top = std::max(top, others[j].max().z());
+      top = std::max(top, others[j].max().z() - pad.z());
   }
   if (!std::isfinite(top)) return;
   // Raise above airborne bodies the new one would overlap, until it overlaps none (each pass
