@@ -110,7 +110,7 @@ BuiltScene buildScene(const SceneSpec& spec) {
   def.fixedStep = spec.autoStep ? 0 : spec.fixedStep;
   def.groundHeight = spec.groundPlane;
   if (!spec.terrainPath.empty())
-    def.terrain = std::make_shared<const Heightfield>(loadEsriAsciiGrid(spec.terrainPath));
+    def.terrain = std::make_shared<const Heightfield>(loadDem(spec.terrainPath));
   def.contact = spec.contact;
 
   BuiltScene out;
