@@ -162,10 +162,11 @@ void World::placeAbove(int id, double clearance) {
   const Eigen::AlignedBox3d box = worldBounds(id);
   double top = -INFINITY;
   if (def_.groundHeight) top = *def_.groundHeight;
-  if (def_.terrain) {
-    const Vec3 c = box.center();
-    top = std::max(top, def_.terrain->maxHeightNear(c.x(), c.y(),
-                                                    0.5 * box.sizes().head<2>().maxCoeff()));
+  if (def_.terrain) {  // the surface directly under the body, not the highest grid node near it
+    const Mat3 R = states_[id].q.toRotationMatrix();
+    std::vector<Vec3> pts;
+    for (const Vec3& v : bodies_[id].shape->mesh.vertices) pts.push_back(states_[id].x + R * v);
+    top = std::max(top, def_.terrain->surfaceUnder(pts, box.min().z()));
   }
   // What lies below is the pile: bodies that touched something in the last step (before the
   // first step, every placed body). A body still falling from an earlier release touches
@@ -275,8 +276,9 @@ Diagnostics World::measure() const {
       const double reach = 0.5 * (sa.diameter + sb.diameter);
       if ((states_[a].x - states_[b].x).squaredNorm() >= reach * reach) continue;
       const Pose pa{states_[a].x, states_[a].q}, pb{states_[b].x, states_[b].q};
-      d.maxPenetrationBodyBody = std::max(
-          {d.maxPenetrationBodyBody, meshPenetration(sa, pa, sb, pb), meshPenetration(sb, pb, sa, pa)});
+      d.maxPenetrationBodyBody =
+          std::max({d.maxPenetrationBodyBody, meshPenetration(sa, pa, sb, pb),
+                    meshPenetration(sb, pb, sa, pa)});
       // A centre of mass outside its own solid (a hollow body) says nothing about tunnelling.
       if (bodies_[a].moves() && sa.centerInside && pointInsideBody(sb, pb, pa.x)) tunnelled[a] = 1;
       if (bodies_[b].moves() && sb.centerInside && pointInsideBody(sa, pa, pb.x)) tunnelled[b] = 1;

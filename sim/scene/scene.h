@@ -17,13 +17,15 @@ namespace vf {
 using Color = std::array<float, 3>;  // linear RGB in [0, 1]
 
 struct ShapeSpec {
-  std::string name;                // key of [shapes.NAME]
-  std::string meshPath;            // resolved against the scene file's folder
-  Vec3 scale = Vec3::Ones();       // uniform number or [sx, sy, sz] in the file
-  double density = 0;              // kg/m^3
-  std::optional<int> level;        // overrides [simulation] level for this shape
+  std::string name;           // key of [shapes.NAME]
+  std::string meshPath;       // resolved against the scene file's folder
+  Vec3 scale = Vec3::Ones();  // uniform number or [sx, sy, sz] in the file
+  double density = 0;         // kg/m^3; 0 when `mass` is given instead
+  double mass = 0;            // kg; 0 when `density` is given
+  bool yUp = false;           // `up = "y"`: the mesh file's y axis is up (rotated to z)
+  std::optional<int> level;   // overrides [simulation] level for this shape
   std::optional<Color> color;
-  std::string where;               // "file:line:column" of the table, for later errors
+  std::string where;  // "file:line:column" of the table, for later errors
 };
 
 struct BodySpec {
@@ -33,6 +35,9 @@ struct BodySpec {
   Vec3 velocity = Vec3::Zero();
   Vec3 angularVelocity = Vec3::Zero();
   bool isStatic = false;
+  // If set, the body is lifted so its lowest point is this far above the surface directly
+  // under it (terrain, floor, bodies at rest), as for emitters.
+  std::optional<double> dropHeight;
   std::optional<Color> color;
   std::string where;
 };
@@ -43,13 +48,13 @@ struct EmitterSpec {
   int count = 1;
   double start = 0;
   double interval = 0;
-  std::vector<Vec3> positions;          // used in turn; one entry = same spot every time
+  std::vector<Vec3> positions;  // used in turn; one entry = same spot every time
   Quat orientation = Quat::Identity();
   Vec3 velocity = Vec3::Zero();
   Vec3 angularVelocity = Vec3::Zero();
   // Seeded variation (scene `jitter` table): each release draws from a portable PRNG.
-  double positionJitter = 0;     // m, uniform in a cube of this half-size
-  double directionJitter = 0;    // degrees, rotation of the horizontal velocity about z
+  double positionJitter = 0;   // m, uniform in a cube of this half-size
+  double directionJitter = 0;  // degrees, rotation of the horizontal velocity about z
   bool randomOrientation = false;
   std::uint64_t seed = 1;
   // If set, each release is lifted (z of `positions` ignored) so that its lowest point falls
@@ -65,8 +70,8 @@ struct CameraSpec {
   Vec3 position = Vec3(4, -6, 3);
   Vec3 lookAt = Vec3::Zero();
   Vec3 up = Vec3::UnitZ();
-  double fovDegrees = 40;        // vertical
-  std::optional<int> followBody; // body index whose centre of mass the camera looks at
+  double fovDegrees = 40;         // vertical
+  std::optional<int> followBody;  // body index whose centre of mass the camera looks at
 };
 
 struct OutputSpec {
@@ -79,17 +84,18 @@ struct SceneSpec {
   std::string path;  // the scene file as given
   std::string name;  // file stem: default output out/<name>.mp4
   // [simulation]
-  double duration = 2.0;   // s
-  int level = 4;           // voxel level Lv
-  bool autoStep = true;    // eq. 20
-  double fixedStep = 0;    // s, when !autoStep
+  double duration = 2.0;  // s
+  int level = 4;          // voxel level Lv
+  bool autoStep = true;   // eq. 20
+  double fixedStep = 0;   // s, when !autoStep
   Vec3 gravity = Vec3(0, 0, -9.81);
   double fps = 30;
   // [contact]
   ContactMaterial contact;
   // [ground]
   std::optional<double> groundPlane;
-  std::string terrainPath;  // ESRI ASCII grid (heightfield), resolved; empty: no terrain
+  std::string terrainPath;           // DEM (any raster GDAL reads), resolved; empty: no terrain
+  Vec3 terrainShift = Vec3::Zero();  // `offset`: added to the DEM's coordinates, m
   std::vector<ShapeSpec> shapes;
   std::vector<BodySpec> bodies;
   std::vector<EmitterSpec> emitters;
@@ -104,8 +110,8 @@ SceneSpec loadScene(const std::string& path);
 // A World built from a spec, with what the renderer needs to draw it.
 struct BuiltScene {
   std::unique_ptr<World> world;
-  std::vector<Color> colors;        // per body id: the body's, its shape's, or the palette
-  std::vector<std::string> shapeOf; // per body id: shape name
+  std::vector<Color> colors;         // per body id: the body's, its shape's, or the palette
+  std::vector<std::string> shapeOf;  // per body id: shape name
 };
 
 // A distinct colour per body id for scenes that give none: a fixed palette of muted,

@@ -13,6 +13,7 @@
 
 #include "sim/core/error.h"
 #include "sim/core/prng.h"
+#include "sim/geometry/mass_properties.h"
 #include "sim/geometry/mesh_checks.h"
 #include "sim/geometry/mesh_import.h"
 #include "sim/scene/scene.h"
@@ -32,28 +33,40 @@ struct BuiltShape {
 using TreeKey = std::tuple<std::string, double, double, double, int>;
 
 std::map<std::string, BuiltShape> buildShapes(const SceneSpec& spec) {
-  std::map<std::string, TriMesh> meshes;  // by resolved file path
+  std::map<std::string, TriMesh> meshes;  // by resolved file path and up axis
   std::map<TreeKey, std::shared_ptr<const SphereTree>> trees;
   std::map<std::string, BuiltShape> shapes;
   for (std::size_t i = 0; i < spec.shapes.size(); ++i) {
     const ShapeSpec& s = spec.shapes[i];
-    auto mesh = meshes.find(s.meshPath);
+    // A y-up mesh is a different mesh once rotated: it gets its own cache entry and tree.
+    const std::string meshKey = s.meshPath + (s.yUp ? "#y-up" : "");
+    auto mesh = meshes.find(meshKey);
     if (mesh == meshes.end()) {
       // Both throw InputError naming the mesh file; nothing to add.
       TriMesh m = importMesh(s.meshPath);
       validateClosedMesh(m, s.meshPath);
-      mesh = meshes.emplace(s.meshPath, std::move(m)).first;
+      // +90 degrees about x takes the file's y (up) to z and its z to -y: a proper rotation,
+      // so windings (outward normals) are kept.
+      if (s.yUp)
+        for (Vec3& v : m.vertices) v = Vec3(v.x(), -v.z(), v.y());
+      mesh = meshes.emplace(meshKey, std::move(m)).first;
     }
     const int level = s.level.value_or(spec.level);
-    const TreeKey key{s.meshPath, s.scale.x(), s.scale.y(), s.scale.z(), level};
+    // `scale` is given in the mesh file's axes: after the y-up rotation its y and z swap.
+    const Vec3 scale = s.yUp ? Vec3(s.scale.x(), s.scale.z(), s.scale.y()) : s.scale;
+    const TreeKey key{meshKey, scale.x(), scale.y(), scale.z(), level};
     auto tree = trees.find(key);
     if (tree == trees.end()) {
       auto built = std::make_shared<const SphereTree>(
-          buildSphereTree(centredMesh(mesh->second, s.scale), level));
+          buildSphereTree(centredMesh(mesh->second, scale), level));
       tree = trees.emplace(key, std::move(built)).first;
     }
+    // `mass` instead of `density`: the uniform density that gives the scaled mesh that mass.
+    const double density =
+        s.mass > 0 ? s.mass / computeMassProperties(centredMesh(mesh->second, scale), 1.0).volume
+                   : s.density;
     BuiltShape b;
-    b.shape = makeShape(s.name, mesh->second, s.scale, s.density, level, tree->second);
+    b.shape = makeShape(s.name, mesh->second, scale, density, level, tree->second);
     b.color = s.color;
     shapes.emplace(s.name, std::move(b));
   }
@@ -109,8 +122,11 @@ BuiltScene buildScene(const SceneSpec& spec) {
   def.gravity = spec.gravity;
   def.fixedStep = spec.autoStep ? 0 : spec.fixedStep;
   def.groundHeight = spec.groundPlane;
-  if (!spec.terrainPath.empty())
-    def.terrain = std::make_shared<const Heightfield>(loadDem(spec.terrainPath));
+  if (!spec.terrainPath.empty()) {
+    Heightfield terrain = loadDem(spec.terrainPath);
+    if (spec.terrainShift != Vec3::Zero()) shiftHeightfield(terrain, spec.terrainShift);
+    def.terrain = std::make_shared<const Heightfield>(std::move(terrain));
+  }
   def.contact = spec.contact;
 
   BuiltScene out;
@@ -134,6 +150,7 @@ BuiltScene buildScene(const SceneSpec& spec) {
     def.velocity = b.velocity;
     def.angularVelocity = b.angularVelocity;
     def.isStatic = b.isStatic;
+    if (b.dropHeight) def.dropHeight = *b.dropHeight;
     add(s, b.shape, def, b.color);
   }
 
@@ -158,7 +175,8 @@ BuiltScene buildScene(const SceneSpec& spec) {
         const double angle = e.directionJitter * turn * std::numbers::pi / 180;
         velocity = Eigen::AngleAxisd(angle, Vec3::UnitZ()) * velocity;
       }
-      if (e.randomOrientation) orientation = (uniformRotation(u1, u2, u3) * orientation).normalized();
+      if (e.randomOrientation)
+        orientation = (uniformRotation(u1, u2, u3) * orientation).normalized();
 
       BodyDef def;
       def.orientation = orientation;

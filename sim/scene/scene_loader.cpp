@@ -6,8 +6,6 @@
 // silently fall back to a default, so the nearest valid key is suggested by edit distance.
 // Errors are reported in file order within a table, so the first problem a reader would meet is
 // the one shown.
-#include "sim/scene/scene.h"
-
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -22,6 +20,7 @@
 #include <vector>
 
 #include "sim/core/error.h"
+#include "sim/scene/scene.h"
 #include "sim/shape/sphere_tree.h"
 
 namespace vf {
@@ -102,16 +101,26 @@ std::string formatNumber(double v) {
 
 std::string typeName(const toml::node& n) {
   switch (n.type()) {
-    case toml::node_type::table: return "table";
-    case toml::node_type::array: return "array";
-    case toml::node_type::string: return "string";
-    case toml::node_type::integer: return "integer";
-    case toml::node_type::floating_point: return "float";
-    case toml::node_type::boolean: return "boolean";
-    case toml::node_type::date: return "date";
-    case toml::node_type::time: return "time";
-    case toml::node_type::date_time: return "date-time";
-    default: return "nothing";
+    case toml::node_type::table:
+      return "table";
+    case toml::node_type::array:
+      return "array";
+    case toml::node_type::string:
+      return "string";
+    case toml::node_type::integer:
+      return "integer";
+    case toml::node_type::floating_point:
+      return "float";
+    case toml::node_type::boolean:
+      return "boolean";
+    case toml::node_type::date:
+      return "date";
+    case toml::node_type::time:
+      return "time";
+    case toml::node_type::date_time:
+      return "date-time";
+    default:
+      return "nothing";
   }
 }
 
@@ -178,7 +187,8 @@ class Reader {
       v = f->get();
     else
       fail(n, "'" + name + "' must be a number, got " + typeName(n));
-    if (!std::isfinite(v)) fail(n, "'" + name + "' must be a finite number, got " + formatNumber(v));
+    if (!std::isfinite(v))
+      fail(n, "'" + name + "' must be a finite number, got " + formatNumber(v));
     return v;
   }
 
@@ -266,7 +276,8 @@ class Reader {
     Quat q(v[0], v[1], v[2], v[3]);
     const double norm = q.norm();
     if (!(norm > 1e-12) || !std::isfinite(norm))
-      fail(n, "'" + name + "' must be a non-zero quaternion [w, x, y, z] (it is normalised; "
+      fail(n, "'" + name +
+                  "' must be a non-zero quaternion [w, x, y, z] (it is normalised; "
                   "[1, 0, 0, 0] is no rotation), got a zero quaternion");
     q.coeffs() /= norm;
     return q;
@@ -328,7 +339,7 @@ void readContact(const Reader& r, const toml::table& t, ContactMaterial& c) {
 
 void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                 SceneSpec& spec) {
-  r.checkKeys(t, {"plane", "heightfield"}, "[ground]");
+  r.checkKeys(t, {"plane", "heightfield", "offset"}, "[ground]");
   if (const auto* n = t.get("plane")) spec.groundPlane = r.number(*n, "plane");
   if (const auto* n = t.get("heightfield")) {
     const std::string given = r.string(*n, "heightfield");
@@ -338,8 +349,14 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
     std::error_code ec;
     if (!fs::is_regular_file(resolved, ec))
       r.fail(*n, "terrain grid not found: '" + resolved.string() +
-                     "' (an ESRI ASCII grid; relative paths resolve against the scene file's folder)");
+                     "' (a DEM GDAL reads, e.g. GeoTIFF or ESRI ASCII; relative paths resolve "
+                     "against the scene file's folder)");
     spec.terrainPath = resolved.string();
+  }
+  if (const auto* n = t.get("offset")) {
+    if (spec.terrainPath.empty())
+      r.fail(*n, "'offset' moves the heightfield; give 'heightfield' too");
+    spec.terrainShift = r.vec3(*n, "offset");
   }
 }
 
@@ -349,7 +366,8 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
 [[noreturn]] void failMissingMesh(const Reader& r, const toml::node& n, const fs::path& resolved,
                                   const std::string& given) {
   std::string message = "mesh file not found: '" + resolved.string() + "'";
-  if (fs::path(given).is_relative()) message += " (relative paths resolve against the scene file's folder)";
+  if (fs::path(given).is_relative())
+    message += " (relative paths resolve against the scene file's folder)";
   std::error_code ec;
   const fs::path folder = resolved.parent_path().empty() ? fs::path(".") : resolved.parent_path();
   if (fs::is_directory(folder, ec)) {
@@ -367,7 +385,7 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
 ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table& t,
                     const fs::path& sceneFolder) {
   const std::string label = "[shapes." + name + "]";
-  r.checkKeys(t, {"mesh", "scale", "density", "level", "color"}, label);
+  r.checkKeys(t, {"mesh", "scale", "density", "mass", "up", "level", "color"}, label);
   ShapeSpec s;
   s.name = name;
   s.where = r.where(t);
@@ -394,11 +412,27 @@ ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table&
           r.fail(*n, "'scale' factors must be > 0, got " + formatNumber(s.scale[i]));
       }
     } else {
-      r.fail(*n, "'scale' must be a number or an array of 3 numbers [sx, sy, sz], got " +
-                     typeName(*n));
+      r.fail(*n,
+             "'scale' must be a number or an array of 3 numbers [sx, sy, sz], got " + typeName(*n));
     }
   }
-  s.density = r.positive(r.require(t, "density", label), "density", " kg/m^3");
+  const toml::node* density = t.get("density");
+  const toml::node* mass = t.get("mass");
+  if (density != nullptr && mass != nullptr)
+    r.fail(*mass, "give either 'density' or 'mass' in " + label + ", not both");
+  if (mass != nullptr)
+    s.mass = r.positive(*mass, "mass", " kg");
+  else
+    s.density = r.positive(r.require(t, "density", label), "density", " kg/m^3");
+  if (const auto* n = t.get("up")) {
+    const std::string up = r.string(*n, "up");
+    if (up != "z" && up != "y")
+      r.fail(*n,
+             "'up' must be \"z\" (the default) or \"y\" (a y-up mesh, rotated so y becomes z), got "
+             "\"" +
+                 up + "\"");
+    s.yUp = up == "y";
+  }
   if (const auto* n = t.get("level"))
     s.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
   if (const auto* n = t.get("color")) s.color = r.color(*n, "color");
@@ -410,8 +444,9 @@ void readShapes(const Reader& r, const toml::table& t, const fs::path& sceneFold
   // Keep file order: shape indices pick default colours and must not depend on key sorting.
   std::vector<std::pair<const toml::key*, const toml::node*>> entries;
   for (auto&& [k, v] : t) entries.emplace_back(&k, &v);
-  std::sort(entries.begin(), entries.end(),
-            [](const auto& a, const auto& b) { return before(a.first->source(), b.first->source()); });
+  std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+    return before(a.first->source(), b.first->source());
+  });
   for (const auto& [k, v] : entries) {
     const std::string name(k->str());
     if (!v->is_table())
@@ -460,8 +495,9 @@ void readBodies(const Reader& r, const toml::array& bodies, SceneSpec& spec) {
   for (const toml::node& node : bodies) {
     const toml::table& t = *node.as_table();
     const std::string label = "[[bodies]]";
-    r.checkKeys(t, {"shape", "position", "orientation", "velocity", "angular_velocity", "static",
-                    "color"},
+    r.checkKeys(t,
+                {"shape", "position", "orientation", "velocity", "angular_velocity", "static",
+                 "drop_height", "color"},
                 label);
     BodySpec b;
     b.where = r.where(t);
@@ -472,6 +508,9 @@ void readBodies(const Reader& r, const toml::array& bodies, SceneSpec& spec) {
     if (const auto* n = t.get("angular_velocity"))
       b.angularVelocity = r.vec3(*n, "angular_velocity");
     if (const auto* n = t.get("static")) b.isStatic = r.boolean(*n, "static");
+    if (const auto* n = t.get("drop_height"))
+      b.dropHeight =
+          r.nonNegative(*n, "drop_height", " m (fall height above the surface under the body)");
     if (const auto* n = t.get("color")) b.color = r.color(*n, "color");
     spec.bodies.push_back(std::move(b));
   }
@@ -485,7 +524,8 @@ void readJitter(const Reader& r, const toml::table& t, EmitterSpec& e) {
     e.positionJitter = r.nonNegative(*n, "jitter.position", " m (half-size of a cube)");
   if (const auto* n = t.get("direction"))
     e.directionJitter = r.inRange(*n, "jitter.direction", 0, 180);
-  if (const auto* n = t.get("orientation")) e.randomOrientation = r.boolean(*n, "jitter.orientation");
+  if (const auto* n = t.get("orientation"))
+    e.randomOrientation = r.boolean(*n, "jitter.orientation");
   if (const auto* n = t.get("seed")) {
     const std::int64_t seed = r.integer(*n, "jitter.seed");
     if (seed < 0) r.fail(*n, "'jitter.seed' must be an integer >= 0, got " + std::to_string(seed));
@@ -497,8 +537,9 @@ void readEmitters(const Reader& r, const toml::array& emitters, SceneSpec& spec)
   for (const toml::node& node : emitters) {
     const toml::table& t = *node.as_table();
     const std::string label = "[[emitters]]";
-    r.checkKeys(t, {"shape", "count", "start", "interval", "position", "positions", "velocity",
-                    "angular_velocity", "orientation", "color", "jitter", "drop_height"},
+    r.checkKeys(t,
+                {"shape", "count", "start", "interval", "position", "positions", "velocity",
+                 "angular_velocity", "orientation", "color", "jitter", "drop_height"},
                 label);
     EmitterSpec e;
     e.where = r.where(t);
@@ -589,7 +630,8 @@ void readOutput(const Reader& r, const toml::table& t, SceneSpec& spec) {
   };
   side("width", spec.output.width);
   side("height", spec.output.height);
-  if (const auto* n = t.get("crf")) spec.output.crf = static_cast<int>(r.integerInRange(*n, "crf", 0, 51));
+  if (const auto* n = t.get("crf"))
+    spec.output.crf = static_cast<int>(r.integerInRange(*n, "crf", 0, 51));
 }
 
 }  // namespace
@@ -613,17 +655,16 @@ SceneSpec loadScene(const std::string& path) {
   }
 
   const Reader r(path);
-  r.checkKeys(root,
-              {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera", "output"},
-              "the scene's top level");
+  r.checkKeys(
+      root, {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera", "output"},
+      "the scene's top level");
   const fs::path sceneFolder = fs::path(path).parent_path();
 
   // Shapes before bodies and emitters (which name them); bodies and emitters before the camera
   // (whose `follow` is a body index).
   if (const auto* n = root.get("simulation")) readSimulation(r, r.table(*n, "simulation"), spec);
   if (const auto* n = root.get("contact")) readContact(r, r.table(*n, "contact"), spec.contact);
-  if (const auto* n = root.get("ground"))
-    readGround(r, r.table(*n, "ground"), sceneFolder, spec);
+  if (const auto* n = root.get("ground")) readGround(r, r.table(*n, "ground"), sceneFolder, spec);
   if (const auto* n = root.get("shapes")) readShapes(r, r.table(*n, "shapes"), sceneFolder, spec);
   if (const auto* n = root.get("bodies")) readBodies(r, arrayOfTables(r, *n, "bodies"), spec);
   if (const auto* n = root.get("emitters")) readEmitters(r, arrayOfTables(r, *n, "emitters"), spec);

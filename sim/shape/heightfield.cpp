@@ -64,6 +64,15 @@ double Heightfield::maxHeightNear(double x, double y, double r) const {
   return top;
 }
 
+double Heightfield::surfaceUnder(const std::vector<Vec3>& pts, double bottom) const {
+  double gap = INFINITY;
+  for (const Vec3& p : pts) {
+    const double h = heightAt(p.x(), p.y());
+    if (!std::isnan(h)) gap = std::min(gap, p.z() - h);
+  }
+  return std::isfinite(gap) ? bottom - gap : -INFINITY;
+}
+
 void Heightfield::cellTriangles(int i, int j, Vec3 tri[2][3]) const {
   const Vec3 p00(x0 + i * cell, y0 + j * cell, at(i, j));
   const Vec3 p10(x0 + (i + 1) * cell, y0 + j * cell, at(i + 1, j));

@@ -38,6 +38,11 @@ struct Heightfield {
   // The highest sample of the cells that meet [x - r, x + r] x [y - r, y + r] (the surface
   // there is no higher); -infinity when the square misses the grid or has no data.
   double maxHeightNear(double x, double y, double r) const;
+  // The surface height that a body whose lowest point is at `bottom` rests on when its points
+  // `pts` (world) are lowered straight down until the first touches the surface:
+  // bottom - min over pts of (p.z - heightAt(p.x, p.y)). Points over no data are skipped;
+  // -infinity when all are. This is the surface directly under the body (drop_height).
+  double surfaceUnder(const std::vector<Vec3>& pts, double bottom) const;
   // The two triangles of cell (i, j): (p00, p10, p11) and (p00, p11, p01), counter-clockwise
   // seen from above.
   void cellTriangles(int i, int j, Vec3 tri[2][3]) const;
