@@ -4,6 +4,7 @@
 //   broad phase               collide/broad_phase.cpp
 //   narrow phase (fig. 3)     collide/narrow_phase.cpp
 //   impulses (eq. 15)         solve/impulse.cpp
+//   rolling resistance (opt-in, rock fall)   solve/rolling_resistance.cpp
 //   explicit Euler, renormalise q   solve/integrate.cpp
 #include "sim/world.h"
 
@@ -18,6 +19,7 @@
 #include "sim/core/hash.h"
 #include "sim/solve/impulse.h"
 #include "sim/solve/integrate.h"
+#include "sim/solve/rolling_resistance.h"
 #include "sim/solve/time_step.h"
 
 namespace vf {
@@ -136,7 +138,11 @@ void World::stepToward(double target) {
   solver.iterations = def_.solverIterations;
   solver.restingSpeed = 2 * def_.gravity.norm() * s.dt;  // what gravity adds in two steps
   solver.dt = s.dt;
+  solver.ground = def_.ground.get();
+  solver.normalImpulses = def_.ground ? &normalImpulses_ : nullptr;
   solveContacts(contacts_, bodies_, states_, solver, contactCache_);
+  if (def_.ground)
+    applyRollingResistance(contacts_, normalImpulses_, bodies_, states_, *def_.ground);
   s.secondsSolve = secondsSince(clock);
 
   s.nonFinite = integrate(bodies_, states_, s.dt);

@@ -11,6 +11,7 @@
 #include "sim/collide/contact.h"
 #include "sim/core/body.h"
 #include "sim/core/math.h"
+#include "sim/ground/ground_material.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
 
@@ -48,15 +49,18 @@ struct ContactMaterial {
 };
 
 struct WorldDef {
-  Vec3 gravity = Vec3(0, 0, -9.81);      // m/s^2
-  double fixedStep = 0;                  // s; 0 selects the eq.-20 rule every step
-  double maxStep = 1.0 / 60.0;           // s; upper bound of the eq.-20 step (bodies at rest)
-  double minStep = 1e-6;                 // s; floor of the eq.-20 step, so a runaway body (speeds
-                                         // over ~1e4 m/s) cannot stall a run; counted in stats
-  std::optional<double> groundHeight;    // floor plane z = h; none: no floor
+  Vec3 gravity = Vec3(0, 0, -9.81);    // m/s^2
+  double fixedStep = 0;                // s; 0 selects the eq.-20 rule every step
+  double maxStep = 1.0 / 60.0;         // s; upper bound of the eq.-20 step (bodies at rest)
+  double minStep = 1e-6;               // s; floor of the eq.-20 step, so a runaway body (speeds
+                                       // over ~1e4 m/s) cannot stall a run; counted in stats
+  std::optional<double> groundHeight;  // floor plane z = h; none: no floor
   std::shared_ptr<const Heightfield> terrain;  // heightfield ground; none: no terrain
   ContactMaterial contact;
-  int solverIterations = 12;             // sequential-impulse passes over the contacts
+  // Rock fall (opt-in): ground materials with rolling resistance (sim/ground/). Null: the
+  // paper's model, [contact] body_ground for every ground contact.
+  std::shared_ptr<const GroundMap> ground;
+  int solverIterations = 12;  // sequential-impulse passes over the contacts
 };
 
 // What one step did. Counters are deterministic; the stage times are wall-clock and are never
@@ -145,9 +149,10 @@ class World {
   std::vector<BodyState> states_;
   RunStats totals_;
   StepStats last_;
-  std::vector<BodyPair> pairs_;     // scratch, reused every step
-  std::vector<Contact> contacts_;   // scratch, reused every step
-  ContactCache contactCache_;       // last step's contact impulses (warm starting)
+  std::vector<BodyPair> pairs_;         // scratch, reused every step
+  std::vector<Contact> contacts_;       // scratch, reused every step
+  ContactCache contactCache_;           // last step's contact impulses (warm starting)
+  std::vector<double> normalImpulses_;  // scratch: per contact, for rolling resistance
 };
 
 }  // namespace vf

@@ -74,6 +74,14 @@ struct CameraSpec {
   std::optional<int> followBody;  // body index whose centre of mass the camera looks at
 };
 
+// [ground.materials.NAME]: a custom ground material; unset values fall back to [contact]'s
+// body_ground restitution and friction, and no rolling resistance.
+struct GroundMaterialSpec {
+  std::string name;
+  std::optional<double> restitution, friction, rollingResistance;
+  std::string where;
+};
+
 struct OutputSpec {
   int width = 1280;
   int height = 720;
@@ -96,6 +104,11 @@ struct SceneSpec {
   std::optional<double> groundPlane;
   std::string terrainPath;           // DEM (any raster GDAL reads), resolved; empty: no terrain
   Vec3 terrainShift = Vec3::Zero();  // `offset`: added to the DEM's coordinates, m
+  // Rock fall ground materials (opt-in). Empty `groundMaterial`: the paper's model.
+  std::string groundMaterial;  // a preset (sim/ground/ground_material.cpp) or custom name
+  std::vector<GroundMaterialSpec> groundMaterials;  // custom ones
+  std::string groundClassesPath;  // class raster on the DEM's grid; empty: one material
+  std::vector<std::pair<int, std::string>> classMaterials;  // class -> material name
   std::vector<ShapeSpec> shapes;
   std::vector<BodySpec> bodies;
   std::vector<EmitterSpec> emitters;

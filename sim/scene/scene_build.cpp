@@ -16,6 +16,7 @@
 #include "sim/geometry/mass_properties.h"
 #include "sim/geometry/mesh_checks.h"
 #include "sim/geometry/mesh_import.h"
+#include "sim/ground/ground_material.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/shape.h"
 #include "sim/shape/sphere_tree.h"
@@ -97,6 +98,48 @@ Quat uniformRotation(double u1, double u2, double u3) {
               b * std::sin(twoPi * u3));
 }
 
+// The ground material named `name`: a custom one (its unset values from [contact]), else a
+// preset with [contact]'s body_ground friction.
+GroundMaterial groundMaterial(const SceneSpec& spec, const std::string& name) {
+  for (const GroundMaterialSpec& g : spec.groundMaterials)
+    if (g.name == name) {
+      GroundMaterial m;
+      m.name = name;
+      m.restitution = g.restitution.value_or(spec.contact.restitutionBodyGround);
+      m.friction = g.friction.value_or(spec.contact.frictionBodyGround);
+      m.rollingResistance = g.rollingResistance.value_or(0.0);
+      m.source = "scene " + g.where;
+      return m;
+    }
+  if (auto p = groundPreset(name, spec.contact.frictionBodyGround)) return *p;
+  throw InputError(spec.path, "unknown ground material '" + name + "'");  // loadScene checks
+}
+
+std::shared_ptr<const GroundMap> buildGroundMap(const SceneSpec& spec, const Heightfield* dem) {
+  auto map = std::make_shared<GroundMap>();
+  map->materials.push_back(groundMaterial(spec, spec.groundMaterial));
+  if (spec.groundClassesPath.empty()) return map;
+  Heightfield classes = loadDem(spec.groundClassesPath);
+  shiftHeightfield(classes, Vec3(spec.terrainShift.x(), spec.terrainShift.y(), 0));
+  if (!dem || classes.nx != dem->nx || classes.ny != dem->ny ||
+      std::abs(classes.x0 - dem->x0) > 1e-6 * dem->cell ||
+      std::abs(classes.y0 - dem->y0) > 1e-6 * dem->cell ||
+      std::abs(classes.cell - dem->cell) > 1e-9 * dem->cell)
+    throw InputError(
+        spec.groundClassesPath,
+        "class raster must lie on the DEM's grid (" + std::to_string(dem ? dem->nx : 0) + " x " +
+            std::to_string(dem ? dem->ny : 0) + " samples, same origin and cell size), got " +
+            std::to_string(classes.nx) + " x " + std::to_string(classes.ny));
+  for (const auto& [cls, name] : spec.classMaterials) {
+    if (static_cast<std::size_t>(cls) >= map->materialOfClass.size())
+      map->materialOfClass.resize(static_cast<std::size_t>(cls) + 1, -1);
+    map->materialOfClass[static_cast<std::size_t>(cls)] = static_cast<int>(map->materials.size());
+    map->materials.push_back(groundMaterial(spec, name));
+  }
+  map->classes = std::make_shared<const Heightfield>(std::move(classes));
+  return map;
+}
+
 }  // namespace
 
 Color defaultBodyColor(int id) {
@@ -127,6 +170,7 @@ BuiltScene buildScene(const SceneSpec& spec) {
     if (spec.terrainShift != Vec3::Zero()) shiftHeightfield(terrain, spec.terrainShift);
     def.terrain = std::make_shared<const Heightfield>(std::move(terrain));
   }
+  if (!spec.groundMaterial.empty()) def.ground = buildGroundMap(spec, def.terrain.get());
   def.contact = spec.contact;
 
   BuiltScene out;

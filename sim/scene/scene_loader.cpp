@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "sim/core/error.h"
+#include "sim/ground/ground_material.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/sphere_tree.h"
 
@@ -339,7 +341,9 @@ void readContact(const Reader& r, const toml::table& t, ContactMaterial& c) {
 
 void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                 SceneSpec& spec) {
-  r.checkKeys(t, {"plane", "heightfield", "offset"}, "[ground]");
+  r.checkKeys(
+      t, {"plane", "heightfield", "offset", "material", "materials", "classes", "class_materials"},
+      "[ground]");
   if (const auto* n = t.get("plane")) spec.groundPlane = r.number(*n, "plane");
   if (const auto* n = t.get("heightfield")) {
     const std::string given = r.string(*n, "heightfield");
@@ -357,6 +361,68 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
     if (spec.terrainPath.empty())
       r.fail(*n, "'offset' moves the heightfield; give 'heightfield' too");
     spec.terrainShift = r.vec3(*n, "offset");
+  }
+  if (const auto* n = t.get("materials")) {
+    const toml::table& all = r.table(*n, "materials");
+    for (auto&& [k, v] : all) {
+      const std::string name(k.str());
+      const std::string label = "[ground.materials." + name + "]";
+      const toml::table& m = r.table(v, "ground.materials." + name);
+      r.checkKeys(m, {"restitution", "friction", "rolling_resistance"}, label);
+      GroundMaterialSpec g;
+      g.name = name;
+      g.where = r.where(m);
+      if (const auto* x = m.get("restitution")) g.restitution = r.inRange(*x, "restitution", 0, 1);
+      if (const auto* x = m.get("friction"))
+        g.friction = r.nonNegative(*x, "friction", " (Coulomb coefficient)");
+      if (const auto* x = m.get("rolling_resistance"))
+        g.rollingResistance =
+            r.nonNegative(*x, "rolling_resistance", " (tan of the rolling friction angle)");
+      spec.groundMaterials.push_back(g);
+    }
+  }
+  // A material name must be a custom one or a preset.
+  auto materialName = [&](const toml::node& n, const std::string& key) {
+    const std::string name = r.string(n, key);
+    std::vector<std::string> valid;
+    for (const auto& g : spec.groundMaterials) valid.push_back(g.name);
+    for (const auto& p : groundPresetNames()) valid.push_back(p);
+    if (std::find(valid.begin(), valid.end(), name) != valid.end()) return name;
+    std::string message = "unknown ground material '" + name + "'";
+    if (auto guess = nearestName(name, valid))
+      message += "; did you mean '" + *guess + "'?";
+    else
+      message += "; presets: " + joinNames(groundPresetNames()) + " (or define [ground.materials." +
+                 name + "])";
+    r.fail(n, message);
+  };
+  if (const auto* n = t.get("material")) spec.groundMaterial = materialName(*n, "material");
+  if (const auto* n = t.get("classes")) {
+    if (spec.terrainPath.empty())
+      r.fail(*n, "'classes' is a raster on the heightfield's grid; give 'heightfield' too");
+    if (spec.groundMaterial.empty())
+      r.fail(*n, "give 'material' too: it applies where the class raster has no mapped class");
+    fs::path resolved(r.string(*n, "classes"));
+    if (resolved.is_relative()) resolved = sceneFolder / resolved;
+    resolved = resolved.lexically_normal();
+    std::error_code ec;
+    if (!fs::is_regular_file(resolved, ec))
+      r.fail(*n, "class raster not found: '" + resolved.string() + "'");
+    spec.groundClassesPath = resolved.string();
+    const toml::node* map = t.get("class_materials");
+    if (map == nullptr) r.fail(*n, "give 'class_materials' too: a table class = \"material\"");
+    const toml::table& m = r.table(*map, "class_materials");
+    for (auto&& [k, v] : m) {
+      int cls = -1;
+      const std::string key(k.str());
+      const auto res = std::from_chars(key.data(), key.data() + key.size(), cls);
+      if (res.ec != std::errc() || res.ptr != key.data() + key.size() || cls < 0 || cls > 65535)
+        r.fail(k.source(),
+               "'class_materials' keys must be class numbers 0..65535, got '" + key + "'");
+      spec.classMaterials.emplace_back(cls, materialName(v, "class_materials." + key));
+    }
+  } else if (const auto* n = t.get("class_materials")) {
+    r.fail(*n, "'class_materials' needs 'classes' (the class raster)");
   }
 }
 

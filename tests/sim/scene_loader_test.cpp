@@ -467,6 +467,46 @@ TEST_F(SceneTest, DropHeightOfABodyMeasuresFromTheSurfaceUnderIt) {
   EXPECT_EQ(t.shift, Vec3(-5, 2, 1));
 }
 
+TEST_F(SceneTest, GroundMaterialsByNameOrByClassRaster) {
+  // DEM 4 x 3 samples of 10 m, flat; class raster on the same grid: west half class 1, east
+  // half class 2, one NODATA sample (falls back to `material`).
+  const std::string head =
+      "ncols 4\nnrows 3\nxllcenter 0\nyllcenter 0\ncellsize 10\nNODATA_value -1\n";
+  write("dem.asc", head + "0 0 0 0\n0 0 0 0\n0 0 0 0\n");
+  write("classes.asc", head + "1 1 2 2\n1 1 2 2\n1 -1 2 2\n");
+  const std::string path = write(
+      "scene.toml",
+      kShape +
+          "[contact]\nfriction = { body_ground = 0.7 }\n"
+          "[ground]\nheightfield = \"dem.asc\"\nmaterial = \"bedrock\"\n"
+          "classes = \"classes.asc\"\nclass_materials = { 1 = \"meadow\", 2 = \"colluvial\" }\n"
+          "[ground.materials.meadow]\nrolling_resistance = 0.9\nrestitution = 0.1\n");
+  const BuiltScene built = buildScene(loadScene(path));
+  const GroundMap& g = *built.world->def().ground;
+  // STONE table (Guzzetti et al. 2002): non-schist bedrock 0.30 / Rn 65 %, colluvial 0.80 / 15 %.
+  EXPECT_EQ(g.at(4, 4).name, "meadow");
+  EXPECT_EQ(g.at(4, 4).rollingResistance, 0.9);
+  EXPECT_EQ(g.at(4, 4).friction, 0.7);  // unset: [contact] body_ground
+  EXPECT_EQ(g.at(26, 4).name, "colluvial");
+  EXPECT_EQ(g.at(26, 4).rollingResistance, 0.80);
+  EXPECT_EQ(g.at(26, 4).restitution, 0.15);
+  EXPECT_EQ(g.at(10, 0).name, "bedrock");  // the NODATA class sample
+  EXPECT_EQ(g.at(10, 0).rollingResistance, 0.30);
+  EXPECT_EQ(g.at(10, 0).restitution, 0.65);
+  // Without `material` the paper's model stands: no ground map at all.
+  const std::string plain = write("plain.toml", kShape + "[ground]\nheightfield = \"dem.asc\"\n");
+  EXPECT_EQ(buildScene(loadScene(plain)).world->def().ground, nullptr);
+  expectError(kShape + "[ground]\nplane = 0\nmaterial = \"bedrok\"\n", "\"bedrok\"",
+              "unknown ground material 'bedrok'; did you mean 'bedrock'?");
+  // A class raster on another grid is refused.
+  write("small.asc", "ncols 2\nnrows 2\nxllcenter 0\nyllcenter 0\ncellsize 10\n1 1\n1 1\n");
+  const std::string off =
+      write("off.toml", kShape +
+                            "[ground]\nheightfield = \"dem.asc\"\nmaterial = \"bedrock\"\n"
+                            "classes = \"small.asc\"\nclass_materials = { 1 = \"bedrock\" }\n");
+  EXPECT_THROW(buildScene(loadScene(off)), InputError);
+}
+
 TEST_F(SceneTest, ShapesShareTreesAndColoursFallBack) {
   const std::string path =
       write("scene.toml",
