@@ -57,7 +57,10 @@ void RunStats::add(const StepStats& s) {
   secondsIntegrate += s.secondsIntegrate;
 }
 
-World::World(WorldDef def) : def_(std::move(def)) {}
+World::World(WorldDef def) : def_(std::move(def)) {
+  monitor_.configure(def_.terrainEdge, def_.rest, def_.terrain.get(), def_.groundHeight,
+                     def_.gravity);
+}
 
 int World::addBody(const BodyDef& d) {
   VF_ASSERT(d.shape && d.shape->tree && d.shape->mass > 0);
@@ -81,6 +84,8 @@ int World::addBody(const BodyDef& d) {
   bodies_.push_back(std::move(b));
   states_.push_back(y);
   if (placeNow) placeAbove(bodyCount() - 1, d.dropHeight);
+  if (def_.terrain && bodies_.back().active && !d.isStatic)
+    monitor_.onRelease(bodyCount() - 1, states_.back(), time_);
   return bodyCount() - 1;
 }
 
@@ -148,6 +153,7 @@ void World::stepToward(double target) {
   s.nonFinite = integrate(bodies_, states_, s.dt);
   time_ = lands ? target : time_ + s.dt;
   s.overlappingReleases = releaseBodies();
+  if (def_.terrain) monitor_.afterStep(time_, bodies_, states_);
   s.secondsIntegrate = secondsSince(clock);
 
   last_ = s;
@@ -220,6 +226,7 @@ std::uint64_t World::releaseBodies() {
                 found);
     overlapping += found.empty() ? 0 : 1;
     b.active = true;
+    if (def_.terrain && !b.isStatic) monitor_.onRelease(i, states_[i], time_);
   }
   return overlapping;
 }

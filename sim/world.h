@@ -12,6 +12,7 @@
 #include "sim/core/body.h"
 #include "sim/core/math.h"
 #include "sim/ground/ground_material.h"
+#include "sim/ground/rock_monitor.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
 
@@ -60,6 +61,10 @@ struct WorldDef {
   // Rock fall (opt-in): ground materials with rolling resistance (sim/ground/). Null: the
   // paper's model, [contact] body_ground for every ground contact.
   std::shared_ptr<const GroundMap> ground;
+  // Rock fall on terrain (sim/ground/rock_monitor.h): what lies beyond the grid and in NODATA
+  // cells, and when a rock counts as at rest. Used only when there is terrain.
+  TerrainEdge terrainEdge = TerrainEdge::kAuto;
+  RestCriterion rest;
   int solverIterations = 12;  // sequential-impulse passes over the contacts
 };
 
@@ -129,6 +134,15 @@ class World {
   // True-mesh diagnostics of the current state: O(bodies^2 * mesh size); call per frame.
   Diagnostics measure() const;
 
+  // Rock fall on terrain (empty without terrain): per body, its outcome so far.
+  const std::vector<RockOutcome>& outcomes() const { return monitor_.outcomes(); }
+  // Every released dynamic body is at rest (RestCriterion), has left, or is buried.
+  bool allSettled() const { return monitor_.allSettled(bodies_); }
+  // Non-empty when the run must end (TerrainEdge::kStop fired): names the rock and time.
+  const std::string& stopReason() const { return monitor_.stopReason(); }
+  // Bodies removed, stopped or pushed out from below the surface, with body and time.
+  const std::vector<std::string>& terrainMessages() const { return monitor_.messages(); }
+
  private:
   // Steps once towards `target` (> time_), never past it; lands on it exactly when the step
   // rule allows reaching it in one step.
@@ -153,6 +167,7 @@ class World {
   std::vector<Contact> contacts_;       // scratch, reused every step
   ContactCache contactCache_;           // last step's contact impulses (warm starting)
   std::vector<double> normalImpulses_;  // scratch: per contact, for rolling resistance
+  RockMonitor monitor_;                 // terrain edges, push-out, rest, outcomes
 };
 
 }  // namespace vf

@@ -4,12 +4,12 @@
 // Order matters for the user: cheap checks first (scene file, then output paths), the expensive
 // shape building and stepping last, so a typo never costs a long run.
 #include <CLI/CLI.hpp>
-
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "render/cli/commands.h"
+#include "render/cli/outcomes_output.h"
 #include "render/cli/run_output.h"
 #include "sim/core/error.h"
 #include "sim/recorder.h"
@@ -23,6 +23,7 @@ struct SimulateOptions {
   std::string scene;
   std::string csv;
   std::string summary;
+  std::string outcomes;
   std::optional<int> level;
   std::string step;
   bool quiet = false;
@@ -38,6 +39,16 @@ int runSimulate(const SimulateOptions& o) {
   std::optional<OutputFile> csv, summary;
   if (!o.csv.empty()) csv.emplace(o.csv);
   if (!o.summary.empty()) summary.emplace(o.summary);
+  std::optional<OutputFile> outcomes;
+  const bool geojson = o.outcomes.ends_with(".geojson") || o.outcomes.ends_with(".json");
+  if (!o.outcomes.empty()) {
+    if (o.outcomes == o.csv || o.outcomes == o.summary)
+      throw InputError("",
+                       "--outcomes names the same file as another output: '" + o.outcomes + "'");
+    if (spec.terrainPath.empty())
+      throw InputError(spec.path, "--outcomes needs a scene with terrain ([ground] heightfield)");
+    outcomes.emplace(o.outcomes);
+  }
 
   BuiltScene built = buildScene(spec);
   Recorder recorder(*built.world, spec.fps, spec.duration);
@@ -48,8 +59,24 @@ int runSimulate(const SimulateOptions& o) {
     recorder.advanceToFrame(k);
     if (csv) writeCsvFrame(csv->stream(), k, recorder.frameTime(k), *built.world);
     progress.update(k + 1, recorder.frameTime(k));
+    // Rock fall: the run ends when every rock has stopped or left (`stop = "all_at_rest"`),
+    // or when a rock reached a terrain edge whose policy is "stop".
+    if (!built.world->stopReason().empty() || (spec.stopWhenSettled && built.world->allSettled()))
+      break;
   }
   progress.finish();
+  for (const std::string& m : built.world->terrainMessages())
+    std::fprintf(stderr, "voxfall: warning: %s\n", m.c_str());
+  if (!built.world->stopReason().empty())
+    std::fprintf(stderr, "voxfall: run stopped at t = %.4f s: %s\n", built.world->time(),
+                 built.world->stopReason().c_str());
+  if (outcomes) {
+    if (geojson)
+      writeOutcomesGeoJson(outcomes->stream(), *built.world);
+    else
+      writeOutcomesCsv(outcomes->stream(), *built.world);
+    outcomes->commit();
+  }
 
   const RunSummary& result = recorder.summary();
   if (summary) {
@@ -58,6 +85,14 @@ int runSimulate(const SimulateOptions& o) {
   }
   if (csv) csv->commit();
   printSummary(stdout, spec.name, result);
+  if (!spec.terrainPath.empty()) {
+    int count[4] = {0, 0, 0, 0};
+    for (const RockOutcome& r : built.world->outcomes())
+      if (r.released) ++count[static_cast<int>(r.state)];
+    std::printf(
+        "  rocks: %d stopped, %d left the terrain, %d buried, %d still moving (t = %.3f s)\n",
+        count[1], count[2], count[3], count[0], built.world->time());
+  }
   return 0;
 }
 
@@ -74,14 +109,18 @@ void addSimulateCommand(CLI::App& app, int& exitCode) {
       ->type_name("FILE");
   sub->add_option("--summary", o->summary, "write the run summary to this JSON file")
       ->type_name("FILE");
+  sub->add_option("--outcomes", o->outcomes,
+                  "write per-rock outcomes (rock fall on terrain) to this file: CSV, or GeoJSON "
+                  "when it ends in .geojson")
+      ->type_name("FILE");
   sub->add_option("--level", o->level,
                   "voxel level Lv for every shape (overrides the scene's levels)")
       ->type_name("N")
       ->check(CLI::Range(kMinLevel, kMaxLevel));
-  sub->add_option("--step", o->step,
-                  "time step: 'auto' (eq. 20) or seconds, e.g. 0.005 or 1/120 (overrides the scene)")
-      ->check(CLI::Validator(
-          [](std::string& text) { return checkStepOption(text); }, "", "STEP"))
+  sub->add_option(
+         "--step", o->step,
+         "time step: 'auto' (eq. 20) or seconds, e.g. 0.005 or 1/120 (overrides the scene)")
+      ->check(CLI::Validator([](std::string& text) { return checkStepOption(text); }, "", "STEP"))
       ->type_name("S|auto");
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
   sub->callback([o, &exitCode] { exitCode = runSimulate(*o); });

@@ -98,6 +98,9 @@ struct SceneSpec {
   double fixedStep = 0;   // s, when !autoStep
   Vec3 gravity = Vec3(0, 0, -9.81);
   double fps = 30;
+  bool stopWhenSettled = false;  // `stop = "all_at_rest"`: end when every rock stopped or left
+  RestCriterion rest;            // `rest = { speed = .., time = .. }`
+  TerrainEdge terrainEdge = TerrainEdge::kAuto;  // [ground] edge
   // [contact]
   ContactMaterial contact;
   // [ground]

@@ -170,6 +170,8 @@ BuiltScene buildScene(const SceneSpec& spec) {
     if (spec.terrainShift != Vec3::Zero()) shiftHeightfield(terrain, spec.terrainShift);
     def.terrain = std::make_shared<const Heightfield>(std::move(terrain));
   }
+  def.terrainEdge = spec.terrainEdge;
+  def.rest = spec.rest;
   if (!spec.groundMaterial.empty()) def.ground = buildGroundMap(spec, def.terrain.get());
   def.contact = spec.contact;
 

@@ -292,7 +292,22 @@ class Reader {
 // --- [simulation] -------------------------------------------------------------------------
 
 void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
-  r.checkKeys(t, {"duration", "level", "step", "gravity", "fps"}, "[simulation]");
+  r.checkKeys(t, {"duration", "level", "step", "gravity", "fps", "stop", "rest"}, "[simulation]");
+  if (const auto* n = t.get("stop")) {
+    const std::string v = r.string(*n, "stop");
+    if (v != "duration" && v != "all_at_rest")
+      r.fail(*n,
+             "'stop' must be \"duration\" (the default) or \"all_at_rest\" (every rock "
+             "stopped or gone), got \"" +
+                 v + "\"");
+    spec.stopWhenSettled = v == "all_at_rest";
+  }
+  if (const auto* n = t.get("rest")) {
+    const toml::table& rt = r.table(*n, "rest");
+    r.checkKeys(rt, {"speed", "time"}, "[simulation] rest");
+    if (const auto* x = rt.get("speed")) spec.rest.speed = r.positive(*x, "rest.speed", " m/s");
+    if (const auto* x = rt.get("time")) spec.rest.time = r.nonNegative(*x, "rest.time", " s");
+  }
   if (const auto* n = t.get("duration")) spec.duration = r.positive(*n, "duration", " s");
   if (const auto* n = t.get("level"))
     spec.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));

@@ -92,4 +92,117 @@ TEST(Rockfall, RollingSphereStopsAtTheRollingResistanceDistance) {
   EXPECT_GT(free.state(0).x.x(), 3 * d);
 }
 
+// Flat terrain at z = 0: nx x ny samples of 1 m from (0, 0); NaN samples are NODATA.
+std::shared_ptr<const Heightfield> flatTerrain(int nx, int ny,
+                                               std::vector<std::pair<int, int>> holes = {}) {
+  auto h = std::make_shared<Heightfield>();
+  h->nx = nx;
+  h->ny = ny;
+  h->cell = 1.0;
+  h->z.assign(static_cast<std::size_t>(nx) * ny, 0.0);
+  for (auto [i, j] : holes) h->z[static_cast<std::size_t>(j) * nx + i] = NAN;
+  h->zMin = h->zMax = 0;
+  return h;
+}
+
+// A smooth ball rolling at 3 m/s towards the east edge of a 20 m grid (no floor plane).
+World rollTowardsEdge(TerrainEdge edge) {
+  WorldDef def;
+  def.terrain = flatTerrain(21, 21);
+  def.terrainEdge = edge;
+  def.contact.restitutionBodyGround = 0;
+  World world(def);
+  BodyDef b;
+  b.shape = smoothBall(0.25, 100);
+  b.position = Vec3(10, 10, 0.25);
+  b.velocity = Vec3(3, 0, 0);
+  b.angularVelocity = Vec3(0, 3 / 0.25, 0);
+  world.addBody(b);
+  return world;
+}
+
+TEST(Rockfall, ARockRolledOffTheGridEdgeIsRemovedAndRecorded) {
+  World world = rollTowardsEdge(TerrainEdge::kAuto);  // no plane: remove
+  world.advanceTo(5.0);
+  ASSERT_EQ(world.outcomes().size(), 1u);
+  const RockOutcome& r = world.outcomes()[0];
+  EXPECT_EQ(r.state, RockState::kLeft);
+  EXPECT_FALSE(world.isActive(0));
+  // Its centre crosses x = 20 after (20 - 10) / 3 s; it is removed in the step it does, at
+  // most one step (and 3 m/s times it) later.
+  const double dt = world.totals().dtMax;
+  EXPECT_NEAR(r.endTime, 10.0 / 3.0, 2 * dt);
+  EXPECT_NEAR(r.end.x(), 20.0, 3 * 2 * dt);
+  EXPECT_NE(r.message.find("body 0 left the terrain grid"), std::string::npos) << r.message;
+  EXPECT_EQ(world.measure().tunnelled, 0);  // gone, not tunnelled
+  EXPECT_TRUE(world.allSettled());
+  // It does not fall forever: the step stays at the resting maximum with nothing left.
+  EXPECT_GT(world.lastStep().dt, 1e-3);
+}
+
+TEST(Rockfall, EdgePoliciesStopTheRunOrWallTheRockIn) {
+  World stop = rollTowardsEdge(TerrainEdge::kStop);
+  stop.advanceTo(5.0);
+  EXPECT_NE(stop.stopReason().find("body 0 left the terrain grid at t = 3.3"), std::string::npos)
+      << stop.stopReason();
+  World wall = rollTowardsEdge(TerrainEdge::kWall);
+  wall.advanceTo(5.0);
+  EXPECT_EQ(wall.outcomes()[0].state, RockState::kMoving);
+  EXPECT_TRUE(wall.isActive(0));
+  // Reflected at x = 20 after 3.33 s: heading west and back over the grid. The wall reverses
+  // the velocity, not the spin, so friction then brings it to rolling with the angular
+  // momentum about the contact, m r (-v0) + (2/5) m r v0: v = -(3/5) v0 / (7/5) = -1.29 m/s.
+  EXPECT_NEAR(wall.velocity(0).x(), -3.0 * 3 / 7, 0.05);
+  EXPECT_LT(wall.state(0).x.x(), 20.0);
+  EXPECT_GT(wall.state(0).x.z(), 0.2);  // still on the surface, not fallen
+}
+
+TEST(Rockfall, ARockDroppedIntoANoDataHoleIsRemoved) {
+  WorldDef def;
+  def.terrain = flatTerrain(11, 11, {{5, 5}});  // the four cells around (5, 5) m have no data
+  World world(def);
+  BodyDef b;
+  b.shape = smoothBall(0.25, 100);
+  b.position = Vec3(5.2, 4.9, 3.0);
+  world.addBody(b);
+  world.advanceTo(2.0);
+  const RockOutcome& r = world.outcomes()[0];
+  EXPECT_EQ(r.state, RockState::kLeft);
+  EXPECT_NE(r.message.find("body 0 entered a NODATA hole at t = 0.0"), std::string::npos)
+      << r.message;
+  EXPECT_EQ(world.measure().tunnelled, 0);
+}
+
+TEST(Rockfall, ABodyBelowTheSurfaceIsPushedOutOrStoppedNeverEjected) {
+  for (double depth : {0.1, 1.0}) {  // centre 0.1 m below (partly) and 1 m below (wholly)
+    WorldDef def;
+    def.terrain = flatTerrain(11, 11);
+    World world(def);
+    BodyDef b;
+    b.shape = smoothBall(0.25, 100);
+    b.position = Vec3(5, 5, -depth);
+    world.addBody(b);
+    world.advanceTo(2.0);
+    const RockOutcome& r = world.outcomes()[0];
+    ASSERT_FALSE(world.terrainMessages().empty());
+    if (depth < 0.25) {
+      EXPECT_NE(
+          world.terrainMessages()[0].find("body 0 was partly below the terrain surface at t = "),
+          std::string::npos);
+      // Out and resting on the surface (the leaf sphere's bottom at z = 0 within a step's fall),
+      // never thrown: its speed stays below what gravity adds in a few steps.
+      EXPECT_NEAR(world.state(0).x.z(), 0.25, 0.01);
+      EXPECT_LT(world.velocity(0).norm(), 0.1);
+      EXPECT_EQ(r.state, RockState::kStopped);
+    } else {
+      EXPECT_EQ(r.state, RockState::kBuried);
+      EXPECT_NE(r.message.find("body 0 is wholly below the terrain surface at t = 0.0"),
+                std::string::npos)
+          << r.message;
+      EXPECT_NEAR(world.state(0).x.z(), -depth, 0.01);
+      EXPECT_FALSE(world.isActive(0));
+    }
+  }
+}
+
 }  // namespace vf
