@@ -150,7 +150,7 @@ void World::stepToward(double target) {
     applyRollingResistance(contacts_, normalImpulses_, bodies_, states_, *def_.ground);
   s.secondsSolve = secondsSince(clock);
 
-  s.nonFinite = integrate(bodies_, states_, s.dt);
+  s.nonFinite = integrate(bodies_, states_, s.dt, def_.rotation);
   time_ = lands ? target : time_ + s.dt;
   s.overlappingReleases = releaseBodies();
   if (def_.terrain) monitor_.afterStep(time_, bodies_, states_);

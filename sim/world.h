@@ -15,6 +15,7 @@
 #include "sim/ground/rock_monitor.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
+#include "sim/solve/rotation_update.h"
 
 namespace vf {
 
@@ -65,6 +66,9 @@ struct WorldDef {
   // cells, and when a rock counts as at rest. Used only when there is terrain.
   TerrainEdge terrainEdge = TerrainEdge::kAuto;
   RestCriterion rest;
+  // Orientation update; the paper's explicit Euler by default, so the paper's scenes keep
+  // their pinned trajectories (solve/integrate.h).
+  RotationUpdate rotation = RotationUpdate::kExplicitEuler;
   int solverIterations = 12;  // sequential-impulse passes over the contacts
 };
 

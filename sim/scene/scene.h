@@ -98,6 +98,7 @@ struct SceneSpec {
   double fixedStep = 0;   // s, when !autoStep
   Vec3 gravity = Vec3(0, 0, -9.81);
   double fps = 30;
+  RotationUpdate rotation = RotationUpdate::kExplicitEuler;  // `rotation = "euler" | "midpoint"`
   bool stopWhenSettled = false;  // `stop = "all_at_rest"`: end when every rock stopped or left
   RestCriterion rest;            // `rest = { speed = .., time = .. }`
   TerrainEdge terrainEdge = TerrainEdge::kAuto;  // [ground] edge

@@ -171,6 +171,7 @@ BuiltScene buildScene(const SceneSpec& spec) {
     def.terrain = std::make_shared<const Heightfield>(std::move(terrain));
   }
   def.terrainEdge = spec.terrainEdge;
+  def.rotation = spec.rotation;
   def.rest = spec.rest;
   if (!spec.groundMaterial.empty()) def.ground = buildGroundMap(spec, def.terrain.get());
   def.contact = spec.contact;

@@ -292,7 +292,17 @@ class Reader {
 // --- [simulation] -------------------------------------------------------------------------
 
 void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
-  r.checkKeys(t, {"duration", "level", "step", "gravity", "fps", "stop", "rest"}, "[simulation]");
+  r.checkKeys(t, {"duration", "level", "step", "gravity", "fps", "stop", "rest", "rotation"},
+              "[simulation]");
+  if (const auto* n = t.get("rotation")) {
+    const std::string v = r.string(*n, "rotation");
+    if (v != "euler" && v != "midpoint")
+      r.fail(*n,
+             "'rotation' must be \"euler\" (the paper's explicit Euler, the default) or "
+             "\"midpoint\" (keeps the energy of free tumbling), got \"" +
+                 v + "\"");
+    spec.rotation = v == "midpoint" ? RotationUpdate::kMidpoint : RotationUpdate::kExplicitEuler;
+  }
   if (const auto* n = t.get("stop")) {
     const std::string v = r.string(*n, "stop");
     if (v != "duration" && v != "all_at_rest")

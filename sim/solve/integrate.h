@@ -17,7 +17,7 @@ void applyGravity(const std::vector<BodyInfo>& bodies, std::vector<BodyState>& s
 // w = R I_body^-1 R^T L, then q is renormalised. A body whose state is not finite keeps its
 // previous pose with zero momenta; the return value counts such bodies.
 std::uint64_t integrate(const std::vector<BodyInfo>& bodies, std::vector<BodyState>& states,
-                        double dt);
+                        double dt, RotationUpdate rotation = RotationUpdate::kExplicitEuler);
 
 // dq/dt = 1/2 [0, w] q (eq. 7 with the factor 1/2 the paper's printing drops).
 Quat quaternionRate(const Vec3& w, const Quat& q);
