@@ -366,9 +366,24 @@ void readContact(const Reader& r, const toml::table& t, ContactMaterial& c) {
 
 void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                 SceneSpec& spec) {
-  r.checkKeys(
-      t, {"plane", "heightfield", "offset", "material", "materials", "classes", "class_materials"},
-      "[ground]");
+  r.checkKeys(t,
+              {"plane", "heightfield", "offset", "material", "materials", "classes",
+               "class_materials", "edge"},
+              "[ground]");
+  if (const auto* n = t.get("edge")) {
+    const std::string v = r.string(*n, "edge");
+    if (v == "remove")
+      spec.terrainEdge = TerrainEdge::kRemove;
+    else if (v == "stop")
+      spec.terrainEdge = TerrainEdge::kStop;
+    else if (v == "wall")
+      spec.terrainEdge = TerrainEdge::kWall;
+    else
+      r.fail(
+          *n,
+          "'edge' must be \"remove\" (the default without a plane), \"stop\" or \"wall\", got \"" +
+              v + "\"");
+  }
   if (const auto* n = t.get("plane")) spec.groundPlane = r.number(*n, "plane");
   if (const auto* n = t.get("heightfield")) {
     const std::string given = r.string(*n, "heightfield");
