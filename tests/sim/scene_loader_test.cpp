@@ -507,6 +507,32 @@ TEST_F(SceneTest, GroundMaterialsByNameOrByClassRaster) {
   EXPECT_THROW(buildScene(loadScene(off)), InputError);
 }
 
+TEST_F(SceneTest, RockfallRunKeys) {
+  write("flat.asc", "ncols 2\nnrows 2\nxllcenter 0\nyllcenter 0\ncellsize 1\n0 0\n0 0\n");
+  const std::string path =
+      write("scene.toml", kShape +
+                              "[simulation]\nstop = \"all_at_rest\"\nrotation = \"midpoint\"\n"
+                              "rest = { speed = 0.2, time = 2.0 }\n"
+                              "[ground]\nheightfield = \"flat.asc\"\nedge = \"wall\"\n");
+  const SceneSpec spec = loadScene(path);
+  EXPECT_TRUE(spec.stopWhenSettled);
+  EXPECT_EQ(spec.rotation, RotationUpdate::kMidpoint);
+  EXPECT_EQ(spec.rest.speed, 0.2);
+  EXPECT_EQ(spec.rest.time, 2.0);
+  EXPECT_EQ(spec.terrainEdge, TerrainEdge::kWall);
+  const BuiltScene built = buildScene(spec);
+  EXPECT_EQ(built.world->def().rotation, RotationUpdate::kMidpoint);
+  EXPECT_EQ(built.world->def().terrainEdge, TerrainEdge::kWall);
+  // Defaults: the paper's rotation update, run to the duration, edge policy automatic.
+  const SceneSpec plain = loadScene(write("plain.toml", kShape));
+  EXPECT_EQ(plain.rotation, RotationUpdate::kExplicitEuler);
+  EXPECT_FALSE(plain.stopWhenSettled);
+  EXPECT_EQ(plain.terrainEdge, TerrainEdge::kAuto);
+  expectError(kShape + "[simulation]\nstop = \"never\"\n", "\"never\"", "'stop' must be");
+  expectError(kShape + "[simulation]\nrotation = \"rk4\"\n", "\"rk4\"", "'rotation' must be");
+  expectError(kShape + "[ground]\nplane = 0\nedge = \"bounce\"\n", "\"bounce\"", "'edge' must be");
+}
+
 TEST_F(SceneTest, ShapesShareTreesAndColoursFallBack) {
   const std::string path =
       write("scene.toml",
