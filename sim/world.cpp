@@ -5,6 +5,7 @@
 //   narrow phase (fig. 3)     collide/narrow_phase.cpp (waking sleepers: solve/sleep.cpp)
 //   contact reduction         collide/contact_reduction.cpp (optional)
 //   impulses (eq. 15)         solve/impulse.cpp
+//   rolling resistance (opt-in, rock fall)   solve/rolling_resistance.cpp
 //   explicit Euler, renormalise q   solve/integrate.cpp
 //   sleeping islands          solve/sleep.cpp (optional)
 //   releases (emitters)       World::releaseBodies below
@@ -23,6 +24,7 @@
 #include "sim/solve/impulse.h"
 #include "sim/solve/integrate.h"
 #include "sim/solve/sleep.h"
+#include "sim/solve/rolling_resistance.h"
 #include "sim/solve/time_step.h"
 
 namespace vf {
@@ -65,7 +67,10 @@ void RunStats::add(const StepStats& s) {
   secondsRelease += s.secondsRelease;
 }
 
-World::World(WorldDef def) : def_(std::move(def)), stepsHash_(Hasher().value()) {}
+World::World(WorldDef def) : def_(std::move(def)), stepsHash_(Hasher().value()) {
+  monitor_.configure(def_.terrainEdge, def_.rest, def_.terrain.get(), def_.groundHeight,
+                     def_.gravity);
+}
 
 int World::addBody(const BodyDef& d) {
   VF_ASSERT(d.shape && d.shape->tree && d.shape->mass > 0);
@@ -89,6 +94,8 @@ int World::addBody(const BodyDef& d) {
   bodies_.push_back(std::move(b));
   states_.push_back(y);
   if (placeNow) placeAbove(bodyCount() - 1, d.dropHeight);
+  if (def_.terrain && bodies_.back().active && !d.isStatic)
+    monitor_.onRelease(bodyCount() - 1, states_.back(), time_);
   return bodyCount() - 1;
 }
 
@@ -188,10 +195,14 @@ void World::stepToward(double target) {
       def_.contactReduction ? kReducedPassFactor * def_.solverIterations : def_.solverIterations;
   solver.restingSpeed = 2 * def_.gravity.norm() * s.dt;  // what gravity adds in two steps
   solver.dt = s.dt;
+  solver.ground = def_.ground.get();
+  solver.normalImpulses = def_.ground ? &normalImpulses_ : nullptr;
   solveContacts(contacts_, bodies_, states_, solver, contactCache_);
+  if (def_.ground)
+    applyRollingResistance(contacts_, normalImpulses_, bodies_, states_, *def_.ground);
   s.secondsSolve = secondsSince(clock);
 
-  s.nonFinite = integrate(bodies_, states_, s.dt);
+  s.nonFinite = integrate(bodies_, states_, s.dt, def_.rotation);
   time_ = lands ? target : time_ + s.dt;
   s.secondsIntegrate = secondsSince(clock);
 
@@ -200,6 +211,8 @@ void World::stepToward(double target) {
   s.secondsSleep = secondsSince(clock);
 
   s.overlappingReleases = releaseBodies();
+  // Rock fall on terrain: edges, NODATA holes, push-out from below, rest (ground/rock_monitor).
+  if (def_.terrain) monitor_.afterStep(time_, bodies_, states_);
   s.secondsRelease = secondsSince(clock);
 
   last_ = s;
@@ -229,10 +242,11 @@ void World::placeAbove(int id, double clearance) {
   const Eigen::AlignedBox3d box = worldBounds(id);
   double top = -INFINITY;
   if (def_.groundHeight) top = *def_.groundHeight;
-  if (def_.terrain) {
-    const Vec3 c = box.center();
-    top = std::max(
-        top, def_.terrain->maxHeightNear(c.x(), c.y(), 0.5 * box.sizes().head<2>().maxCoeff()));
+  if (def_.terrain) {  // the surface directly under the body, not the highest grid node near it
+    const Mat3 R = states_[id].q.toRotationMatrix();
+    std::vector<Vec3> pts;
+    for (const Vec3& v : bodies_[id].shape->mesh.vertices) pts.push_back(states_[id].x + R * v);
+    top = std::max(top, def_.terrain->surfaceUnder(pts, box.min().z()));
   }
   // What lies below is the pile: bodies that touched something in the last step (before the
   // first step, every placed body). A body still falling from an earlier release touches
@@ -289,6 +303,7 @@ std::uint64_t World::releaseBodies() {
                 found);
     overlapping += found.empty() ? 0 : 1;
     b.active = true;
+    if (def_.terrain && !b.isStatic) monitor_.onRelease(i, states_[i], time_);
   }
   return overlapping;
 }

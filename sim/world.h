@@ -13,9 +13,12 @@
 #include "sim/collide/penetration.h"
 #include "sim/core/body.h"
 #include "sim/core/math.h"
+#include "sim/ground/ground_material.h"
+#include "sim/ground/rock_monitor.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
 #include "sim/solve/sleep.h"
+#include "sim/solve/rotation_update.h"
 
 namespace vf {
 
@@ -56,6 +59,16 @@ struct WorldDef {
   // Threads for the narrow phase; results are merged in a fixed order, so the trajectory and
   // the checksum do not depend on it.
   int threads = 1;
+  // Rock fall (opt-in): ground materials with rolling resistance (sim/ground/). Null: the
+  // paper's model, [contact] body_ground for every ground contact.
+  std::shared_ptr<const GroundMap> ground;
+  // Rock fall on terrain (sim/ground/rock_monitor.h): what lies beyond the grid and in NODATA
+  // cells, and when a rock counts as at rest. Used only when there is terrain.
+  TerrainEdge terrainEdge = TerrainEdge::kAuto;
+  RestCriterion rest;
+  // Orientation update; the paper's explicit Euler by default, so the paper's scenes keep
+  // their pinned trajectories (solve/integrate.h).
+  RotationUpdate rotation = RotationUpdate::kExplicitEuler;
 };
 
 // What one step did. Counters are deterministic; the stage times are wall-clock and are never
@@ -152,6 +165,15 @@ class World {
   // The same for other states of these bodies (one per body, e.g. statesAt(t)).
   Diagnostics measure(const std::vector<BodyState>& states) const;
 
+  // Rock fall on terrain (empty without terrain): per body, its outcome so far.
+  const std::vector<RockOutcome>& outcomes() const { return monitor_.outcomes(); }
+  // Every released dynamic body is at rest (RestCriterion), has left, or is buried.
+  bool allSettled() const { return monitor_.allSettled(bodies_); }
+  // Non-empty when the run must end (TerrainEdge::kStop fired): names the rock and time.
+  const std::string& stopReason() const { return monitor_.stopReason(); }
+  // Bodies removed, stopped or pushed out from below the surface, with body and time.
+  const std::vector<std::string>& terrainMessages() const { return monitor_.messages(); }
+
  private:
   // Steps once towards `target` (> time_), never past it; lands on it exactly when the step
   // rule allows reaching it in one step.
@@ -185,6 +207,8 @@ class World {
   std::vector<Contact> contacts_;  // scratch, reused every step
   ContactCache contactCache_;      // last step's contact impulses (warm starting)
   std::uint64_t stepsHash_;        // see stepsHash()
+  std::vector<double> normalImpulses_;  // scratch: per contact, for rolling resistance
+  RockMonitor monitor_;                 // terrain edges, push-out, rest, outcomes
 };
 
 }  // namespace vf

@@ -10,6 +10,7 @@
 
 #include "render/cli/commands.h"
 #include "render/cli/options.h"
+#include "render/cli/outcomes_output.h"
 #include "render/cli/run_output.h"
 #include "render/progress.h"
 #include "sim/bake.h"
@@ -26,6 +27,7 @@ struct SimulateOptions {
   std::string csv;
   std::string summary;
   std::string bake;
+  std::string outcomes;
   std::optional<int> level;
   std::string step;
   std::string collider;  // "": the scene's
@@ -53,6 +55,17 @@ int runSimulate(const SimulateOptions& o) {
   if (!o.csv.empty()) csv.emplace(o.csv, rules);
   if (!o.summary.empty()) summary.emplace(o.summary, rules);
   if (!o.bake.empty()) bakeFile.emplace(o.bake, rules);
+  std::optional<OutputFile> outcomes;
+  const bool geojson = o.outcomes.ends_with(".geojson") || o.outcomes.ends_with(".json");
+  if (!o.outcomes.empty()) {
+    for (const auto& [name, other] : named)
+      if (o.outcomes == *other)
+        throw InputError("", std::string("--outcomes and ") + name + " name the same file '" +
+                                 o.outcomes + "'");
+    if (spec.terrainPath.empty())
+      throw InputError(spec.path, "--outcomes needs a scene with terrain ([ground] heightfield)");
+    outcomes.emplace(o.outcomes, rules);
+  }
   installStopHandlers();
 
   BuiltScene built = buildScene(spec);
@@ -74,6 +87,10 @@ int runSimulate(const SimulateOptions& o) {
       writeCsvFrame(csv->stream(), k, recorder.frameTime(k), *built.world, recorder.frameStates());
     done = k + 1;
     progress.update(done, recorder.frameTime(k));
+    // Rock fall: the run ends when every rock has stopped or left (`stop = "all_at_rest"`),
+    // or when a rock reached a terrain edge whose policy is "stop".
+    if (!built.world->stopReason().empty() || (spec.stopWhenSettled && built.world->allSettled()))
+      break;
   }
   progress.finish();
   const int stop = stopSignal();
@@ -81,6 +98,11 @@ int runSimulate(const SimulateOptions& o) {
     std::fprintf(stderr, "voxfall: interrupted before the first frame; no output written\n");
     return 128 + stop;  // the OutputFiles' destructors remove their temporary files
   }
+  for (const std::string& m : built.world->terrainMessages())
+    std::fprintf(stderr, "voxfall: warning: %s\n", m.c_str());
+  if (!built.world->stopReason().empty())
+    std::fprintf(stderr, "voxfall: run stopped at t = %.4f s: %s\n", built.world->time(),
+                 built.world->stopReason().c_str());
 
   const RunSummary& result = recorder.summary();
   std::string written;
@@ -88,6 +110,13 @@ int runSimulate(const SimulateOptions& o) {
     f.commit();
     written += (written.empty() ? "" : ", ") + f.path();
   };
+  if (outcomes) {
+    if (geojson)
+      writeOutcomesGeoJson(outcomes->stream(), *built.world);
+    else
+      writeOutcomesCsv(outcomes->stream(), *built.world);
+    wrote(*outcomes);
+  }
   if (summary) {
     writeSummaryJson(summary->stream(), spec.name, result);
     wrote(*summary);
@@ -95,12 +124,21 @@ int runSimulate(const SimulateOptions& o) {
   if (csv) wrote(*csv);
   if (bakeFile) {
     bake->summary = result;
-    // An interrupted bake ends at its last frame, so it renders only what was simulated.
-    if (stop) bake->scene.duration = recorder.frameTime(done - 1);
+    // An interrupted (or settled, `stop = "all_at_rest"`) bake ends at its last frame, so it
+    // renders only what was simulated.
+    if (done < recorder.frameCount()) bake->scene.duration = recorder.frameTime(done - 1);
     writeBake(bakeFile->stream(), o.bake, *bake);
     wrote(*bakeFile);
   }
   printSummary(stdout, spec.name, result);
+  if (!spec.terrainPath.empty()) {
+    int count[4] = {0, 0, 0, 0};
+    for (const RockOutcome& r : built.world->outcomes())
+      if (r.released) ++count[static_cast<int>(r.state)];
+    std::printf(
+        "  rocks: %d stopped, %d left the terrain, %d buried, %d still moving (t = %.3f s)\n",
+        count[1], count[2], count[3], count[0], built.world->time());
+  }
   if (stop) {
     std::fprintf(stderr, "voxfall: interrupted; frames 0..%d (t = 0 .. %.6g s) written%s%s\n",
                  done - 1, recorder.frameTime(done - 1), written.empty() ? "" : " to ",
@@ -126,6 +164,10 @@ void addSimulateCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--bake", o->bake,
                   "write the run (every body's state after every step, and what drawing needs) "
                   "to this file, for `voxfall render FILE` and `voxfall export FILE`")
+      ->type_name("FILE");
+  sub->add_option("--outcomes", o->outcomes,
+                  "write per-rock outcomes (rock fall on terrain) to this file: CSV, or GeoJSON "
+                  "when it ends in .geojson")
       ->type_name("FILE");
   addPhysicsOptions(*sub, o->level, o->step, o->collider);
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");

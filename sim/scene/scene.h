@@ -20,7 +20,9 @@ struct ShapeSpec {
   std::string name;           // key of [shapes.NAME]
   std::string meshPath;       // resolved against the scene file's folder
   Vec3 scale = Vec3::Ones();  // uniform number or [sx, sy, sz] in the file
-  double density = 0;         // kg/m^3
+  double density = 0;         // kg/m^3; 0 when `mass` is given instead
+  double mass = 0;            // kg; 0 when `density` is given
+  bool yUp = false;           // `up = "y"`: the mesh file's y axis is up (rotated to z)
   std::optional<int> level;   // overrides [simulation] level for this shape
   std::optional<Color> color;
   std::string where;  // "file:line:column" of the table, for later errors
@@ -33,6 +35,9 @@ struct BodySpec {
   Vec3 velocity = Vec3::Zero();
   Vec3 angularVelocity = Vec3::Zero();
   bool isStatic = false;
+  // If set, the body is lifted so its lowest point is this far above the surface directly
+  // under it (terrain, floor, bodies at rest), as for emitters.
+  std::optional<double> dropHeight;
   std::optional<Color> color;
   std::string where;
 };
@@ -89,6 +94,14 @@ struct CameraSpec {
   std::string where;              // "file:line:column" of the table
 };
 
+// [ground.materials.NAME]: a custom ground material; unset values fall back to [contact]'s
+// body_ground restitution and friction, and no rolling resistance.
+struct GroundMaterialSpec {
+  std::string name;
+  std::optional<double> restitution, friction, rollingResistance;
+  std::string where;
+};
+
 struct OutputSpec {
   int width = 1280;
   int height = 720;
@@ -113,11 +126,21 @@ struct SceneSpec {
   bool contactReduction = false;  // a few contacts per patch (README, "Performance")
   bool sleep = false;             // bodies at rest sleep until touched
   int threads = 1;  // not a scene key (results do not depend on it): set by the caller
+  RotationUpdate rotation = RotationUpdate::kExplicitEuler;  // `rotation = "euler" | "midpoint"`
+  bool stopWhenSettled = false;  // `stop = "all_at_rest"`: end when every rock stopped or left
+  RestCriterion rest;            // `rest = { speed = .., time = .. }`
+  TerrainEdge terrainEdge = TerrainEdge::kAuto;  // [ground] edge
   // [contact]
   ContactMaterial contact;
   // [ground]
   std::optional<double> groundPlane;
-  std::string terrainPath;  // ESRI ASCII grid (heightfield), resolved; empty: no terrain
+  std::string terrainPath;           // DEM (any raster GDAL reads), resolved; empty: no terrain
+  Vec3 terrainShift = Vec3::Zero();  // `offset`: added to the DEM's coordinates, m
+  // Rock fall ground materials (opt-in). Empty `groundMaterial`: the paper's model.
+  std::string groundMaterial;  // a preset (sim/ground/ground_material.cpp) or custom name
+  std::vector<GroundMaterialSpec> groundMaterials;  // custom ones
+  std::string groundClassesPath;  // class raster on the DEM's grid; empty: one material
+  std::vector<std::pair<int, std::string>> classMaterials;  // class -> material name
   std::vector<ShapeSpec> shapes;
   std::vector<BodySpec> bodies;
   std::vector<EmitterSpec> emitters;

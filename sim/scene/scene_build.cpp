@@ -13,8 +13,10 @@
 
 #include "sim/core/error.h"
 #include "sim/core/prng.h"
+#include "sim/geometry/mass_properties.h"
 #include "sim/geometry/mesh_checks.h"
 #include "sim/geometry/mesh_import.h"
+#include "sim/ground/ground_material.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/convex_polyhedron.h"
 #include "sim/shape/shape.h"
@@ -33,28 +35,40 @@ struct BuiltShape {
 using TreeKey = std::tuple<std::string, double, double, double, int>;
 
 std::map<std::string, BuiltShape> buildShapes(const SceneSpec& spec) {
-  std::map<std::string, TriMesh> meshes;  // by resolved file path
+  std::map<std::string, TriMesh> meshes;  // by resolved file path and up axis
   std::map<TreeKey, std::shared_ptr<const SphereTree>> trees;
   std::map<std::string, BuiltShape> shapes;
   for (std::size_t i = 0; i < spec.shapes.size(); ++i) {
     const ShapeSpec& s = spec.shapes[i];
-    auto mesh = meshes.find(s.meshPath);
+    // A y-up mesh is a different mesh once rotated: it gets its own cache entry and tree.
+    const std::string meshKey = s.meshPath + (s.yUp ? "#y-up" : "");
+    auto mesh = meshes.find(meshKey);
     if (mesh == meshes.end()) {
       // Both throw InputError naming the mesh file; nothing to add.
       TriMesh m = importMesh(s.meshPath);
       validateClosedMesh(m, s.meshPath);
-      mesh = meshes.emplace(s.meshPath, std::move(m)).first;
+      // +90 degrees about x takes the file's y (up) to z and its z to -y: a proper rotation,
+      // so windings (outward normals) are kept.
+      if (s.yUp)
+        for (Vec3& v : m.vertices) v = Vec3(v.x(), -v.z(), v.y());
+      mesh = meshes.emplace(meshKey, std::move(m)).first;
     }
     const int level = s.level.value_or(spec.level);
-    const TreeKey key{s.meshPath, s.scale.x(), s.scale.y(), s.scale.z(), level};
+    // `scale` is given in the mesh file's axes: after the y-up rotation its y and z swap.
+    const Vec3 scale = s.yUp ? Vec3(s.scale.x(), s.scale.z(), s.scale.y()) : s.scale;
+    const TreeKey key{meshKey, scale.x(), scale.y(), scale.z(), level};
     auto tree = trees.find(key);
     if (tree == trees.end()) {
       auto built = std::make_shared<const SphereTree>(
-          buildSphereTree(centredMesh(mesh->second, s.scale), level));
+          buildSphereTree(centredMesh(mesh->second, scale), level));
       tree = trees.emplace(key, std::move(built)).first;
     }
+    // `mass` instead of `density`: the uniform density that gives the scaled mesh that mass.
+    const double density =
+        s.mass > 0 ? s.mass / computeMassProperties(centredMesh(mesh->second, scale), 1.0).volume
+                   : s.density;
     BuiltShape b;
-    b.shape = makeShape(s.name, mesh->second, s.scale, s.density, level, tree->second);
+    b.shape = makeShape(s.name, mesh->second, scale, density, level, tree->second);
     if (spec.collider == ColliderMethod::kPolygon) {
       // Throws InputError at the shape's table when the mesh is not convex.
       auto withPolygons = std::make_shared<Shape>(*b.shape);
@@ -92,6 +106,48 @@ Quat uniformRotation(double u1, double u2, double u3) {
               b * std::sin(twoPi * u3));
 }
 
+// The ground material named `name`: a custom one (its unset values from [contact]), else a
+// preset with [contact]'s body_ground friction.
+GroundMaterial groundMaterial(const SceneSpec& spec, const std::string& name) {
+  for (const GroundMaterialSpec& g : spec.groundMaterials)
+    if (g.name == name) {
+      GroundMaterial m;
+      m.name = name;
+      m.restitution = g.restitution.value_or(spec.contact.restitutionBodyGround);
+      m.friction = g.friction.value_or(spec.contact.frictionBodyGround);
+      m.rollingResistance = g.rollingResistance.value_or(0.0);
+      m.source = "scene " + g.where;
+      return m;
+    }
+  if (auto p = groundPreset(name, spec.contact.frictionBodyGround)) return *p;
+  throw InputError(spec.path, "unknown ground material '" + name + "'");  // loadScene checks
+}
+
+std::shared_ptr<const GroundMap> buildGroundMap(const SceneSpec& spec, const Heightfield* dem) {
+  auto map = std::make_shared<GroundMap>();
+  map->materials.push_back(groundMaterial(spec, spec.groundMaterial));
+  if (spec.groundClassesPath.empty()) return map;
+  Heightfield classes = loadDem(spec.groundClassesPath);
+  shiftHeightfield(classes, Vec3(spec.terrainShift.x(), spec.terrainShift.y(), 0));
+  if (!dem || classes.nx != dem->nx || classes.ny != dem->ny ||
+      std::abs(classes.x0 - dem->x0) > 1e-6 * dem->cell ||
+      std::abs(classes.y0 - dem->y0) > 1e-6 * dem->cell ||
+      std::abs(classes.cell - dem->cell) > 1e-9 * dem->cell)
+    throw InputError(
+        spec.groundClassesPath,
+        "class raster must lie on the DEM's grid (" + std::to_string(dem ? dem->nx : 0) + " x " +
+            std::to_string(dem ? dem->ny : 0) + " samples, same origin and cell size), got " +
+            std::to_string(classes.nx) + " x " + std::to_string(classes.ny));
+  for (const auto& [cls, name] : spec.classMaterials) {
+    if (static_cast<std::size_t>(cls) >= map->materialOfClass.size())
+      map->materialOfClass.resize(static_cast<std::size_t>(cls) + 1, -1);
+    map->materialOfClass[static_cast<std::size_t>(cls)] = static_cast<int>(map->materials.size());
+    map->materials.push_back(groundMaterial(spec, name));
+  }
+  map->classes = std::make_shared<const Heightfield>(std::move(classes));
+  return map;
+}
+
 }  // namespace
 
 Color defaultBodyColor(int id) {
@@ -117,8 +173,15 @@ BuiltScene buildScene(const SceneSpec& spec) {
   def.gravity = spec.gravity;
   def.fixedStep = spec.autoStep ? 0 : spec.fixedStep;
   def.groundHeight = spec.groundPlane;
-  if (!spec.terrainPath.empty())
-    def.terrain = std::make_shared<const Heightfield>(loadEsriAsciiGrid(spec.terrainPath));
+  if (!spec.terrainPath.empty()) {
+    Heightfield terrain = loadDem(spec.terrainPath);
+    if (spec.terrainShift != Vec3::Zero()) shiftHeightfield(terrain, spec.terrainShift);
+    def.terrain = std::make_shared<const Heightfield>(std::move(terrain));
+  }
+  def.terrainEdge = spec.terrainEdge;
+  def.rotation = spec.rotation;
+  def.rest = spec.rest;
+  if (!spec.groundMaterial.empty()) def.ground = buildGroundMap(spec, def.terrain.get());
   def.contact = spec.contact;
   def.contactReduction = spec.contactReduction;
   def.sleep = spec.sleep;
@@ -145,6 +208,7 @@ BuiltScene buildScene(const SceneSpec& spec) {
     def.velocity = b.velocity;
     def.angularVelocity = b.angularVelocity;
     def.isStatic = b.isStatic;
+    if (b.dropHeight) def.dropHeight = *b.dropHeight;
     add(s, b.shape, def, b.color);
   }
 

@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "sim/core/error.h"
+#include "sim/ground/ground_material.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/sphere_tree.h"
 
@@ -289,9 +291,34 @@ class Reader {
 // --- [simulation] -------------------------------------------------------------------------
 
 void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
-  r.checkKeys(
-      t, {"duration", "level", "step", "gravity", "fps", "collider", "contact_reduction", "sleep"},
-      "[simulation]");
+  r.checkKeys(t,
+              {"duration", "level", "step", "gravity", "fps", "collider", "contact_reduction",
+               "sleep", "stop", "rest", "rotation"},
+              "[simulation]");
+  if (const auto* n = t.get("rotation")) {
+    const std::string v = r.string(*n, "rotation");
+    if (v != "euler" && v != "midpoint")
+      r.fail(*n,
+             "'rotation' must be \"euler\" (the paper's explicit Euler, the default) or "
+             "\"midpoint\" (keeps the energy of free tumbling), got \"" +
+                 v + "\"");
+    spec.rotation = v == "midpoint" ? RotationUpdate::kMidpoint : RotationUpdate::kExplicitEuler;
+  }
+  if (const auto* n = t.get("stop")) {
+    const std::string v = r.string(*n, "stop");
+    if (v != "duration" && v != "all_at_rest")
+      r.fail(*n,
+             "'stop' must be \"duration\" (the default) or \"all_at_rest\" (every rock "
+             "stopped or gone), got \"" +
+                 v + "\"");
+    spec.stopWhenSettled = v == "all_at_rest";
+  }
+  if (const auto* n = t.get("rest")) {
+    const toml::table& rt = r.table(*n, "rest");
+    r.checkKeys(rt, {"speed", "time"}, "[simulation] rest");
+    if (const auto* x = rt.get("speed")) spec.rest.speed = r.positive(*x, "rest.speed", " m/s");
+    if (const auto* x = rt.get("time")) spec.rest.time = r.nonNegative(*x, "rest.time", " s");
+  }
   if (const auto* n = t.get("duration")) spec.duration = r.positive(*n, "duration", " s");
   if (const auto* n = t.get("level"))
     spec.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
@@ -355,7 +382,24 @@ void readContact(const Reader& r, const toml::table& t, ContactMaterial& c) {
 
 void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                 SceneSpec& spec) {
-  r.checkKeys(t, {"plane", "heightfield"}, "[ground]");
+  r.checkKeys(t,
+              {"plane", "heightfield", "offset", "material", "materials", "classes",
+               "class_materials", "edge"},
+              "[ground]");
+  if (const auto* n = t.get("edge")) {
+    const std::string v = r.string(*n, "edge");
+    if (v == "remove")
+      spec.terrainEdge = TerrainEdge::kRemove;
+    else if (v == "stop")
+      spec.terrainEdge = TerrainEdge::kStop;
+    else if (v == "wall")
+      spec.terrainEdge = TerrainEdge::kWall;
+    else
+      r.fail(
+          *n,
+          "'edge' must be \"remove\" (the default without a plane), \"stop\" or \"wall\", got \"" +
+              v + "\"");
+  }
   if (const auto* n = t.get("plane")) spec.groundPlane = r.number(*n, "plane");
   if (const auto* n = t.get("heightfield")) {
     const std::string given = r.string(*n, "heightfield");
@@ -364,10 +408,77 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
     resolved = resolved.lexically_normal();
     std::error_code ec;
     if (!fs::is_regular_file(resolved, ec))
-      r.fail(*n,
-             "terrain grid not found: '" + resolved.string() +
-                 "' (an ESRI ASCII grid; relative paths resolve against the scene file's folder)");
+      r.fail(*n, "terrain grid not found: '" + resolved.string() +
+                     "' (a DEM GDAL reads, e.g. GeoTIFF or ESRI ASCII; relative paths resolve "
+                     "against the scene file's folder)");
     spec.terrainPath = resolved.string();
+  }
+  if (const auto* n = t.get("offset")) {
+    if (spec.terrainPath.empty())
+      r.fail(*n, "'offset' moves the heightfield; give 'heightfield' too");
+    spec.terrainShift = r.vec3(*n, "offset");
+  }
+  if (const auto* n = t.get("materials")) {
+    const toml::table& all = r.table(*n, "materials");
+    for (auto&& [k, v] : all) {
+      const std::string name(k.str());
+      const std::string label = "[ground.materials." + name + "]";
+      const toml::table& m = r.table(v, "ground.materials." + name);
+      r.checkKeys(m, {"restitution", "friction", "rolling_resistance"}, label);
+      GroundMaterialSpec g;
+      g.name = name;
+      g.where = r.where(m);
+      if (const auto* x = m.get("restitution")) g.restitution = r.inRange(*x, "restitution", 0, 1);
+      if (const auto* x = m.get("friction"))
+        g.friction = r.nonNegative(*x, "friction", " (Coulomb coefficient)");
+      if (const auto* x = m.get("rolling_resistance"))
+        g.rollingResistance =
+            r.nonNegative(*x, "rolling_resistance", " (tan of the rolling friction angle)");
+      spec.groundMaterials.push_back(g);
+    }
+  }
+  // A material name must be a custom one or a preset.
+  auto materialName = [&](const toml::node& n, const std::string& key) {
+    const std::string name = r.string(n, key);
+    std::vector<std::string> valid;
+    for (const auto& g : spec.groundMaterials) valid.push_back(g.name);
+    for (const auto& p : groundPresetNames()) valid.push_back(p);
+    if (std::find(valid.begin(), valid.end(), name) != valid.end()) return name;
+    std::string message = "unknown ground material '" + name + "'";
+    if (auto guess = nearestName(name, valid))
+      message += "; did you mean '" + *guess + "'?";
+    else
+      message += "; presets: " + joinNames(groundPresetNames()) + " (or define [ground.materials." +
+                 name + "])";
+    r.fail(n, message);
+  };
+  if (const auto* n = t.get("material")) spec.groundMaterial = materialName(*n, "material");
+  if (const auto* n = t.get("classes")) {
+    if (spec.terrainPath.empty())
+      r.fail(*n, "'classes' is a raster on the heightfield's grid; give 'heightfield' too");
+    if (spec.groundMaterial.empty())
+      r.fail(*n, "give 'material' too: it applies where the class raster has no mapped class");
+    fs::path resolved(r.string(*n, "classes"));
+    if (resolved.is_relative()) resolved = sceneFolder / resolved;
+    resolved = resolved.lexically_normal();
+    std::error_code ec;
+    if (!fs::is_regular_file(resolved, ec))
+      r.fail(*n, "class raster not found: '" + resolved.string() + "'");
+    spec.groundClassesPath = resolved.string();
+    const toml::node* map = t.get("class_materials");
+    if (map == nullptr) r.fail(*n, "give 'class_materials' too: a table class = \"material\"");
+    const toml::table& m = r.table(*map, "class_materials");
+    for (auto&& [k, v] : m) {
+      int cls = -1;
+      const std::string key(k.str());
+      const auto res = std::from_chars(key.data(), key.data() + key.size(), cls);
+      if (res.ec != std::errc() || res.ptr != key.data() + key.size() || cls < 0 || cls > 65535)
+        r.fail(k.source(),
+               "'class_materials' keys must be class numbers 0..65535, got '" + key + "'");
+      spec.classMaterials.emplace_back(cls, materialName(v, "class_materials." + key));
+    }
+  } else if (const auto* n = t.get("class_materials")) {
+    r.fail(*n, "'class_materials' needs 'classes' (the class raster)");
   }
 }
 
@@ -396,7 +507,7 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
 ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table& t,
                     const fs::path& sceneFolder) {
   const std::string label = "[shapes." + name + "]";
-  r.checkKeys(t, {"mesh", "scale", "density", "level", "color"}, label);
+  r.checkKeys(t, {"mesh", "scale", "density", "mass", "up", "level", "color"}, label);
   ShapeSpec s;
   s.name = name;
   s.where = r.where(t);
@@ -427,7 +538,23 @@ ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table&
              "'scale' must be a number or an array of 3 numbers [sx, sy, sz], got " + typeName(*n));
     }
   }
-  s.density = r.positive(r.require(t, "density", label), "density", " kg/m^3");
+  const toml::node* density = t.get("density");
+  const toml::node* mass = t.get("mass");
+  if (density != nullptr && mass != nullptr)
+    r.fail(*mass, "give either 'density' or 'mass' in " + label + ", not both");
+  if (mass != nullptr)
+    s.mass = r.positive(*mass, "mass", " kg");
+  else
+    s.density = r.positive(r.require(t, "density", label), "density", " kg/m^3");
+  if (const auto* n = t.get("up")) {
+    const std::string up = r.string(*n, "up");
+    if (up != "z" && up != "y")
+      r.fail(*n,
+             "'up' must be \"z\" (the default) or \"y\" (a y-up mesh, rotated so y becomes z), got "
+             "\"" +
+                 up + "\"");
+    s.yUp = up == "y";
+  }
   if (const auto* n = t.get("level"))
     s.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
   if (const auto* n = t.get("color")) s.color = r.color(*n, "color");
@@ -490,9 +617,10 @@ void readBodies(const Reader& r, const toml::array& bodies, SceneSpec& spec) {
   for (const toml::node& node : bodies) {
     const toml::table& t = *node.as_table();
     const std::string label = "[[bodies]]";
-    r.checkKeys(
-        t, {"shape", "position", "orientation", "velocity", "angular_velocity", "static", "color"},
-        label);
+    r.checkKeys(t,
+                {"shape", "position", "orientation", "velocity", "angular_velocity", "static",
+                 "drop_height", "color"},
+                label);
     BodySpec b;
     b.where = r.where(t);
     b.shape = readShapeReference(r, t, label, spec);
@@ -502,6 +630,9 @@ void readBodies(const Reader& r, const toml::array& bodies, SceneSpec& spec) {
     if (const auto* n = t.get("angular_velocity"))
       b.angularVelocity = r.vec3(*n, "angular_velocity");
     if (const auto* n = t.get("static")) b.isStatic = r.boolean(*n, "static");
+    if (const auto* n = t.get("drop_height"))
+      b.dropHeight =
+          r.nonNegative(*n, "drop_height", " m (fall height above the surface under the body)");
     if (const auto* n = t.get("color")) b.color = r.color(*n, "color");
     spec.bodies.push_back(std::move(b));
   }

@@ -1,13 +1,8 @@
 #include "sim/shape/heightfield.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <fstream>
 #include <limits>
-#include <sstream>
-
-#include "sim/core/error.h"
 
 namespace vf {
 
@@ -27,7 +22,7 @@ double Heightfield::heightAt(double x, double y) const {
   const double u = gx - i, v = gy - j;
   const double z00 = at(i, j), z10 = at(i + 1, j), z01 = at(i, j + 1), z11 = at(i + 1, j + 1);
   if (u >= v) return z00 + u * (z10 - z00) + v * (z11 - z10);  // triangle (p00, p10, p11)
-  return z00 + v * (z01 - z00) + u * (z11 - z01);               // triangle (p00, p11, p01)
+  return z00 + v * (z01 - z00) + u * (z11 - z01);              // triangle (p00, p11, p01)
 }
 
 Vec3 Heightfield::normalAt(double x, double y) const {
@@ -69,6 +64,15 @@ double Heightfield::maxHeightNear(double x, double y, double r) const {
   return top;
 }
 
+double Heightfield::surfaceUnder(const std::vector<Vec3>& pts, double bottom) const {
+  double gap = INFINITY;
+  for (const Vec3& p : pts) {
+    const double h = heightAt(p.x(), p.y());
+    if (!std::isnan(h)) gap = std::min(gap, p.z() - h);
+  }
+  return std::isfinite(gap) ? bottom - gap : -INFINITY;
+}
+
 void Heightfield::cellTriangles(int i, int j, Vec3 tri[2][3]) const {
   const Vec3 p00(x0 + i * cell, y0 + j * cell, at(i, j));
   const Vec3 p10(x0 + (i + 1) * cell, y0 + j * cell, at(i + 1, j));
@@ -94,106 +98,13 @@ TriMesh Heightfield::toMesh() const {
   return m;
 }
 
-namespace {
-
-// Reads whitespace-separated tokens and knows the line each came from.
-class Tokens {
- public:
-  explicit Tokens(std::istream& in) : in_(in) {}
-  bool next(std::string& token) {
-    while (true) {
-      while (pos_ < line_.size() && std::isspace(static_cast<unsigned char>(line_[pos_]))) ++pos_;
-      if (pos_ < line_.size()) break;
-      if (!std::getline(in_, line_)) return false;
-      ++lineNo_;
-      pos_ = 0;
-    }
-    const std::size_t start = pos_;
-    while (pos_ < line_.size() && !std::isspace(static_cast<unsigned char>(line_[pos_]))) ++pos_;
-    token = line_.substr(start, pos_ - start);
-    return true;
-  }
-  int line() const { return lineNo_; }
-
- private:
-  std::istream& in_;
-  std::string line_;
-  std::size_t pos_ = 0;
-  int lineNo_ = 0;
-};
-
-bool parseNumber(const std::string& s, double& v) {
-  std::istringstream ss(s);
-  ss.imbue(std::locale::classic());
-  ss >> v;
-  return ss && ss.peek() == std::char_traits<char>::eof() && std::isfinite(v);
-}
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-}  // namespace
-
-Heightfield loadEsriAsciiGrid(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot open terrain grid (no such file or not readable)");
-  Tokens tokens(in);
-  auto fail = [&](const std::string& what) -> InputError {
-    return InputError(sourceLocation(path, tokens.line()), what);
-  };
-  double ncols = -1, nrows = -1, xll = NAN, yll = NAN, cellsize = -1, nodata = NAN;
-  bool centre = false;
-  std::string key, value;
-  // Header: "key value" pairs until the first token that is a number.
-  while (true) {
-    if (!tokens.next(key)) throw fail("grid ends inside its header");
-    double probe;
-    if (parseNumber(key, probe)) break;  // first data value
-    if (!tokens.next(value)) throw fail("header key '" + key + "' has no value");
-    double v;
-    if (!parseNumber(value, v)) throw fail("header value '" + value + "' of '" + key + "' is not a number");
-    const std::string k = lower(key);
-    if (k == "ncols") ncols = v;
-    else if (k == "nrows") nrows = v;
-    else if (k == "xllcorner" || k == "xllcenter") { xll = v; centre = k == "xllcenter"; }
-    else if (k == "yllcorner" || k == "yllcenter") yll = v;
-    else if (k == "cellsize") cellsize = v;
-    else if (k == "nodata_value") nodata = v;
-    else throw fail("unknown header key '" + key + "' (expected ncols, nrows, xllcorner, yllcorner, cellsize, NODATA_value)");
-  }
-  if (ncols < 2 || nrows < 2 || ncols != std::floor(ncols) || nrows != std::floor(nrows))
-    throw fail("ncols and nrows must be whole numbers of at least 2");
-  if (!(cellsize > 0)) throw fail("cellsize must be positive");
-  if (std::isnan(xll) || std::isnan(yll)) throw fail("header needs xllcorner (or xllcenter) and yllcorner (or yllcenter)");
-
-  Heightfield h;
-  h.nx = static_cast<int>(ncols);
-  h.ny = static_cast<int>(nrows);
-  h.cell = cellsize;
-  h.x0 = centre ? xll : xll + cellsize / 2;
-  h.y0 = centre ? yll : yll + cellsize / 2;
-  h.z.assign(static_cast<std::size_t>(h.nx) * h.ny, NAN);
-  const std::size_t count = h.z.size();
-  std::string token = key;  // the first data value, already read
-  for (std::size_t n = 0; n < count; ++n) {
-    if (n > 0 && !tokens.next(token))
-      throw fail("grid has " + std::to_string(n) + " values; the header promises " + std::to_string(count));
-    double v;
-    if (!parseNumber(token, v)) throw fail("'" + token + "' is not a number");
-    const int row = static_cast<int>(n / h.nx);  // from the north
-    const int i = static_cast<int>(n % h.nx);
-    const int j = h.ny - 1 - row;
-    h.z[static_cast<std::size_t>(j) * h.nx + i] = (!std::isnan(nodata) && v == nodata) ? NAN : v;
-  }
-  if (tokens.next(token)) throw fail("grid has more values than ncols x nrows = " + std::to_string(count));
-  h.zMin = INFINITY;
-  h.zMax = -INFINITY;
-  for (double v : h.z)
-    if (!std::isnan(v)) h.zMin = std::min(h.zMin, v), h.zMax = std::max(h.zMax, v);
-  if (!std::isfinite(h.zMin)) throw InputError(path, "grid has no data (every value is NODATA)");
-  return h;
+void shiftHeightfield(Heightfield& h, const Vec3& shift) {
+  h.x0 += shift.x();
+  h.y0 += shift.y();
+  for (double& v : h.z) v += shift.z();  // NaN stays NaN
+  h.zMin += shift.z();
+  h.zMax += shift.z();
+  h.shift += shift;
 }
 
 }  // namespace vf

@@ -13,11 +13,17 @@
 namespace vf {
 
 struct Heightfield {
-  int nx = 0, ny = 0;     // samples along x (columns) and y (rows)
-  double x0 = 0, y0 = 0;  // position of sample (0, 0), the south-west one, m
-  double cell = 1;        // sample spacing, m
-  std::vector<double> z;  // nx * ny heights, z[j * nx + i] for sample (i, j); NaN = no data
+  int nx = 0, ny = 0;         // samples along x (columns) and y (rows)
+  double x0 = 0, y0 = 0;      // position of sample (0, 0), the south-west one, m
+  double cell = 1;            // sample spacing, m
+  std::vector<double> z;      // nx * ny heights, z[j * nx + i] for sample (i, j); NaN = no data
   double zMin = 0, zMax = 0;  // over the samples with data
+  // Georeference kept for outputs (GeoJSON paths, rasters): the source's coordinate reference
+  // system as WKT (empty when the file has none), and the shift added to the file's
+  // coordinates to get world coordinates (a scene may move a DEM near the origin).
+  std::string crsWkt;
+  std::string crsName;  // "AUTHORITY:CODE" (e.g. "EPSG:31287") when the CRS has one, else empty
+  Vec3 shift = Vec3::Zero();
 
   double at(int i, int j) const { return z[static_cast<std::size_t>(j) * nx + i]; }
   // True if all four corners of cell (i, j) (samples i..i+1, j..j+1) have data.
@@ -32,6 +38,11 @@ struct Heightfield {
   // The highest sample of the cells that meet [x - r, x + r] x [y - r, y + r] (the surface
   // there is no higher); -infinity when the square misses the grid or has no data.
   double maxHeightNear(double x, double y, double r) const;
+  // The surface height that a body whose lowest point is at `bottom` rests on when its points
+  // `pts` (world) are lowered straight down until the first touches the surface:
+  // bottom - min over pts of (p.z - heightAt(p.x, p.y)). Points over no data are skipped;
+  // -infinity when all are. This is the surface directly under the body (drop_height).
+  double surfaceUnder(const std::vector<Vec3>& pts, double bottom) const;
   // The two triangles of cell (i, j): (p00, p10, p11) and (p00, p11, p01), counter-clockwise
   // seen from above.
   void cellTriangles(int i, int j, Vec3 tri[2][3]) const;
@@ -39,10 +50,18 @@ struct Heightfield {
   TriMesh toMesh() const;
 };
 
-// Reads an ESRI ASCII grid (ncols, nrows, xllcorner|xllcenter, yllcorner|yllcenter, cellsize,
-// optional NODATA_value, then nrows rows of ncols values, the first row the northern-most).
-// With xllcorner the samples sit at cell centres (xllcorner + cellsize / 2). Throws InputError
-// "file:line: ..." for a malformed header, a wrong value count or a non-number.
-Heightfield loadEsriAsciiGrid(const std::string& path);
+// Reads a DEM in any raster format GDAL reads (GeoTIFF, ESRI ASCII with xllcorner or
+// xllcenter, ...): band 1, heights in metres, NODATA cells become NaN. Samples sit at the
+// pixel centres; the raster must be north-up with square cells. Keeps the CRS. Throws
+// InputError naming the file and GDAL's reason. (sim/shape/dem_import.cpp: the only GDAL
+// include.)
+Heightfield loadDem(const std::string& path);
+
+// The world position of a point given in the DEM file's coordinates, and back.
+inline Vec3 demToWorld(const Heightfield& h, const Vec3& p) { return p + h.shift; }
+inline Vec3 worldToDem(const Heightfield& h, const Vec3& p) { return p - h.shift; }
+
+// Moves the grid by `shift` (world = file coordinates + shift), keeping the record of it.
+void shiftHeightfield(Heightfield& h, const Vec3& shift);
 
 }  // namespace vf

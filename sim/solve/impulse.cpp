@@ -29,6 +29,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/ground/ground_material.h"
+
 namespace vf {
 
 double inverseEffectiveMass(double invMassA, const Mat3& invInertiaA, const Vec3& ra,
@@ -58,19 +60,20 @@ struct Motion {  // velocities during the solve
 // j I_a^-1 (r_a x d) and w_b by -j I_b^-1 (r_b x d).
 struct Axis {
   Vec3 d;
-  Vec3 raXd, rbXd;          // lever-arm cross products
-  Vec3 dwA, dwB;            // I_a^-1 (r_a x d), I_b^-1 (r_b x d): spin per unit impulse
-  double k = 0;             // effective mass 1 / (eq. 15's denominator)
+  Vec3 raXd, rbXd;  // lever-arm cross products
+  Vec3 dwA, dwB;    // I_a^-1 (r_a x d), I_b^-1 (r_b x d): spin per unit impulse
+  double k = 0;     // effective mass 1 / (eq. 15's denominator)
 };
 
 struct Row {  // one contact, prepared
   ContactKey key;
-  int a, b;   // motion indices; b may be the ground slot
+  int a, b;  // motion indices; b may be the ground slot
   Vec3 ra, rb;
   Axis n, t1, t2;
-  double target;        // wanted normal velocity
+  double target;  // wanted normal velocity
   double mu;
   double jn = 0, jt1 = 0, jt2 = 0;  // accumulated impulses
+  int contact = 0;                  // index in the contact list
 };
 
 // Two unit tangents completing n to a right-handed basis (fixed choice: deterministic).
@@ -112,6 +115,7 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
                    std::vector<BodyState>& states, const SolverSettings& settings,
                    ContactCache& cache) {
   if (contacts.empty()) {
+    if (settings.normalImpulses) settings.normalImpulses->clear();
     cache.impulses.clear();
     cache.dt = settings.dt;
     return;
@@ -148,8 +152,14 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
     r.t2 = makeAxis(t2, r.ra, r.rb, A, B);
     if (!std::isfinite(r.n.k)) continue;  // both sides immovable
     const bool ground = c.b == kGround || bodies[c.a].isStatic || bodies[c.b].isStatic;
-    const double eps = ground ? mat.restitutionBodyGround : mat.restitutionBodyBody;
+    double eps = ground ? mat.restitutionBodyGround : mat.restitutionBodyBody;
     r.mu = ground ? mat.frictionBodyGround : mat.frictionBodyBody;
+    if (c.b == kGround && settings.ground) {  // rock fall: the material under the contact
+      const GroundMaterial& m = settings.ground->at(c.point.x(), c.point.y());
+      eps = m.restitution;
+      r.mu = m.friction;
+    }
+    r.contact = static_cast<int>(&c - contacts.data());
     const double vRel = c.normal.dot(pointVelocity(A, r.ra) - pointVelocity(B, r.rb));
     r.target = vRel < -settings.restingSpeed ? -eps * vRel : 0.0;  // v_rel+ = -eps v_rel-
     rows.push_back(r);
@@ -158,9 +168,9 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
   // Warm start from the previous step's impulses (cache sorted by key: binary search).
   const double scale = cache.dt > 0 ? std::min(1.0, settings.dt / cache.dt) : 0.0;
   for (Row& r : rows) {
-    const auto it = std::lower_bound(
-        cache.impulses.begin(), cache.impulses.end(), r.key,
-        [](const CachedImpulse& c, const ContactKey& k) { return c.key < k; });
+    const auto it =
+        std::lower_bound(cache.impulses.begin(), cache.impulses.end(), r.key,
+                         [](const CachedImpulse& c, const ContactKey& k) { return c.key < k; });
     if (it == cache.impulses.end() || it->key != r.key) continue;
     r.jn = it->normal * scale;
     r.jt1 = it->tangent1 * scale;
@@ -207,6 +217,12 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
     if (r.target == 0.0) cache.impulses.push_back({r.key, r.jn, r.jt1, r.jt2});
   std::sort(cache.impulses.begin(), cache.impulses.end(),
             [](const CachedImpulse& x, const CachedImpulse& y) { return x.key < y.key; });
+
+  if (settings.normalImpulses) {
+    settings.normalImpulses->assign(contacts.size(), 0.0);
+    for (const Row& r : rows)
+      (*settings.normalImpulses)[static_cast<std::size_t>(r.contact)] = r.jn;
+  }
 
   // P1 += J, L1 += r1 x J for the total impulse of every contact (and the opposite on body 2).
   for (const Row& r : rows) {

@@ -9,6 +9,8 @@
 
 namespace vf {
 
+struct GroundMap;  // sim/ground/ground_material.h
+
 // Denominator of eq. 15 for direction d at lever arms ra, rb (inverse effective mass):
 // 1/M1 + 1/M2 + d . [ (I1^-1 (r1 x d)) x r1 + (I2^-1 (r2 x d)) x r2 ].
 double inverseEffectiveMass(double invMassA, const Mat3& invInertiaA, const Vec3& ra,
@@ -26,6 +28,11 @@ struct SolverSettings {
   // Without it a resting body would bounce by eps g dt every step (visible jitter).
   double restingSpeed = 0;
   double dt = 0;  // step length, s: scales the warm start
+  // Rock fall (opt-in): ground contacts take restitution and friction from the ground
+  // material under the contact point instead of `material`; null: the paper's model.
+  const GroundMap* ground = nullptr;
+  // If set, receives each contact's accumulated normal impulse (N s), in contact order.
+  std::vector<double>* normalImpulses = nullptr;
 };
 
 // Resolves every contact and applies the impulses to P and L of the bodies involved

@@ -15,8 +15,19 @@ Quat quaternionRate(const Vec3& w, const Quat& q) {
   return Quat(-0.5 * w.dot(v), dv.x(), dv.y(), dv.z());
 }
 
+namespace {
+
+// The rotation by angle |w| dt about w, as a unit quaternion (exp of [0, w dt / 2]).
+Quat rotationBy(const Vec3& w, double dt) {
+  const double angle = w.norm() * dt;
+  if (angle == 0.0) return Quat::Identity();
+  return Quat(Eigen::AngleAxisd(angle, w / w.norm()));
+}
+
+}  // namespace
+
 std::uint64_t integrate(const std::vector<BodyInfo>& bodies, std::vector<BodyState>& states,
-                        double dt) {
+                        double dt, RotationUpdate rotation) {
   std::uint64_t frozen = 0;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const BodyInfo& b = bodies[i];
@@ -24,10 +35,20 @@ std::uint64_t integrate(const std::vector<BodyInfo>& bodies, std::vector<BodySta
     BodyState& y = states[i];
     const Vec3 w = angularVelocityOf(b, y);  // w = I(t)^-1 L, R from q by eq. 6
     const Vec3 x = y.x + dt * b.invMass * y.P;
-    const Quat dq = quaternionRate(w, y.q);
-    Quat q(y.q.w() + dt * dq.w(), y.q.x() + dt * dq.x(), y.q.y() + dt * dq.y(),
-           y.q.z() + dt * dq.z());
-    q.normalize();
+    Quat q;
+    if (rotation == RotationUpdate::kMidpoint) {
+      // Midpoint rule on the rotation group: w is re-evaluated at the orientation reached
+      // after half a step, and the whole step rotates exactly by that w.
+      const Quat half = (rotationBy(w, 0.5 * dt) * y.q).normalized();
+      const Mat3 Rh = half.toRotationMatrix();
+      const Vec3 wMid = Rh * b.inertiaBodyInv * Rh.transpose() * y.L;
+      q = (rotationBy(wMid, dt) * y.q).normalized();
+    } else {
+      const Quat dq = quaternionRate(w, y.q);
+      q = Quat(y.q.w() + dt * dq.w(), y.q.x() + dt * dq.x(), y.q.y() + dt * dq.y(),
+               y.q.z() + dt * dq.z());
+      q.normalize();
+    }
     if (!x.allFinite() || !q.coeffs().allFinite() || !y.P.allFinite() || !y.L.allFinite()) {
       y.P.setZero();
       y.L.setZero();

@@ -16,7 +16,7 @@ void applyGravity(const std::vector<BodyInfo>& bodies, std::vector<BodyState>& s
 // w = R I_body^-1 R^T L, then q is renormalised. A body whose state is not finite keeps its
 // previous pose with zero momenta; the return value counts such bodies.
 std::uint64_t integrate(const std::vector<BodyInfo>& bodies, std::vector<BodyState>& states,
-                        double dt);
+                        double dt, RotationUpdate rotation = RotationUpdate::kExplicitEuler);
 
 // The motion of a step without contacts, over dt seconds (nothing for dt <= 0): applyGravity
 // then integrate. Shows states between steps (World::statesAt, Bake::statesAt).

@@ -14,15 +14,20 @@
 //     shapes and ground) at level 3 with reduction and sleeping, 4 simulated seconds.
 //   TreeBuild/<level>: voxel sphere tree of a 100k-triangle closed mesh (a bumpy sphere);
 //   TreeBuild1M/7: of a 1M-triangle one at level 7, with the tree's memory.
+//   LoadDem/<file>: loading a DEM through GDAL: the 520 x 387 Tyrol grid as the repository's
+//     Float64 GeoTIFF, and as an ESRI ASCII grid (VOXFALL_BENCH_ASCII_DEM, if set, names one,
+//     e.g. the AvaFrame original).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 #include <utility>
 
 #include "sim/recorder.h"
 #include "sim/scene/scene.h"
+#include "sim/shape/heightfield.h"
 #include "sim/shape/sphere_tree.h"
 
 namespace {
@@ -104,6 +109,10 @@ void rockfall(benchmark::State& state) {
   spec.camera.followBody.reset();
   runSpec(state, spec);
   state.counters["rocks"] = static_cast<double>(e.count);
+}
+
+void loadDem(benchmark::State& state, const std::string& path) {
+  for (auto _ : state) benchmark::DoNotOptimize(vf::loadDem(path).z.data());
 }
 
 // A closed UV sphere of radius ~1 with a bumpy surface: rows x cols quads, two poles.
@@ -228,4 +237,16 @@ BENCHMARK(treeBuild1M)
     ->UseRealTime()
     ->Iterations(1);
 
-BENCHMARK_MAIN();
+BENCHMARK_CAPTURE(loadDem, tirol_geotiff,
+                  std::string(VOXFALL_SOURCE_DIR) + "/scenes/terrain/tirol_avagar_dem.tif")
+    ->Unit(benchmark::kMillisecond);
+
+int main(int argc, char** argv) {
+  // The ASCII original is not in the repository (the GeoTIFF is a third of its size).
+  if (const char* ascii = std::getenv("VOXFALL_BENCH_ASCII_DEM"))
+    benchmark::RegisterBenchmark("loadDem/ascii", loadDem, std::string(ascii))
+        ->Unit(benchmark::kMillisecond);
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+}

@@ -175,6 +175,49 @@ TEST_F(CliTest, CubesCsvAndSummary) {
   EXPECT_EQ(rows.back().rfind("60,2,", 0), 0u) << rows.back();
 }
 
+// Rock fall outputs: a cube sliding off the east edge of a flat 20 m DEM (moved by `offset`)
+// and one at rest. The run ends when both are settled (stop = "all_at_rest"), long before its
+// duration; the outcomes name one left and one stopped, in the DEM's own coordinates.
+TEST_F(CliTest, RockfallOutcomesCsvAndGeoJsonAndStopWhenSettled) {
+  std::string grid = "ncols 21\nnrows 21\nxllcenter 100\nyllcenter 0\ncellsize 1\n";
+  for (int r = 0; r < 21; ++r) {
+    for (int i = 0; i < 21; ++i) grid += "0 ";
+    grid += "\n";
+  }
+  write("flat.asc", grid);
+  std::filesystem::copy_file(kScenes + "/meshes/cube.obj", dir_ / "cube.obj");
+  const std::string scene =
+      write("slide.toml",
+            "[simulation]\nduration = 30\nlevel = 3\nfps = 10\nstop = \"all_at_rest\"\n"
+            "[ground]\nheightfield = \"flat.asc\"\noffset = [-100, 0, 0]\nmaterial = \"bedrock\"\n"
+            "[shapes.c]\nmesh = \"cube.obj\"\nscale = 0.3\nmass = 50\n"
+            "[[bodies]]\nshape = \"c\"\nposition = [15, 10, 1]\nvelocity = [12, 0, 0]\ndrop_height "
+            "= 0.0\n"
+            "[[bodies]]\nshape = \"c\"\nposition = [5, 10, 1]\ndrop_height = 0.0\n");
+  const fs::path csv = dir_ / "out" / "rocks.csv", geo = dir_ / "out" / "rocks.geojson";
+  ASSERT_EQ(run("simulate " + quote(scene) + " -q --outcomes " + quote(csv.string())), 0) << err_;
+  EXPECT_NE(err_.find("voxfall: warning: body 0 left the terrain grid at t = "), std::string::npos)
+      << err_;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(out_, m,
+                                std::regex("rocks: 1 stopped, 1 left the terrain, 0 buried, "
+                                           "0 still moving \\(t = ([0-9.]+) s\\)")))
+      << out_;
+  EXPECT_LT(std::stod(m[1].str()), 10.0);  // ended when settled, not at 30 s
+  const auto rows = lines(readFile(csv));
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].rfind("body,state,release_time_s,release_x,", 0), 0u) << rows[0];
+  EXPECT_EQ(rows[1].rfind("0,left,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[2].rfind("1,stopped,", 0), 0u) << rows[2];
+  // DEM coordinates: the release of body 0 at world x = 15 is x = 115 in the file's frame.
+  EXPECT_EQ(rows[1].find(",115.0"), std::string("0,left,0.000000").size()) << rows[1];
+  ASSERT_EQ(run("simulate " + quote(scene) + " -q --outcomes " + quote(geo.string())), 0) << err_;
+  const std::string g = readFile(geo);
+  EXPECT_NE(g.find("\"FeatureCollection\""), std::string::npos);
+  EXPECT_NE(g.find("\"LineString\""), std::string::npos);
+  EXPECT_NE(g.find("\"state\": \"left\""), std::string::npos) << g.substr(0, 400);
+}
+
 TEST_F(CliTest, OverridesChangeTheRunAndRunsRepeat) {
   const std::string cubes = quote(kScenes + "/cubes.toml");
   auto checksum = [&](const std::string& extra) {

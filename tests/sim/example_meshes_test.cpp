@@ -163,7 +163,7 @@ TEST(ExampleMeshes, BarrelIsAClosedCup) {
 }
 
 TEST(ExampleTerrain, CliffGridIsNinePointFiveMetresHighWithASteepFace) {
-  // Parsed here, independently of loadEsriAsciiGrid: six "key value" header lines, then nrows
+  // Parsed here, independently of loadDem: six "key value" header lines, then nrows
   // lines of ncols heights, the first line the northern-most row.
   const std::string path = scenePath("terrain/cliff.asc");
   std::ifstream in(path);

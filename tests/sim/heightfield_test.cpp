@@ -1,8 +1,12 @@
 // Heightfield terrain: the ESRI ASCII grid reader, surface interpolation, and the sphere-tree
 // collider, each against an independent oracle.
+#include "sim/shape/heightfield.h"
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -10,7 +14,6 @@
 #include "sim/collide/narrow_phase.h"
 #include "sim/core/error.h"
 #include "sim/core/prng.h"
-#include "sim/shape/heightfield.h"
 #include "tests/support/test_world.h"
 
 namespace vf {
@@ -45,7 +48,7 @@ std::string planeGrid(int nx, int ny, double cell, double x0, double y0, bool co
 
 TEST(Heightfield, ReadsCornerAndCentreHeadersWithRowsFromTheNorth) {
   for (bool corner : {true, false}) {
-    const Heightfield h = loadEsriAsciiGrid(writeGrid("plane.asc", planeGrid(5, 4, 0.5, 10, 20, corner)));
+    const Heightfield h = loadDem(writeGrid("plane.asc", planeGrid(5, 4, 0.5, 10, 20, corner)));
     EXPECT_EQ(h.nx, 5);
     EXPECT_EQ(h.ny, 4);
     // xllcorner is the corner of the lower-left cell: its sample sits half a cell inside.
@@ -67,9 +70,10 @@ TEST(Heightfield, ReadsCornerAndCentreHeadersWithRowsFromTheNorth) {
 }
 
 TEST(Heightfield, NoDataCellsAreHoles) {
-  const std::string grid = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n"
-                           "1 1 1\n1 -9999 1\n1 1 1\n";
-  const Heightfield h = loadEsriAsciiGrid(writeGrid("hole.asc", grid));
+  const std::string grid =
+      "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n"
+      "1 1 1\n1 -9999 1\n1 1 1\n";
+  const Heightfield h = loadDem(writeGrid("hole.asc", grid));
   EXPECT_TRUE(std::isnan(h.at(1, 1)));
   EXPECT_FALSE(h.hasCell(0, 0));  // every cell touches the centre sample
   EXPECT_TRUE(std::isnan(h.heightAt(1.0, 1.0)));
@@ -82,27 +86,29 @@ TEST(Heightfield, MalformedGridsNameFileAndLine) {
     std::string text, fragment;
   } cases[] = {
       {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3\n", ":7: grid has 3 values"},
-      {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 x\n", ":7: 'x' is not a number"},
-      {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 0\n1 2\n3 4\n", "cellsize must be positive"},
-      {"ncols 2\nnrows 2\nxlcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4\n", ":3: unknown header key 'xlcorner'"},
+      {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 x\n",
+       ":7: 'x' is not a number"},
+      {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 0\n1 2\n3 4\n", "square cells"},
+      {"ncols 2\nnrows 2\nxlcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4\n",
+       ":3: unknown header key 'xlcorner'"},
       {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4 5\n", "more values than"},
   };
   for (const Case& c : cases) {
     const std::string path = writeGrid("bad.asc", c.text);
     try {
-      loadEsriAsciiGrid(path);
+      loadDem(path);
       ADD_FAILURE() << "accepted: " << c.text;
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find(c.fragment), std::string::npos) << e.what();
     }
   }
-  EXPECT_THROW(loadEsriAsciiGrid("/nonexistent/grid.asc"), InputError);
+  EXPECT_THROW(loadDem("/nonexistent/grid.asc"), InputError);
 }
 
 TEST(Heightfield, ReadsTheRealTschamutTerrain) {
   // Real grid: 43 x 46 cells of 5 m (header of tests/data/tschamut2014_terrain_proxy_5m.asc).
-  const Heightfield h = loadEsriAsciiGrid(VOXFALL_TEST_DATA_DIR "/tschamut2014_terrain_proxy_5m.asc");
+  const Heightfield h = loadDem(VOXFALL_TEST_DATA_DIR "/tschamut2014_terrain_proxy_5m.asc");
   EXPECT_EQ(h.nx, 43);
   EXPECT_EQ(h.ny, 46);
   EXPECT_DOUBLE_EQ(h.cell, 5.0);
@@ -112,10 +118,47 @@ TEST(Heightfield, ReadsTheRealTschamutTerrain) {
   EXPECT_LT(h.zMin, h.zMax);
 }
 
+TEST(Heightfield, ReadsTheTyrolDemWithCentreHeaderAndNoData) {
+  // scenes/terrain/tirol_avagar_dem.tif is the AvaFrame avaGar ESRI ASCII grid (xllcenter
+  // header, NODATA -9999) converted losslessly to a Float64 GeoTIFF. Oracle values from the
+  // ASCII original with awk: xllcenter 247323.244194263, yllcenter 350705.852927772, cellsize
+  // 4.997678230579; row 100 from the north, column 300 holds 1643.325439453125; 82888 values
+  // are -9999.
+  const Heightfield h = loadDem(VOXFALL_SOURCE_DIR "/scenes/terrain/tirol_avagar_dem.tif");
+  EXPECT_EQ(h.nx, 520);
+  EXPECT_EQ(h.ny, 387);
+  EXPECT_NEAR(h.x0, 247323.244194263, 1e-6);
+  EXPECT_NEAR(h.y0, 350705.852927772, 1e-6);
+  EXPECT_NEAR(h.cell, 4.997678230579, 1e-12);
+  EXPECT_EQ(h.at(300, h.ny - 1 - 100), 1643.325439453125);
+  EXPECT_EQ(std::count_if(h.z.begin(), h.z.end(), [](double v) { return std::isnan(v); }), 82888);
+}
+
+TEST(Heightfield, GeoTiffAndAsciiGiveTheSameGridAndTheTiffKeepsItsCrs) {
+  // The same planar grid as ESRI ASCII and as a GeoTIFF written by gdal_translate (gdal-bin)
+  // with a CRS assigned: same samples, same georeference, CRS kept.
+  const std::string asc = writeGrid("same.asc", planeGrid(6, 5, 2.0, 1000, 2000, true));
+  const std::string tif = asc.substr(0, asc.size() - 4) + ".tif";
+  ASSERT_EQ(
+      std::system(
+          ("gdal_translate -q -oo DATATYPE=Float64 -a_srs EPSG:31287 " + asc + " " + tif).c_str()),
+      0);
+  const Heightfield a = loadDem(asc), t = loadDem(tif);
+  EXPECT_EQ(t.nx, a.nx);
+  EXPECT_EQ(t.ny, a.ny);
+  EXPECT_EQ(t.x0, a.x0);
+  EXPECT_EQ(t.y0, a.y0);
+  EXPECT_EQ(t.cell, a.cell);
+  EXPECT_EQ(t.z, a.z);
+  EXPECT_TRUE(a.crsWkt.empty());  // an .asc without .prj has none
+  EXPECT_NE(t.crsWkt.find("Austria Lambert"), std::string::npos) << t.crsWkt;
+  EXPECT_EQ(t.crsName, "EPSG:31287");
+}
+
 // Oracle: on a planar grid, the terrain collider must find exactly the leaf spheres that a
 // tilted infinite plane finds (for a body well inside the grid), with the plane's normal.
 TEST(Heightfield, ColliderMatchesATiltedPlaneOnAPlanarGrid) {
-  const Heightfield h = loadEsriAsciiGrid(writeGrid("tilt.asc", planeGrid(30, 30, 0.25, -3.75, -3.75, true)));
+  const Heightfield h = loadDem(writeGrid("tilt.asc", planeGrid(30, 30, 0.25, -3.75, -3.75, true)));
   const Vec3 n = Vec3(-0.3, 0.2, 1).normalized();  // upward normal of z = 0.3x - 0.2y + 1
   Collider plane;
   plane.type = ColliderType::kPlane;
@@ -126,7 +169,9 @@ TEST(Heightfield, ColliderMatchesATiltedPlaneOnAPlanarGrid) {
   int withContacts = 0;
   for (int trial = 0; trial < 40; ++trial) {
     const Vec3 x(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
-    const Quat q = Quat(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)).normalized();
+    const Quat q =
+        Quat(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1))
+            .normalized();
     const Vec3 pos(x.x(), x.y(), 0.3 * x.x() - 0.2 * x.y() + 1 + rng.uniform(-0.15, 0.3));
     const Collider body = sphereTreeCollider(0, *s->tree, pos, q);
     std::vector<Contact> viaTerrain, viaPlane;

@@ -6,13 +6,13 @@
 // Build tests check what buildScene hands the World: centre-of-mass placement (against the
 // mesh-file point that is the centroid, transformed by hand), emitter releases, seeded jitter.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <string>
-#include <unistd.h>
 
 #include "sim/core/error.h"
 #include "sim/scene/scene.h"
@@ -138,8 +138,9 @@ TEST_F(SceneTest, UnknownKeysInEveryTable) {
               "unknown key 'postion' in [[bodies]]; did you mean 'position'?");
   expectError(kShape + "[[emitters]]\nshape = \"cube\"\nposition = [0, 0, 1]\nintervall = 1\n",
               "intervall", "did you mean 'interval'?");
-  expectError(kShape + "[[emitters]]\nshape = \"cube\"\nposition = [0, 0, 1]\n"
-                       "jitter = { sed = 3 }\n",
+  expectError(kShape +
+                  "[[emitters]]\nshape = \"cube\"\nposition = [0, 0, 1]\n"
+                  "jitter = { sed = 3 }\n",
               "sed", "unknown key 'sed' in [[emitters]] jitter; did you mean 'seed'?");
   expectError("[camera]\nlookat = [0, 0, 0]\n", "lookat", "did you mean 'look_at'?");
   expectError("[output]\nwidht = 640\n", "widht", "did you mean 'width'?");
@@ -186,7 +187,8 @@ TEST_F(SceneTest, ImpossibleValues) {
   expectError("[simulation]\nduration = inf\n", "inf", "'duration' must be a finite number");
   expectError("[simulation]\nfps = 0\n", "0", "'fps' must be > 0");
   expectError("[simulation]\nlevel = 0\n", "0", "'level' must be an integer from 1 to 10, got 0");
-  expectError("[simulation]\nlevel = 11\n", "11", "'level' must be an integer from 1 to 10, got 11");
+  expectError("[simulation]\nlevel = 11\n", "11",
+              "'level' must be an integer from 1 to 10, got 11");
   expectError("[simulation]\nstep = 0\n", "0", "'step' must be \"auto\" (eq. 20) or a fixed step");
   expectError("[simulation]\nstep = -0.01\n", "-0.01", "got -0.01");
   expectError("[simulation]\nstep = \"fast\"\n", "\"fast\"", "got \"fast\"");
@@ -203,18 +205,19 @@ TEST_F(SceneTest, ImpossibleValues) {
               "'level' must be an integer from 1 to 10");
   expectError("[shapes.cube]\nmesh = \"cube.obj\"\ndensity = 800\nscale = 0.0\n", "0.0",
               "'scale' must be > 0");
-  expectError("[shapes.cube]\nmesh = \"cube.obj\"\ndensity = 800\nscale = [1, 0, 1]\n",
-              "[1, 0, 1]", "'scale' factors must be > 0");
+  expectError("[shapes.cube]\nmesh = \"cube.obj\"\ndensity = 800\nscale = [1, 0, 1]\n", "[1, 0, 1]",
+              "'scale' factors must be > 0");
   expectError("[shapes.cube]\nmesh = \"cube.obj\"\ndensity = 800\ncolor = [1, 2, 0]\n", "2",
               "'color' components must be between 0 and 1");
-  expectError(kShape + "[[bodies]]\nshape = \"cube\"\norientation = [0, 0, 0, 0]\n",
-              "[0, 0, 0, 0]", "'orientation' must be a non-zero quaternion");
+  expectError(kShape + "[[bodies]]\nshape = \"cube\"\norientation = [0, 0, 0, 0]\n", "[0, 0, 0, 0]",
+              "'orientation' must be a non-zero quaternion");
   expectError(kShape + "[[emitters]]\nshape = \"cube\"\ncount = -2\nposition = [0, 0, 1]\n", "-2",
               "'count' must be an integer from 1 to");
   expectError(kShape + "[[emitters]]\nshape = \"cube\"\ninterval = -1\nposition = [0, 0, 1]\n",
               "-1", "'interval' must be >= 0 s, got -1");
-  expectError(kShape + "[[emitters]]\nshape = \"cube\"\nposition = [0, 0, 1]\n"
-                       "jitter = { direction = 200 }\n",
+  expectError(kShape +
+                  "[[emitters]]\nshape = \"cube\"\nposition = [0, 0, 1]\n"
+                  "jitter = { direction = 200 }\n",
               "200", "'jitter.direction' must be between 0 and 180");
   expectError("[output]\nwidth = 0\n", "0", "'width' must be a positive even number of pixels");
   expectError("[output]\nheight = 481\n", "481", "'height' must be a positive even number");
@@ -231,8 +234,9 @@ TEST_F(SceneTest, MissingRequiredKeys) {
               "missing required key 'shape' in [[bodies]]");
   expectError(kShape + "[[emitters]]\nshape = \"cube\"\ncount = 2\n", "[[emitters]]",
               "missing required key 'position' (or 'positions'");
-  expectError(kShape + "[[emitters]]\nshape = \"cube\"\nposition = [0, 0, 1]\n"
-                       "positions = [[0, 0, 1]]\n",
+  expectError(kShape +
+                  "[[emitters]]\nshape = \"cube\"\nposition = [0, 0, 1]\n"
+                  "positions = [[0, 0, 1]]\n",
               "[[0, 0, 1]]", "either 'position' or 'positions'");
 }
 
@@ -254,12 +258,14 @@ TEST_F(SceneTest, MissingMeshNamesResolvedPath) {
 }
 
 TEST_F(SceneTest, CameraFollowMustNameABody) {
-  expectError(kShape + "[[bodies]]\nshape = \"cube\"\n"
-                       "[[emitters]]\nshape = \"cube\"\ncount = 3\nposition = [0, 0, 1]\n"
-                       "[camera]\nfollow = 4\n",
+  expectError(kShape +
+                  "[[bodies]]\nshape = \"cube\"\n"
+                  "[[emitters]]\nshape = \"cube\"\ncount = 3\nposition = [0, 0, 1]\n"
+                  "[camera]\nfollow = 4\n",
               "4\n", "'follow' must be a body index from 0 to 3");
-  const std::string path = write("scene.toml", kShape + "[[bodies]]\nshape = \"cube\"\n"
-                                                        "[camera]\nfollow = 0\nfov = 50\n");
+  const std::string path = write("scene.toml", kShape +
+                                                   "[[bodies]]\nshape = \"cube\"\n"
+                                                   "[camera]\nfollow = 0\nfov = 50\n");
   const SceneSpec spec = loadScene(path);
   EXPECT_TRUE(spec.camera.given);
   EXPECT_EQ(spec.camera.followBody, 0);
@@ -336,8 +342,8 @@ TEST_F(SceneTest, RelativeMeshPathsResolveAgainstTheSceneFolder) {
   fs::copy_file(kCubeObj, dir_ / "meshes" / "box.obj");
   const std::string path = write("sub/scene.toml",
                                  "[shapes.a]\nmesh = \"../meshes/box.obj\"\ndensity = 1\n"
-                                 "[shapes.b]\nmesh = \"" + (dir_ / "cube.obj").string() +
-                                     "\"\ndensity = 1\n");
+                                 "[shapes.b]\nmesh = \"" +
+                                     (dir_ / "cube.obj").string() + "\"\ndensity = 1\n");
   const SceneSpec spec = loadScene(path);
   ASSERT_EQ(spec.shapes.size(), 2u);
   EXPECT_EQ(spec.shapes[0].name, "a");
@@ -347,8 +353,9 @@ TEST_F(SceneTest, RelativeMeshPathsResolveAgainstTheSceneFolder) {
 
 TEST_F(SceneTest, ShapesKeepFileOrder) {
   const std::string path =
-      write("scene.toml", "[shapes.zeta]\nmesh = \"cube.obj\"\ndensity = 1\n"
-                          "[shapes.alpha]\nmesh = \"cube.obj\"\ndensity = 1\nscale = [1, 2, 3]\n");
+      write("scene.toml",
+            "[shapes.zeta]\nmesh = \"cube.obj\"\ndensity = 1\n"
+            "[shapes.alpha]\nmesh = \"cube.obj\"\ndensity = 1\nscale = [1, 2, 3]\n");
   const SceneSpec spec = loadScene(path);
   ASSERT_EQ(spec.shapes.size(), 2u);
   EXPECT_EQ(spec.shapes[0].name, "zeta");
@@ -357,11 +364,12 @@ TEST_F(SceneTest, ShapesKeepFileOrder) {
 }
 
 TEST_F(SceneTest, EmitterPositionsAndJitter) {
-  const std::string path = write(
-      "scene.toml", kShape + "[[emitters]]\nshape = \"cube\"\ncount = 5\nstart = 1\n"
-                             "interval = 0.5\npositions = [[0, 0, 1], [2, 0, 1]]\n"
-                             "jitter = { position = 0.1, direction = 30, orientation = true, "
-                             "seed = 7 }\n");
+  const std::string path =
+      write("scene.toml", kShape +
+                              "[[emitters]]\nshape = \"cube\"\ncount = 5\nstart = 1\n"
+                              "interval = 0.5\npositions = [[0, 0, 1], [2, 0, 1]]\n"
+                              "jitter = { position = 0.1, direction = 30, orientation = true, "
+                              "seed = 7 }\n");
   const SceneSpec spec = loadScene(path);
   ASSERT_EQ(spec.emitters.size(), 1u);
   const EmitterSpec& e = spec.emitters[0];
@@ -433,11 +441,11 @@ TEST_F(SceneTest, OffCentreMeshIsPlacedByItsFileOrigin) {
   write("corner.obj", kCornerCubeObj);
   // Scale 0.5 and a quarter turn about z: the file origin goes to `position`, so the centroid
   // (0.25, 0.25, 0.25) after scaling lands at position + Rz(90) * (0.25, 0.25, 0.25).
-  const std::string path =
-      write("scene.toml", "[simulation]\nlevel = 2\n"
-                          "[shapes.c]\nmesh = \"corner.obj\"\nscale = 0.5\ndensity = 1000\n"
-                          "[[bodies]]\nshape = \"c\"\nposition = [1, 2, 3]\n"
-                          "orientation = [0.7071067811865476, 0, 0, 0.7071067811865476]\n");
+  const std::string path = write("scene.toml",
+                                 "[simulation]\nlevel = 2\n"
+                                 "[shapes.c]\nmesh = \"corner.obj\"\nscale = 0.5\ndensity = 1000\n"
+                                 "[[bodies]]\nshape = \"c\"\nposition = [1, 2, 3]\n"
+                                 "orientation = [0.7071067811865476, 0, 0, 0.7071067811865476]\n");
   const BuiltScene built = buildScene(loadScene(path));
   ASSERT_EQ(built.world->bodyCount(), 1);
   const Vec3 expected = Vec3(1, 2, 3) + Vec3(-0.25, 0.25, 0.25);
@@ -445,16 +453,144 @@ TEST_F(SceneTest, OffCentreMeshIsPlacedByItsFileOrigin) {
   EXPECT_NEAR(built.world->shape(0).mass, 1000 * 0.125, 1e-9);
 }
 
-TEST_F(SceneTest, ShapesShareTreesAndColoursFallBack) {
+TEST_F(SceneTest, MassInsteadOfDensityAndYUpMeshes) {
+  write("corner.obj", kCornerCubeObj);
+  // The unit corner cube scaled [1, 2, 4] (in the file's axes) has volume 8 m^3: mass 100 kg
+  // is density 12.5. With up = "y" the file's y (2 m) becomes z and the file's z (4 m) -y.
+  const std::string path =
+      write("scene.toml",
+            "[simulation]\nlevel = 2\n"
+            "[shapes.a]\nmesh = \"corner.obj\"\nscale = [1, 2, 4]\nmass = 100\n"
+            "[shapes.b]\nmesh = \"corner.obj\"\nscale = [1, 2, 4]\nmass = 100\nup = \"y\"\n"
+            "[[bodies]]\nshape = \"a\"\n[[bodies]]\nshape = \"b\"\nposition = [5, 0, 0]\n");
+  const BuiltScene built = buildScene(loadScene(path));
+  const World& w = *built.world;
+  EXPECT_NEAR(w.shape(0).mass, 100.0, 1e-9);
+  EXPECT_NEAR(w.shape(1).mass, 100.0, 1e-9);
+  // Box a: 1 x 2 x 4 (x, y, z); box b after the rotation: 1 x 4 x 2. Compare inertia about z:
+  // m (x^2 + y^2) / 12.
+  EXPECT_NEAR(w.shape(0).inertiaBody(2, 2), 100.0 * (1 + 4) / 12, 1e-9);
+  EXPECT_NEAR(w.shape(1).inertiaBody(2, 2), 100.0 * (1 + 16) / 12, 1e-9);
+  // File origin -> position: the corner at (0, 0, 0) of the file; b's centroid is at
+  // (0.5, -2, 1) after the rotation (file z in [0, 4] goes to y in [-4, 0]).
+  EXPECT_LT((w.state(1).x - Vec3(5.5, -2, 1)).norm(), 1e-12);
+  expectError("[shapes.cube]\nmesh = \"cube.obj\"\ndensity = 800\nmass = 3\n", "3",
+              "give either 'density' or 'mass' in [shapes.cube], not both");
+  expectError("[shapes.cube]\nmesh = \"cube.obj\"\nmass = 3\nup = \"x\"\n", "\"x\"",
+              "'up' must be \"z\" (the default) or \"y\"");
+}
+
+TEST_F(SceneTest, DropHeightOfABodyMeasuresFromTheSurfaceUnderIt) {
+  // Terrain z = 0.5 x on a 5 m grid (slope 26.6 degrees), the unit cube dropped 0.1 m: its
+  // lowest corner above the surface by exactly 0.1 m, measured straight down (not from the
+  // highest grid node near it, which would be up to 2.5 m higher).
+  std::string grid = "ncols 5\nnrows 5\nxllcenter 0\nyllcenter 0\ncellsize 5\n";
+  for (int row = 0; row < 5; ++row) {
+    for (int i = 0; i < 5; ++i) grid += std::to_string(0.5 * 5 * i) + " ";
+    grid += "\n";
+  }
+  write("slope.asc", grid);
+  const std::string path =
+      write("scene.toml",
+            kShape +
+                "[ground]\nheightfield = \"slope.asc\"\n"
+                "[[bodies]]\nshape = \"cube\"\nposition = [7.3, 10, 50]\ndrop_height = 0.1\n");
+  const BuiltScene built = buildScene(loadScene(path));
+  const World& w = *built.world;
+  const Mat3 R = w.state(0).q.toRotationMatrix();
+  double gap = INFINITY;
+  for (const Vec3& v : w.shape(0).mesh.vertices) {
+    const Vec3 p = w.state(0).x + R * v;
+    gap = std::min(gap, p.z() - 0.5 * p.x());
+  }
+  EXPECT_NEAR(gap, 0.1, 1e-9);
+
+  // `offset` moves the DEM: world = file coordinates + offset, and remembers the shift.
+  const std::string moved =
+      write("moved.toml", kShape + "[ground]\nheightfield = \"slope.asc\"\noffset = [-5, 2, 1]\n");
+  const BuiltScene m = buildScene(loadScene(moved));
+  const Heightfield& t = *m.world->def().terrain;
+  EXPECT_NEAR(t.heightAt(3.0, 4.0), 0.5 * (3.0 + 5) + 1, 1e-12);
+  EXPECT_EQ(t.shift, Vec3(-5, 2, 1));
+}
+
+TEST_F(SceneTest, GroundMaterialsByNameOrByClassRaster) {
+  // DEM 4 x 3 samples of 10 m, flat; class raster on the same grid: west half class 1, east
+  // half class 2, one NODATA sample (falls back to `material`).
+  const std::string head =
+      "ncols 4\nnrows 3\nxllcenter 0\nyllcenter 0\ncellsize 10\nNODATA_value -1\n";
+  write("dem.asc", head + "0 0 0 0\n0 0 0 0\n0 0 0 0\n");
+  write("classes.asc", head + "1 1 2 2\n1 1 2 2\n1 -1 2 2\n");
   const std::string path = write(
-      "scene.toml", "[simulation]\nlevel = 2\n"
-                    "[shapes.a]\nmesh = \"cube.obj\"\ndensity = 800\ncolor = [0.1, 0.2, 0.3]\n"
-                    "[shapes.b]\nmesh = \"cube.obj\"\ndensity = 2500\n"
-                    "[shapes.c]\nmesh = \"cube.obj\"\ndensity = 800\nlevel = 3\n"
-                    "[[bodies]]\nshape = \"a\"\nposition = [0, 0, 0]\n"
-                    "[[bodies]]\nshape = \"b\"\nposition = [3, 0, 0]\n"
-                    "[[bodies]]\nshape = \"c\"\nposition = [6, 0, 0]\n"
-                    "[[bodies]]\nshape = \"a\"\nposition = [9, 0, 0]\ncolor = [1, 1, 1]\n");
+      "scene.toml",
+      kShape +
+          "[contact]\nfriction = { body_ground = 0.7 }\n"
+          "[ground]\nheightfield = \"dem.asc\"\nmaterial = \"bedrock\"\n"
+          "classes = \"classes.asc\"\nclass_materials = { 1 = \"meadow\", 2 = \"colluvial\" }\n"
+          "[ground.materials.meadow]\nrolling_resistance = 0.9\nrestitution = 0.1\n");
+  const BuiltScene built = buildScene(loadScene(path));
+  const GroundMap& g = *built.world->def().ground;
+  // STONE table (Guzzetti et al. 2002): non-schist bedrock 0.30 / Rn 65 %, colluvial 0.80 / 15 %.
+  EXPECT_EQ(g.at(4, 4).name, "meadow");
+  EXPECT_EQ(g.at(4, 4).rollingResistance, 0.9);
+  EXPECT_EQ(g.at(4, 4).friction, 0.7);  // unset: [contact] body_ground
+  EXPECT_EQ(g.at(26, 4).name, "colluvial");
+  EXPECT_EQ(g.at(26, 4).rollingResistance, 0.80);
+  EXPECT_EQ(g.at(26, 4).restitution, 0.15);
+  EXPECT_EQ(g.at(10, 0).name, "bedrock");  // the NODATA class sample
+  EXPECT_EQ(g.at(10, 0).rollingResistance, 0.30);
+  EXPECT_EQ(g.at(10, 0).restitution, 0.65);
+  // Without `material` the paper's model stands: no ground map at all.
+  const std::string plain = write("plain.toml", kShape + "[ground]\nheightfield = \"dem.asc\"\n");
+  EXPECT_EQ(buildScene(loadScene(plain)).world->def().ground, nullptr);
+  expectError(kShape + "[ground]\nplane = 0\nmaterial = \"bedrok\"\n", "\"bedrok\"",
+              "unknown ground material 'bedrok'; did you mean 'bedrock'?");
+  // A class raster on another grid is refused.
+  write("small.asc", "ncols 2\nnrows 2\nxllcenter 0\nyllcenter 0\ncellsize 10\n1 1\n1 1\n");
+  const std::string off =
+      write("off.toml", kShape +
+                            "[ground]\nheightfield = \"dem.asc\"\nmaterial = \"bedrock\"\n"
+                            "classes = \"small.asc\"\nclass_materials = { 1 = \"bedrock\" }\n");
+  EXPECT_THROW(buildScene(loadScene(off)), InputError);
+}
+
+TEST_F(SceneTest, RockfallRunKeys) {
+  write("flat.asc", "ncols 2\nnrows 2\nxllcenter 0\nyllcenter 0\ncellsize 1\n0 0\n0 0\n");
+  const std::string path =
+      write("scene.toml", kShape +
+                              "[simulation]\nstop = \"all_at_rest\"\nrotation = \"midpoint\"\n"
+                              "rest = { speed = 0.2, time = 2.0 }\n"
+                              "[ground]\nheightfield = \"flat.asc\"\nedge = \"wall\"\n");
+  const SceneSpec spec = loadScene(path);
+  EXPECT_TRUE(spec.stopWhenSettled);
+  EXPECT_EQ(spec.rotation, RotationUpdate::kMidpoint);
+  EXPECT_EQ(spec.rest.speed, 0.2);
+  EXPECT_EQ(spec.rest.time, 2.0);
+  EXPECT_EQ(spec.terrainEdge, TerrainEdge::kWall);
+  const BuiltScene built = buildScene(spec);
+  EXPECT_EQ(built.world->def().rotation, RotationUpdate::kMidpoint);
+  EXPECT_EQ(built.world->def().terrainEdge, TerrainEdge::kWall);
+  // Defaults: the paper's rotation update, run to the duration, edge policy automatic.
+  const SceneSpec plain = loadScene(write("plain.toml", kShape));
+  EXPECT_EQ(plain.rotation, RotationUpdate::kExplicitEuler);
+  EXPECT_FALSE(plain.stopWhenSettled);
+  EXPECT_EQ(plain.terrainEdge, TerrainEdge::kAuto);
+  expectError(kShape + "[simulation]\nstop = \"never\"\n", "\"never\"", "'stop' must be");
+  expectError(kShape + "[simulation]\nrotation = \"rk4\"\n", "\"rk4\"", "'rotation' must be");
+  expectError(kShape + "[ground]\nplane = 0\nedge = \"bounce\"\n", "\"bounce\"", "'edge' must be");
+}
+
+TEST_F(SceneTest, ShapesShareTreesAndColoursFallBack) {
+  const std::string path =
+      write("scene.toml",
+            "[simulation]\nlevel = 2\n"
+            "[shapes.a]\nmesh = \"cube.obj\"\ndensity = 800\ncolor = [0.1, 0.2, 0.3]\n"
+            "[shapes.b]\nmesh = \"cube.obj\"\ndensity = 2500\n"
+            "[shapes.c]\nmesh = \"cube.obj\"\ndensity = 800\nlevel = 3\n"
+            "[[bodies]]\nshape = \"a\"\nposition = [0, 0, 0]\n"
+            "[[bodies]]\nshape = \"b\"\nposition = [3, 0, 0]\n"
+            "[[bodies]]\nshape = \"c\"\nposition = [6, 0, 0]\n"
+            "[[bodies]]\nshape = \"a\"\nposition = [9, 0, 0]\ncolor = [1, 1, 1]\n");
   const BuiltScene built = buildScene(loadScene(path));
   ASSERT_EQ(built.world->bodyCount(), 4);
   const World& w = *built.world;
@@ -475,7 +611,8 @@ TEST_F(SceneTest, ShapesShareTreesAndColoursFallBack) {
 
 TEST_F(SceneTest, BodiesOfOneShapeGetDistinctPaletteColours) {
   // Example 1's two cubes share a shape: told apart only if each body gets its own colour.
-  const BuiltScene built = buildScene(loadScene(std::string(VOXFALL_SOURCE_DIR) + "/scenes/cubes.toml"));
+  const BuiltScene built =
+      buildScene(loadScene(std::string(VOXFALL_SOURCE_DIR) + "/scenes/cubes.toml"));
   ASSERT_EQ(built.colors.size(), 2u);
   EXPECT_NE(built.colors[0], built.colors[1]);
   for (const Color& c : built.colors)
@@ -485,11 +622,12 @@ TEST_F(SceneTest, BodiesOfOneShapeGetDistinctPaletteColours) {
 // An emitter of `count` cubes cycling through three spots far apart, no ground.
 std::string emitterScene(int seed, double positionJitter, double directionJitter,
                          bool orientation) {
-  return kShape + "[simulation]\nlevel = 2\nduration = 3\n"
-                  "[[emitters]]\nshape = \"cube\"\ncount = 7\nstart = 0.25\ninterval = 0.5\n"
-                  "positions = [[-20, 0, 0], [0, 20, 0], [20, 0, 0]]\nvelocity = [1, 0, 2]\n"
-                  "jitter = { position = " + std::to_string(positionJitter) +
-         ", direction = " + std::to_string(directionJitter) +
+  return kShape +
+         "[simulation]\nlevel = 2\nduration = 3\n"
+         "[[emitters]]\nshape = \"cube\"\ncount = 7\nstart = 0.25\ninterval = 0.5\n"
+         "positions = [[-20, 0, 0], [0, 20, 0], [20, 0, 0]]\nvelocity = [1, 0, 2]\n"
+         "jitter = { position = " +
+         std::to_string(positionJitter) + ", direction = " + std::to_string(directionJitter) +
          ", orientation = " + (orientation ? "true" : "false") +
          ", seed = " + std::to_string(seed) + " }\n";
 }
@@ -508,7 +646,8 @@ TEST_F(SceneTest, EmitterReleasesInTurnAtTheirTimes) {
   // Body i is released at 0.25 + 0.5 i: halfway to the next release, exactly 0..i are active.
   for (int i = 0; i < 7; ++i) {
     w.advanceTo(0.25 + 0.5 * i + 0.25);
-    for (int j = 0; j < 7; ++j) EXPECT_EQ(w.isActive(j), j <= i) << "t " << w.time() << " body " << j;
+    for (int j = 0; j < 7; ++j)
+      EXPECT_EQ(w.isActive(j), j <= i) << "t " << w.time() << " body " << j;
   }
 }
 

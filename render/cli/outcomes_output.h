@@ -1,0 +1,20 @@
+// Per-rock outcomes of a rock fall run (World::outcomes()) as CSV or GeoJSON.
+#pragma once
+
+#include <cstdio>
+#include <string>
+
+#include "sim/world.h"
+
+namespace vf::cli {
+
+// One row per released dynamic body: release point and time, state, stop or exit point and
+// time, horizontal runout, reach angle, maximum speed, maximum translational and rotational
+// kinetic energy, maximum jump height. Coordinates in the DEM's own (file) coordinates.
+void writeOutcomesCsv(std::FILE* out, const World& world);
+// A FeatureCollection: per rock, its path as a 3-D LineString in the DEM's coordinates (the
+// `crs` member names the DEM's CRS when it has an authority code), the CSV's fields as
+// properties.
+void writeOutcomesGeoJson(std::FILE* out, const World& world);
+
+}  // namespace vf::cli

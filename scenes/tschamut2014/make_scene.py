@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""Writes the Tschamut 2014 validation scene from the data files next to it (copied from the
+EnviDat data set, doi:10.16904/envidat.34, Volkwein & Gerber 2018, ODbL 1.0 + DbCL):
+block.obj, a unit ellipsoid-like polyhedron (icosphere, one subdivision, 80 triangles) that each
+block scales to its measured principal lengths, and tschamut2014.toml with one [[bodies]] per
+run, at the measured release point with the measured release velocity. Python 3 standard library
+only, no randomness: byte-identical on every run."""
+import csv, math, os
+
+here = os.path.dirname(os.path.abspath(__file__))
+
+def icosphere():
+    t = (1 + 5 ** 0.5) / 2
+    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t),
+         (0, 1, -t), (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    v = [tuple(c / math.sqrt(sum(x * x for x in p)) for c in p) for p in v]
+    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4),
+         (11, 10, 2), (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8),
+         (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    mid = {}
+    def m(a, b):
+        k = (min(a, b), max(a, b))
+        if k not in mid:
+            p = [(x + y) / 2 for x, y in zip(v[a], v[b])]
+            n = math.sqrt(sum(x * x for x in p))
+            v.append(tuple(x / n for x in p))
+            mid[k] = len(v) - 1
+        return mid[k]
+    g = []
+    for a, b, c in f:
+        ab, bc, ca = m(a, b), m(b, c), m(c, a)
+        g += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+    return v, g
+
+v, f = icosphere()
+with open(os.path.join(here, "block.obj"), "w") as out:
+    out.write("# unit-radius icosphere (1 subdivision, 80 triangles); scaled per block to its\n"
+              "# half principal lengths by tschamut2014.toml. Written by make_scene.py.\n")
+    for p in v:
+        out.write("v %.9f %.9f %.9f\n" % p)
+    for a, b, c in f:
+        out.write("f %d %d %d\n" % (a + 1, b + 1, c + 1))
+
+blocks = {}
+with open(os.path.join(here, "block_metadata.csv")) as fh:
+    for row in csv.DictReader(fh):
+        blocks[row["block_id"]] = row
+
+lines = []
+w = lines.append
+w("# Tschamut 2014 full-scale rock fall experiments (Swiss Alps): validation scene.")
+w("# Data: EnviDat doi:10.16904/envidat.34 (Volkwein & Gerber 2018), ODbL 1.0 + DbCL; the")
+w("# terrain is a 5 m proxy interpolated from the public LPS ground points (not an official")
+w("# DEM). Written by make_scene.py from release_points.csv and block_metadata.csv: edit those")
+w("# or the script, not this file. Every run starts at once here; runs are independent")
+w("# experiments, so tests/scenario/tschamut_test.cpp simulates each [[bodies]] alone.")
+w("")
+w("[simulation]")
+w("duration = 60.0")
+w("level = 4")
+w('step = "auto"')
+w('rotation = "midpoint"   # keeps the energy of free tumbling (README)')
+w('stop = "all_at_rest"')
+w("fps = 10")
+w("")
+w("[contact]")
+w("# Coulomb friction: the paper's section-5 default (STONE has no Coulomb coefficient).")
+w("friction = { body_body = 0.3, body_ground = 0.8 }")
+w("")
+w("[ground]")
+w('heightfield = "terrain_proxy_5m.asc"')
+w("# STONE per-lithology table (Guzzetti et al. 2002): glacial deposits, rolling friction 0.65,")
+w("# normal restitution 35 %. Chosen before any run as the class for an alpine meadow on")
+w("# moraine-covered slope (our reading of the site, not a published classification); NOT fitted.")
+w('material = "glacial_deposits"')
+w("")
+for bid, b in sorted(blocks.items()):
+    name = "block_%s" % bid
+    w("[shapes.%s]  # %s" % (name, b["name"]))
+    w('mesh = "block.obj"')
+    w("scale = [%.4f, %.4f, %.4f]   # half the measured principal lengths, m" %
+      (float(b["size_x_m"]) / 2, float(b["size_y_m"]) / 2, float(b["size_z_m"]) / 2))
+    w("mass = %.1f   # kg, measured" % float(b["mass_kg"]))
+    w("")
+with open(os.path.join(here, "release_points.csv")) as fh:
+    for row in csv.DictReader(fh):
+        w("[[bodies]]  # run %s" % row["trajectory_id"])
+        w('shape = "block_%s"' % row["block_id"])
+        w("position = [%s, %s, %s]" % (row["x_m"], row["y_m"], row["z_m"]))
+        w("velocity = [%s, %s, %s]" % (row["vx_mps"], row["vy_mps"], row["vz_mps"]))
+        w("drop_height = 0.0   # resting on the surface under the release point")
+        w("")
+w("[camera]")
+w("position = [160.0, 120.0, 90.0]")
+w("look_at = [60.0, 190.0, 45.0]")
+w("fov = 50")
+with open(os.path.join(here, "tschamut2014.toml"), "w") as out:
+    out.write("\n".join(lines) + "\n")

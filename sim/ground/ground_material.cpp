@@ -1,0 +1,88 @@
+// Ground-material presets and the class-raster lookup.
+//
+// Why the STONE table: of the published per-substrate parameter sets surveyed
+// (shared/rockfall-models.md), it is the only one that gives a rolling coefficient per
+// substrate. RAMMS::ROCKFALL's terrain categories, Rockyfor3D's Rn per soil type and the CRSP
+// and RocFall material tables could not be read with numbers, and the DEM codes (Chrono,
+// LIGGGHTS, Rockable) give no rock-on-soil values. Rolling resistance is the contact law
+// chosen because it is the one that removes energy from a rock rolling without slip (Coulomb
+// friction of any mu does no work there), which is how the rocks ran out too far.
+//
+// Values: the r.stone manual (OSGeo grass-addons src/raster/r.stone/r.stone.md, commit
+// 20493ad28ded), "extracted from" Guzzetti, Crosta, Detti & Agliardi 2002, STONE,
+// Computers & Geosciences 28(9):1079-1093: rolling friction (tan of the rolling friction
+// angle) and normal restitution Rn (percent, here as a fraction). STONE's tangential
+// restitution Rt is not modelled here (voxfall's tangential response is Coulomb friction).
+// STONE is a lumped-mass model: its rolling friction decelerates a point at mu g cos(theta);
+// here it is a torque on a rigid body (Azzoni et al. 1995's form), which for a sphere gives
+// 5/7 of that deceleration and the same critical slope atan(mu_r).
+#include "sim/ground/ground_material.h"
+
+#include <cmath>
+
+namespace vf {
+namespace {
+
+struct Preset {
+  const char* name;
+  double rolling;      // STONE rolling friction coefficient
+  double restitution;  // STONE Rn / 100
+  const char* stoneClass;
+};
+
+constexpr const char* kStone =
+    "Guzzetti et al. 2002 (STONE), per-lithology table as quoted by the GRASS r.stone manual";
+
+// A subset of the STONE classes with names a scene writer reaches for; every number is the
+// table's (rockfall-models.md section 4).
+constexpr Preset kPresets[] = {
+    {"colluvial", 0.80, 0.15, "Alluvial, lacustrine, marine, eluvial and colluvial deposits"},
+    {"glacial_deposits", 0.65, 0.35, "Glacial deposits"},
+    {"landslide_deposits", 0.65, 0.35, "Landslides"},
+    {"anthropic_deposits", 0.65, 0.35, "Anthropic deposits"},
+    {"loose_clastic", 0.35, 0.45, "Loosely packed clastic deposits"},
+    {"consolidated_clastic", 0.40, 0.55, "Consolidated clastic deposits"},
+    {"marl", 0.40, 0.55, "Marl"},
+    {"flysch", 0.40, 0.55, "Flysch"},
+    {"schists", 0.35, 0.60, "Schists"},
+    {"carbonate_rock", 0.30, 0.65, "Carbonate rocks"},
+    {"igneous_rock", 0.30, 0.65, "Intrusive igneous rocks"},
+    {"bedrock", 0.30, 0.65, "Non-schists"},
+    {"lakes_glaciers", 0.95, 0.10, "Lakes, glaciers"},
+};
+
+}  // namespace
+
+std::optional<GroundMaterial> groundPreset(const std::string& name, double friction) {
+  for (const Preset& p : kPresets)
+    if (name == p.name) {
+      GroundMaterial m;
+      m.name = name;
+      m.restitution = p.restitution;
+      m.friction = friction;
+      m.rollingResistance = p.rolling;
+      m.source = std::string(kStone) + ", class \"" + p.stoneClass + "\"";
+      return m;
+    }
+  return std::nullopt;
+}
+
+std::vector<std::string> groundPresetNames() {
+  std::vector<std::string> names;
+  for (const Preset& p : kPresets) names.push_back(p.name);
+  return names;
+}
+
+const GroundMaterial& GroundMap::at(double x, double y) const {
+  if (!classes) return materials[0];
+  const Heightfield& c = *classes;
+  const long i = std::lround((x - c.x0) / c.cell), j = std::lround((y - c.y0) / c.cell);
+  if (i < 0 || j < 0 || i >= c.nx || j >= c.ny) return materials[0];
+  const double v = c.at(static_cast<int>(i), static_cast<int>(j));
+  if (std::isnan(v) || v < 0 || v >= static_cast<double>(materialOfClass.size()))
+    return materials[0];
+  const int m = materialOfClass[static_cast<std::size_t>(v)];
+  return m < 0 ? materials[0] : materials[static_cast<std::size_t>(m)];
+}
+
+}  // namespace vf

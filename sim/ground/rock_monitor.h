@@ -1,0 +1,96 @@
+// Rock fall bookkeeping after each step: what happens at the terrain's edges and holes, bodies
+// found below the surface, when a rock counts as at rest, and each rock's outcome (release,
+// stop or exit, runout, reach angle, maxima, path). Owned by the World; reads and, for the
+// edge policy and push-out, writes the body arrays.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/core/body.h"
+#include "sim/core/math.h"
+#include "sim/shape/heightfield.h"
+
+namespace vf {
+
+struct BodyState;
+
+// What lies beyond the terrain grid and in its NODATA cells.
+enum class TerrainEdge {
+  kAuto,    // kRemove, except in a scene with a floor plane, where the plane catches rocks
+            // (the paper's cliff scene: keeps its trajectories)
+  kRemove,  // the rock leaves the simulation; where and when is recorded
+  kStop,    // the run ends, naming the rock and the time
+  kWall,    // a vertical wall: the rock is put back and its horizontal velocity reflected
+};
+
+// "At rest": speed below `speed` and spin times the body's radius below `speed`, for `time`
+// seconds without a break. voxfall's decision (the literature's lumped-mass codes stop a rock
+// the first time it is slower than 0.5 m/s, RockGIS, or 1 m/s, r.stone's example): a held
+// threshold does not call a rock stopped at the top of a bounce.
+struct RestCriterion {
+  double speed = 0.1;  // m/s
+  double time = 1.0;   // s
+};
+
+enum class RockState { kMoving, kStopped, kLeft, kBuried };
+const char* rockStateName(RockState s);
+
+struct RockOutcome {
+  bool released = false;
+  Vec3 release = Vec3::Zero();  // centre of mass at release, world
+  double releaseTime = 0;       // s
+  RockState state = RockState::kMoving;
+  Vec3 end = Vec3::Zero();            // stop or exit point (or last position while moving)
+  double endTime = 0;                 // s
+  double maxSpeed = 0;                // m/s
+  double maxTranslationalEnergy = 0;  // J
+  double maxRotationalEnergy = 0;     // J
+  double maxJumpHeight = 0;           // m, lowest point of the body above the ground under it
+  double restSince = -1;              // s, start of the current slow spell; < 0: none
+  std::vector<Vec3> path;             // centre of mass, world, every RockMonitor::kPathInterval
+  std::string message;                // why it left or was stopped (edge, hole, below the surface)
+  double runout() const { return (end - release).head<2>().norm(); }  // horizontal, m
+  // Reach angle (Fahrboeschung): atan of drop height over runout, degrees.
+  double reachAngleDegrees() const;
+};
+
+class RockMonitor {
+ public:
+  static constexpr double kPathInterval = 0.1;  // s between path points
+
+  void configure(TerrainEdge edge, RestCriterion rest, const Heightfield* terrain,
+                 std::optional<double> plane, const Vec3& gravity);
+  // A body joins the world (at t = 0 or at its release time).
+  void onRelease(int id, const BodyState& y, double time);
+  // After the step that ended at `time`: edge and hole policy, push-out from below the
+  // surface, rest, maxima, path. Returns the number of bodies removed or stopped this step.
+  int afterStep(double time, std::vector<BodyInfo>& bodies, std::vector<BodyState>& states);
+
+  const std::vector<RockOutcome>& outcomes() const { return rocks_; }
+  // Every dynamic body released so far is at rest, gone or buried (and at least one was).
+  bool allSettled(const std::vector<BodyInfo>& bodies) const;
+  // Set when TerrainEdge::kStop fired: the run should end; names the rock and the time.
+  const std::string& stopReason() const { return stopReason_; }
+  // Messages of this run (bodies pushed out from below the surface, removed, buried), in order.
+  const std::vector<std::string>& messages() const { return messages_; }
+
+ private:
+  double groundAt(double x, double y) const;  // terrain, else plane, else NaN
+  void finish(int id, RockState state, const Vec3& where, double time, const std::string& why,
+              std::vector<BodyInfo>& bodies, std::vector<BodyState>& states);
+
+  TerrainEdge edge_ = TerrainEdge::kAuto;
+  RestCriterion rest_;
+  const Heightfield* terrain_ = nullptr;
+  std::optional<double> plane_;
+  Vec3 gravity_ = Vec3(0, 0, -9.81);
+  std::vector<RockOutcome> rocks_;
+  std::vector<Vec3> previous_;  // last position over ground, for the wall
+  std::vector<double> nextPathTime_;
+  std::string stopReason_;
+  std::vector<std::string> messages_;
+};
+
+}  // namespace vf

@@ -1,0 +1,208 @@
+// Rock fall on terrain: ground materials, rolling resistance, terrain edges and holes.
+// Each tolerance is derived from the method (step dt, voxel level) in the comment beside it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sim/ground/ground_material.h"
+#include "sim/world.h"
+#include "tests/sim/test_meshes.h"
+#include "tests/support/test_world.h"
+
+namespace vf {
+namespace {
+
+constexpr double kG = 9.81;
+
+std::shared_ptr<const GroundMap> oneMaterial(double restitution, double friction, double rolling) {
+  auto g = std::make_shared<GroundMap>();
+  GroundMaterial m;
+  m.name = "test";
+  m.restitution = restitution;
+  m.friction = friction;
+  m.rollingResistance = rolling;
+  g->materials.push_back(m);
+  return g;
+}
+
+}  // namespace
+
+// A ball whose sphere tree is one sphere of radius r at its centre, with the inertia of a
+// solid sphere: it rolls on a plane without the bumps of a voxelised surface (a level-5
+// icosphere hops from leaf to leaf and loses half its speed in 1 s with no rolling resistance
+// at all), so the rolling law can be checked against its closed form alone.
+std::shared_ptr<const Shape> smoothBall(double r, double mass) {
+  auto s = std::make_shared<Shape>();
+  s->name = "smooth ball";
+  s->mesh = test::icosphere(2, r);
+  s->mass = mass;
+  s->volume = 4.0 / 3.0 * M_PI * r * r * r;
+  s->inertiaBody = 0.4 * mass * r * r * Mat3::Identity();
+  s->inertiaBodyInv = s->inertiaBody.inverse();
+  s->diameter = 2 * r;
+  s->meshOrigin = Vec3::Zero();
+  auto tree = std::make_shared<SphereTree>();
+  SphereTreeLevel leaf;
+  leaf.edge = 2 * r / std::sqrt(3.0);
+  leaf.radius = r;
+  leaf.centers = {Vec3::Zero()};
+  leaf.childBegin = {0, 0};
+  tree->levels = {leaf};
+  tree->boundingRadius = r;
+  s->tree = tree;
+  return s;
+}
+
+// A sphere rolling without slip on level ground with rolling resistance mu_r stops after
+// d = 7 v0^2 / (10 mu_r g) (Azzoni et al. 1995: v0^2 / (2 A mu_r g), A = 5/7 for a solid
+// sphere).
+TEST(Rockfall, RollingSphereStopsAtTheRollingResistanceDistance) {
+  const double r = 0.25, v0 = 2.0, muR = 0.3;
+  const double d = 7 * v0 * v0 / (10 * muR * kG);
+  auto ball = smoothBall(r, 100);
+  WorldDef def;
+  def.groundHeight = 0.0;
+  def.ground = oneMaterial(0.0, 0.8, muR);
+  World world(def);
+  BodyDef b;
+  b.shape = ball;
+  b.position = Vec3(0, 0, r);
+  b.velocity = Vec3(v0, 0, 0);
+  b.angularVelocity = Vec3(0, v0 / r, 0);  // rolling without slip towards +x
+  world.addBody(b);
+  const double tStop = v0 / (5.0 / 7.0 * muR * kG);
+  world.advanceTo(tStop + 1.0);
+  const double dt = world.totals().dtMax;
+  // Tolerance: per step the brake takes mu_r r N dt of angular momentum about the contact and
+  // friction converts it into speed one step later, so the speed lags the closed form by one
+  // step of deceleration (a dt) and the position integrates it with Euler's v0 dt / 2, as in
+  // the Coulomb sliding test; 2 v0 dt covers both.
+  EXPECT_NEAR(world.state(0).x.x(), d, 2 * v0 * dt);
+  EXPECT_LT(world.velocity(0).norm(), kG * dt) << "at rest: below what gravity adds in a step";
+  EXPECT_NEAR(world.state(0).x.y(), 0, 1e-9);
+  // Without rolling resistance (the paper's model) the same ball rolls on (it keeps over 99 %
+  // of v0 over the same time): the stop above is the rolling law's doing.
+  WorldDef paper;
+  paper.groundHeight = 0.0;
+  paper.contact.restitutionBodyGround = 0.0;
+  World free(paper);
+  free.addBody(b);
+  free.advanceTo(tStop + 1.0);
+  EXPECT_GT(free.velocity(0).x(), 0.99 * v0);
+  EXPECT_GT(free.state(0).x.x(), 3 * d);
+}
+
+// Flat terrain at z = 0: nx x ny samples of 1 m from (0, 0); NaN samples are NODATA.
+std::shared_ptr<const Heightfield> flatTerrain(int nx, int ny,
+                                               std::vector<std::pair<int, int>> holes = {}) {
+  auto h = std::make_shared<Heightfield>();
+  h->nx = nx;
+  h->ny = ny;
+  h->cell = 1.0;
+  h->z.assign(static_cast<std::size_t>(nx) * ny, 0.0);
+  for (auto [i, j] : holes) h->z[static_cast<std::size_t>(j) * nx + i] = NAN;
+  h->zMin = h->zMax = 0;
+  return h;
+}
+
+// A smooth ball rolling at 3 m/s towards the east edge of a 20 m grid (no floor plane).
+World rollTowardsEdge(TerrainEdge edge) {
+  WorldDef def;
+  def.terrain = flatTerrain(21, 21);
+  def.terrainEdge = edge;
+  def.contact.restitutionBodyGround = 0;
+  World world(def);
+  BodyDef b;
+  b.shape = smoothBall(0.25, 100);
+  b.position = Vec3(10, 10, 0.25);
+  b.velocity = Vec3(3, 0, 0);
+  b.angularVelocity = Vec3(0, 3 / 0.25, 0);
+  world.addBody(b);
+  return world;
+}
+
+TEST(Rockfall, ARockRolledOffTheGridEdgeIsRemovedAndRecorded) {
+  World world = rollTowardsEdge(TerrainEdge::kAuto);  // no plane: remove
+  world.advanceTo(5.0);
+  ASSERT_EQ(world.outcomes().size(), 1u);
+  const RockOutcome& r = world.outcomes()[0];
+  EXPECT_EQ(r.state, RockState::kLeft);
+  EXPECT_FALSE(world.isActive(0));
+  // Its centre crosses x = 20 after (20 - 10) / 3 s; it is removed in the step it does, at
+  // most one step (and 3 m/s times it) later.
+  const double dt = world.totals().dtMax;
+  EXPECT_NEAR(r.endTime, 10.0 / 3.0, 2 * dt);
+  EXPECT_NEAR(r.end.x(), 20.0, 3 * 2 * dt);
+  EXPECT_NE(r.message.find("body 0 left the terrain grid"), std::string::npos) << r.message;
+  EXPECT_EQ(world.measure().tunnelled, 0);  // gone, not tunnelled
+  EXPECT_TRUE(world.allSettled());
+  // It does not fall forever: the step stays at the resting maximum with nothing left.
+  EXPECT_GT(world.lastStep().dt, 1e-3);
+}
+
+TEST(Rockfall, EdgePoliciesStopTheRunOrWallTheRockIn) {
+  World stop = rollTowardsEdge(TerrainEdge::kStop);
+  stop.advanceTo(5.0);
+  EXPECT_NE(stop.stopReason().find("body 0 left the terrain grid at t = 3.3"), std::string::npos)
+      << stop.stopReason();
+  World wall = rollTowardsEdge(TerrainEdge::kWall);
+  wall.advanceTo(5.0);
+  EXPECT_EQ(wall.outcomes()[0].state, RockState::kMoving);
+  EXPECT_TRUE(wall.isActive(0));
+  // Reflected at x = 20 after 3.33 s: heading west and back over the grid. The wall reverses
+  // the velocity, not the spin, so friction then brings it to rolling with the angular
+  // momentum about the contact, m r (-v0) + (2/5) m r v0: v = -(3/5) v0 / (7/5) = -1.29 m/s.
+  EXPECT_NEAR(wall.velocity(0).x(), -3.0 * 3 / 7, 0.05);
+  EXPECT_LT(wall.state(0).x.x(), 20.0);
+  EXPECT_GT(wall.state(0).x.z(), 0.2);  // still on the surface, not fallen
+}
+
+TEST(Rockfall, ARockDroppedIntoANoDataHoleIsRemoved) {
+  WorldDef def;
+  def.terrain = flatTerrain(11, 11, {{5, 5}});  // the four cells around (5, 5) m have no data
+  World world(def);
+  BodyDef b;
+  b.shape = smoothBall(0.25, 100);
+  b.position = Vec3(5.2, 4.9, 3.0);
+  world.addBody(b);
+  world.advanceTo(2.0);
+  const RockOutcome& r = world.outcomes()[0];
+  EXPECT_EQ(r.state, RockState::kLeft);
+  EXPECT_NE(r.message.find("body 0 entered a NODATA hole at t = 0.0"), std::string::npos)
+      << r.message;
+  EXPECT_EQ(world.measure().tunnelled, 0);
+}
+
+TEST(Rockfall, ABodyBelowTheSurfaceIsPushedOutOrStoppedNeverEjected) {
+  for (double depth : {0.1, 1.0}) {  // centre 0.1 m below (partly) and 1 m below (wholly)
+    WorldDef def;
+    def.terrain = flatTerrain(11, 11);
+    World world(def);
+    BodyDef b;
+    b.shape = smoothBall(0.25, 100);
+    b.position = Vec3(5, 5, -depth);
+    world.addBody(b);
+    world.advanceTo(2.0);
+    const RockOutcome& r = world.outcomes()[0];
+    ASSERT_FALSE(world.terrainMessages().empty());
+    if (depth < 0.25) {
+      EXPECT_NE(
+          world.terrainMessages()[0].find("body 0 was partly below the terrain surface at t = "),
+          std::string::npos);
+      // Out and resting on the surface (the leaf sphere's bottom at z = 0 within a step's fall),
+      // never thrown: its speed stays below what gravity adds in a few steps.
+      EXPECT_NEAR(world.state(0).x.z(), 0.25, 0.01);
+      EXPECT_LT(world.velocity(0).norm(), 0.1);
+      EXPECT_EQ(r.state, RockState::kStopped);
+    } else {
+      EXPECT_EQ(r.state, RockState::kBuried);
+      EXPECT_NE(r.message.find("body 0 is wholly below the terrain surface at t = 0.0"),
+                std::string::npos)
+          << r.message;
+      EXPECT_NEAR(world.state(0).x.z(), -depth, 0.01);
+      EXPECT_FALSE(world.isActive(0));
+    }
+  }
+}
+
+}  // namespace vf
