@@ -69,8 +69,7 @@ struct ScenePlayback::Impl {
       v.color = body.color;
       bodies.push_back(v);
     }
-    if (!spec.terrainPath.empty())
-      addTerrain(std::make_shared<const Heightfield>(loadEsriAsciiGrid(spec.terrainPath)));
+    addTerrain(loadSceneTerrain(spec));
   }
 
   void addTerrain(const std::shared_ptr<const Heightfield>& terrain) {

@@ -188,6 +188,12 @@ void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
                       {"inertia_body_inv", inertia}});
   }
   const CameraSpec& c = s.camera;
+  json cameraPath = json::array();
+  for (const CameraKey& k : c.path)
+    cameraPath.push_back({{"time", k.time},
+                          {"position", vec(k.position)},
+                          {"look_at", vec(k.lookAt)},
+                          {"fov", k.fovDegrees}});
   const json header = {
       {"format", "voxfall-bake"},
       {"version", 1},
@@ -199,13 +205,19 @@ void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
         {"gravity", vec(s.gravity)},
         {"ground_plane", s.groundPlane ? json(*s.groundPlane) : json(nullptr)},
         {"terrain", storedPath(s.terrainPath, bakePath)},
+        {"terrain_offset", vec(s.terrainShift)},
         {"camera",
          {{"given", c.given},
           {"position", vec(c.position)},
           {"look_at", vec(c.lookAt)},
           {"up", vec(c.up)},
           {"fov", c.fovDegrees},
-          {"follow", c.followBody ? json(*c.followBody) : json(nullptr)}}},
+          {"follow", c.followBody ? json(*c.followBody) : json(nullptr)},
+          {"follow_group", c.followGroup},
+          {"smoothing", c.smoothing},
+          {"path", cameraPath},
+          {"min_pixels", c.minPixels},
+          {"trail", c.trailSeconds}}},
         {"output",
          {{"width", s.output.width}, {"height", s.output.height}, {"crf", s.output.crf}}}}},
       {"shapes", shapes},
@@ -262,6 +274,7 @@ Bake readBake(const std::string& path) {
     s.gravity = readVec(sc.at("gravity"));
     if (!sc.at("ground_plane").is_null()) s.groundPlane = sc.at("ground_plane").get<double>();
     s.terrainPath = resolvedPath(sc.at("terrain").get<std::string>(), path);
+    s.terrainShift = readVec(sc.at("terrain_offset"));
     const json& c = sc.at("camera");
     s.camera.given = c.at("given").get<bool>();
     s.camera.position = readVec(c.at("position"));
@@ -269,6 +282,13 @@ Bake readBake(const std::string& path) {
     s.camera.up = readVec(c.at("up"));
     s.camera.fovDegrees = c.at("fov").get<double>();
     if (!c.at("follow").is_null()) s.camera.followBody = c.at("follow").get<int>();
+    s.camera.followGroup = c.at("follow_group").get<std::vector<int>>();
+    s.camera.smoothing = c.at("smoothing").get<double>();
+    for (const json& k : c.at("path"))
+      s.camera.path.push_back(CameraKey{k.at("time").get<double>(), readVec(k.at("position")),
+                                        readVec(k.at("look_at")), k.at("fov").get<double>()});
+    s.camera.minPixels = c.at("min_pixels").get<double>();
+    s.camera.trailSeconds = c.at("trail").get<double>();
     const json& o = sc.at("output");
     s.output.width = o.at("width").get<int>();
     s.output.height = o.at("height").get<int>();

@@ -172,6 +172,10 @@ void applyColliderOverride(SceneSpec& spec, const std::string& method);
 // InputError naming the scene's cameras when there is none by that name.
 void selectCamera(SceneSpec& spec, const std::string& name);
 
+// The scene's terrain (its DEM moved by [ground] offset), or null without one; shared by
+// buildScene and the renderer of a bake.
+std::shared_ptr<const Heightfield> loadSceneTerrain(const SceneSpec& spec);
+
 // A World built from a spec, with what the renderer needs to draw it.
 struct BuiltScene {
   std::unique_ptr<World> world;

@@ -168,16 +168,19 @@ Color defaultBodyColor(int id) {
   return kPalette[static_cast<std::size_t>(id < 0 ? -id : id) % kPalette.size()];
 }
 
+std::shared_ptr<const Heightfield> loadSceneTerrain(const SceneSpec& spec) {
+  if (spec.terrainPath.empty()) return nullptr;
+  Heightfield terrain = loadDem(spec.terrainPath);
+  if (spec.terrainShift != Vec3::Zero()) shiftHeightfield(terrain, spec.terrainShift);
+  return std::make_shared<const Heightfield>(std::move(terrain));
+}
+
 BuiltScene buildScene(const SceneSpec& spec) {
   WorldDef def;
   def.gravity = spec.gravity;
   def.fixedStep = spec.autoStep ? 0 : spec.fixedStep;
   def.groundHeight = spec.groundPlane;
-  if (!spec.terrainPath.empty()) {
-    Heightfield terrain = loadDem(spec.terrainPath);
-    if (spec.terrainShift != Vec3::Zero()) shiftHeightfield(terrain, spec.terrainShift);
-    def.terrain = std::make_shared<const Heightfield>(std::move(terrain));
-  }
+  def.terrain = loadSceneTerrain(spec);
   def.terrainEdge = spec.terrainEdge;
   def.rotation = spec.rotation;
   def.rest = spec.rest;

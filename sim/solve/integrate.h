@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "sim/core/body.h"
+#include "sim/solve/rotation_update.h"
 
 namespace vf {
 

@@ -103,7 +103,9 @@ TEST_P(WithAndWithoutReduction, BoxDroppedFlatReboundsToEpsSquaredOfItsDropHeigh
       bounced = true;
       vBefore = v;
       vAfter = v2;
-      if (GetParam()) EXPECT_LT(world.lastStep().contacts, world.lastStep().leafContacts);
+      if (GetParam()) {
+        EXPECT_LT(world.lastStep().contacts, world.lastStep().leafContacts);
+      }
     }
     if (bounced) apex = std::max(apex, world.state(0).x.z() - zTouch);
   }
