@@ -23,8 +23,8 @@
 #include "sim/core/hash.h"
 #include "sim/solve/impulse.h"
 #include "sim/solve/integrate.h"
-#include "sim/solve/sleep.h"
 #include "sim/solve/rolling_resistance.h"
+#include "sim/solve/sleep.h"
 #include "sim/solve/time_step.h"
 
 namespace vf {

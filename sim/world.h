@@ -17,8 +17,8 @@
 #include "sim/ground/rock_monitor.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
-#include "sim/solve/sleep.h"
 #include "sim/solve/rotation_update.h"
+#include "sim/solve/sleep.h"
 
 namespace vf {
 
@@ -50,7 +50,7 @@ struct WorldDef {
   std::optional<double> groundHeight;  // floor plane z = h; none: no floor
   std::shared_ptr<const Heightfield> terrain;  // heightfield ground; none: no terrain
   ContactMaterial contact;
-  int solverIterations = 12;             // sequential-impulse passes over the contacts
+  int solverIterations = 12;  // sequential-impulse passes over the contacts
   // Extensions beyond the paper (README, "Performance"). Both change trajectories, so both are
   // off by default: the paper's method, and the pinned golden checksums, stay the default.
   bool contactReduction = false;  // a few representative contacts per patch (contact_reduction.h)
@@ -203,10 +203,10 @@ class World {
   std::vector<BodyState> states_;
   RunStats totals_;
   StepStats last_;
-  std::vector<BodyPair> pairs_;    // scratch, reused every step
-  std::vector<Contact> contacts_;  // scratch, reused every step
-  ContactCache contactCache_;      // last step's contact impulses (warm starting)
-  std::uint64_t stepsHash_;        // see stepsHash()
+  std::vector<BodyPair> pairs_;         // scratch, reused every step
+  std::vector<Contact> contacts_;       // scratch, reused every step
+  ContactCache contactCache_;           // last step's contact impulses (warm starting)
+  std::uint64_t stepsHash_;             // see stepsHash()
   std::vector<double> normalImpulses_;  // scratch: per contact, for rolling resistance
   RockMonitor monitor_;                 // terrain edges, push-out, rest, outcomes
 };

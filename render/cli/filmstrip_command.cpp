@@ -64,7 +64,8 @@ std::vector<double> parseTimes(const std::string& text) {
 int runFilmstrip(const FilmstripOptions& o) {
   RunInput input = loadRunInput(o.scene, o.level, o.step, o.collider);
   if (input.bake)
-    throw InputError(o.scene, "filmstrip draws a scene; render a bake's frames with voxfall render");
+    throw InputError(o.scene,
+                     "filmstrip draws a scene; render a bake's frames with voxfall render");
   SceneSpec& spec = input.spec;
   if (o.size) std::tie(spec.output.width, spec.output.height) = *o.size;
   const std::vector<double> times = parseTimes(o.times);

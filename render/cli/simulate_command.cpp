@@ -60,8 +60,8 @@ int runSimulate(const SimulateOptions& o) {
   if (!o.outcomes.empty()) {
     for (const auto& [name, other] : named)
       if (o.outcomes == *other)
-        throw InputError("", std::string("--outcomes and ") + name + " name the same file '" +
-                                 o.outcomes + "'");
+        throw InputError(
+            "", std::string("--outcomes and ") + name + " name the same file '" + o.outcomes + "'");
     if (spec.terrainPath.empty())
       throw InputError(spec.path, "--outcomes needs a scene with terrain ([ground] heightfield)");
     outcomes.emplace(o.outcomes, rules);

@@ -20,8 +20,8 @@
 #include <sstream>
 #include <thread>
 
-#include "render/output/output_file.h"
 #include "render/figures/gnuplot.h"
+#include "render/output/output_file.h"
 #include "sim/core/error.h"
 #include "sim/recorder.h"
 #include "sim/scene/scene.h"
@@ -369,20 +369,22 @@ Section figure10(const PaperFigureOptions& o, int repeats, RunProgress& progress
   if (!o.quick)
     errors.push_back({"from level 6 at 1/2160 (the paper's reference)", base + ".csv", "1:7",
                       "linespoints", 1, true});
-  const Panel err{"mean distance of the final centres from a reference",
-                  "voxel level Lv",
-                  "distance (m)",
-                  true,
-                  false,
-                  errors,
-                  {"set xtics 1", "set xrange [0.5:" + std::to_string(top) + ".5]", "set key top right"}};
-  const Panel time{"compute time",
-                   "voxel level Lv",
-                   "compute time (s)",
-                   true,
-                   false,
-                   {{"voxfall", base + ".csv", "1:8", "linespoints", 2, false}},
-                   {"set xtics 1", "set xrange [0.5:" + std::to_string(top) + ".5]", "set key top left"}};
+  const Panel err{
+      "mean distance of the final centres from a reference",
+      "voxel level Lv",
+      "distance (m)",
+      true,
+      false,
+      errors,
+      {"set xtics 1", "set xrange [0.5:" + std::to_string(top) + ".5]", "set key top right"}};
+  const Panel time{
+      "compute time",
+      "voxel level Lv",
+      "compute time (s)",
+      true,
+      false,
+      {{"voxfall", base + ".csv", "1:8", "linespoints", 2, false}},
+      {"set xtics 1", "set xrange [0.5:" + std::to_string(top) + ".5]", "set key top left"}};
   f.panels = {err, time};
   drawFigure(f, base);
 

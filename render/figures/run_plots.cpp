@@ -8,8 +8,8 @@
 #include <map>
 #include <sstream>
 
-#include "render/output/output_file.h"
 #include "render/figures/gnuplot.h"
+#include "render/output/output_file.h"
 #include "sim/core/error.h"
 
 namespace vf::fig {

@@ -14,12 +14,12 @@ constexpr int kGround = -1;  // body id of the floor plane (and, later, terrain)
 // One colliding leaf-sphere pair (section 4, fig. 5). Body `a` is the paper's body 1.
 struct Contact {
   int a = 0;
-  int b = kGround;             // another body, or kGround
-  Vec3 point = Vec3::Zero();   // p = (x1 + x2) / 2 for two spheres; on the plane for the floor
-  Vec3 normal = Vec3::UnitZ(); // n21 = (x1 - x2) / |x1 - x2|: direction of the force on `a`
-  double depth = 0;            // r1 + r2 - |x1 - x2| (sphere overlap), m
-  std::uint32_t leafA = 0;     // leaf-sphere index in a's tree (feature key)
-  std::uint32_t leafB = 0;     // leaf-sphere index in b's tree; 0 for the plane
+  int b = kGround;              // another body, or kGround
+  Vec3 point = Vec3::Zero();    // p = (x1 + x2) / 2 for two spheres; on the plane for the floor
+  Vec3 normal = Vec3::UnitZ();  // n21 = (x1 - x2) / |x1 - x2|: direction of the force on `a`
+  double depth = 0;             // r1 + r2 - |x1 - x2| (sphere overlap), m
+  std::uint32_t leafA = 0;      // leaf-sphere index in a's tree (feature key)
+  std::uint32_t leafB = 0;      // leaf-sphere index in b's tree; 0 for the plane
 };
 
 // A body pair whose bounding spheres overlap; a < b.

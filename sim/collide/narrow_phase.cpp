@@ -23,8 +23,8 @@
 
 #include "sim/collide/polygon_contact.h"
 #include "sim/core/error.h"
-#include "sim/shape/convex_polyhedron.h"
 #include "sim/geometry/mesh_bvh.h"
+#include "sim/shape/convex_polyhedron.h"
 
 namespace vf {
 namespace {

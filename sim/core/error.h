@@ -27,9 +27,9 @@ std::string sourceLocation(const std::string& file, int line = 0, int column = 0
 }  // namespace vf
 
 // Kept on in RelWithDebInfo (the default build): a failed invariant is a bug in voxfall.
-#define VF_ASSERT(cond)                                                      \
-  do {                                                                       \
-    if (!(cond)) ::vf::detail::assertFailed(#cond, __FILE__, __LINE__);      \
+#define VF_ASSERT(cond)                                                 \
+  do {                                                                  \
+    if (!(cond)) ::vf::detail::assertFailed(#cond, __FILE__, __LINE__); \
   } while (0)
 
 namespace vf::detail {

@@ -8,10 +8,10 @@
 namespace vf {
 
 struct MassProperties {
-  double volume = 0;   // m^3
-  double mass = 0;     // kg
-  Vec3 centerOfMass;   // m, in mesh coordinates
-  Mat3 inertia;        // kg m^2, about the centre of mass, mesh axes
+  double volume = 0;  // m^3
+  double mass = 0;    // kg
+  Vec3 centerOfMass;  // m, in mesh coordinates
+  Mat3 inertia;       // kg m^2, about the centre of mass, mesh axes
 };
 
 // Exact for any closed, outward-oriented mesh (validateClosedMesh first). density in kg/m^3.

@@ -11,7 +11,8 @@ namespace vf {
 
 struct TriMesh {
   std::vector<Vec3> vertices;
-  std::vector<std::array<std::uint32_t, 3>> triangles;  // indices into vertices, CCW seen from outside
+  std::vector<std::array<std::uint32_t, 3>>
+      triangles;  // indices into vertices, CCW seen from outside
 
   // Axis-aligned bounds of the vertices.
   Eigen::AlignedBox3d bounds() const;

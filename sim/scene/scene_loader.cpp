@@ -851,8 +851,8 @@ SceneSpec loadScene(const std::string& path) {
 
   const Reader r(path);
   r.checkKeys(root,
-              {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera", "cameras",
-               "output"},
+              {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera",
+               "cameras", "output"},
               "the scene's top level");
   const fs::path sceneFolder = fs::path(path).parent_path();
 

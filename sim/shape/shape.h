@@ -18,15 +18,15 @@ struct ConvexPolyhedron;
 
 struct Shape {
   std::string name;
-  TriMesh mesh;             // body frame: centre of mass at the origin, mesh-file axes
-  Vec3 meshOrigin;          // where the mesh file's origin lies in the body frame (= -com)
-  double mass = 0;          // kg
-  double volume = 0;        // m^3
-  Mat3 inertiaBody;         // kg m^2 about the centre of mass
+  TriMesh mesh;       // body frame: centre of mass at the origin, mesh-file axes
+  Vec3 meshOrigin;    // where the mesh file's origin lies in the body frame (= -com)
+  double mass = 0;    // kg
+  double volume = 0;  // m^3
+  Mat3 inertiaBody;   // kg m^2 about the centre of mass
   Mat3 inertiaBodyInv;
-  double diameter = 0;      // l of eq. 18-20: twice the largest vertex distance from the origin
-  bool centerInside = true; // the centre of mass lies inside the solid (false for a hollow
-                            // body such as the barrel): only then can it witness tunnelling
+  double diameter = 0;       // l of eq. 18-20: twice the largest vertex distance from the origin
+  bool centerInside = true;  // the centre of mass lies inside the solid (false for a hollow
+                             // body such as the barrel): only then can it witness tunnelling
   std::shared_ptr<const SphereTree> tree;  // shared between shapes with the same mesh+scale+level
   // Set when the scene selects the polygon collider (collider = "polygon"): the body then
   // collides by its convex polyhedron; the tree still serves eq. 20 and release checks.
@@ -40,8 +40,8 @@ struct Shape {
 // Builds a shape from a validated mesh in file coordinates: scales it, computes mass
 // properties with `density`, moves the centre of mass to the origin. `tree` must have been
 // built from the same scaled, centred mesh (see centredMesh) or be null to build it here.
-std::shared_ptr<const Shape> makeShape(std::string name, TriMesh meshFileCoords,
-                                       const Vec3& scale, double density, int level,
+std::shared_ptr<const Shape> makeShape(std::string name, TriMesh meshFileCoords, const Vec3& scale,
+                                       double density, int level,
                                        std::shared_ptr<const SphereTree> tree = nullptr);
 
 // The mesh scaled by `scale` and moved so its centre of mass is at the origin; the key from

@@ -20,12 +20,12 @@
 namespace vf {
 
 struct SphereTreeLevel {
-  double edge = 0;                       // voxel edge a_k, m
-  double radius = 0;                     // circumscribed sphere radius a_k sqrt(3)/2, m
-  std::vector<Vec3> centers;             // body frame, one per surface voxel
-  std::vector<std::uint32_t> childBegin; // size centers.size()+1: children of node i are
-                                         // [childBegin[i], childBegin[i+1]) of the next level;
-                                         // empty (all zero) on the leaf level
+  double edge = 0;                        // voxel edge a_k, m
+  double radius = 0;                      // circumscribed sphere radius a_k sqrt(3)/2, m
+  std::vector<Vec3> centers;              // body frame, one per surface voxel
+  std::vector<std::uint32_t> childBegin;  // size centers.size()+1: children of node i are
+                                          // [childBegin[i], childBegin[i+1]) of the next level;
+                                          // empty (all zero) on the leaf level
 };
 
 struct SphereTree {

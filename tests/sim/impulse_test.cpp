@@ -1,7 +1,8 @@
 // Eq. 15 and the sequential-impulse solver against hand computations.
+#include "sim/solve/impulse.h"
+
 #include <gtest/gtest.h>
 
-#include "sim/solve/impulse.h"
 #include "tests/support/test_world.h"
 
 namespace vf {
@@ -46,8 +47,8 @@ TEST(Impulse, OffCentreGroundContactMatchesHandComputation) {
   EXPECT_NEAR(w.states[0].P.z(), m * vz + j, 1e-9 * m);
   EXPECT_NEAR(w.states[0].L.y(), -d * j, 1e-9 * m);
   EXPECT_NEAR(w.states[0].L.x(), 0, 1e-12);
-  EXPECT_NEAR(inverseEffectiveMass(1 / m, s->inertiaBodyInv, c.point, 0, Mat3::Zero(),
-                                   Vec3::Zero(), c.normal),
+  EXPECT_NEAR(inverseEffectiveMass(1 / m, s->inertiaBodyInv, c.point, 0, Mat3::Zero(), Vec3::Zero(),
+                                   c.normal),
               K, 1e-9 * K);
   EXPECT_DOUBLE_EQ(restitutionImpulse(vz, eps, K), j);
   // The contact point now separates at -eps times its approach speed (v_rel+ = -eps v_rel-).

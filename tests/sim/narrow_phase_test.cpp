@@ -4,13 +4,14 @@
 //   - swapping A and B gives the same pairs with flipped normals;
 //   - normals are unit, depths positive and equal to r1 + r2 - |x1 - x2|;
 //   - plane contacts are exactly the leaf spheres that cross the plane.
+#include "sim/collide/narrow_phase.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <set>
 #include <utility>
 
-#include "sim/collide/narrow_phase.h"
 #include "sim/core/prng.h"
 #include "tests/support/test_world.h"
 
@@ -22,8 +23,7 @@ Quat randomRotation(Prng& rng) {
   return q.normalized();
 }
 
-std::set<std::pair<std::uint32_t, std::uint32_t>> bruteForce(const Collider& a,
-                                                             const Collider& b) {
+std::set<std::pair<std::uint32_t, std::uint32_t>> bruteForce(const Collider& a, const Collider& b) {
   std::set<std::pair<std::uint32_t, std::uint32_t>> out;
   const SphereTreeLevel& la = a.tree->leaves();
   const SphereTreeLevel& lb = b.tree->leaves();
@@ -100,9 +100,9 @@ TEST(NarrowPhase, DifferentLeafLevelsStillMatchBruteForce) {
   Prng rng(7);
   for (int trial = 0; trial < 30; ++trial) {
     const Collider a = sphereTreeCollider(0, *coarse->tree, Vec3::Zero(), randomRotation(rng));
-    const Collider b = sphereTreeCollider(
-        1, *fine->tree, Vec3(rng.uniform(-0.4, 0.4), rng.uniform(-0.4, 0.4), 0.1),
-        randomRotation(rng));
+    const Collider b = sphereTreeCollider(1, *fine->tree,
+                                          Vec3(rng.uniform(-0.4, 0.4), rng.uniform(-0.4, 0.4), 0.1),
+                                          randomRotation(rng));
     std::vector<Contact> contacts;
     collide(a, b, contacts);
     std::set<std::pair<std::uint32_t, std::uint32_t>> found;

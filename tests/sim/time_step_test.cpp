@@ -1,9 +1,10 @@
 // The step-size rule of eqs. 17-20.
+#include "sim/solve/time_step.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "sim/solve/time_step.h"
 #include "tests/support/test_world.h"
 
 namespace vf {

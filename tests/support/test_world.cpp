@@ -7,8 +7,8 @@ namespace vf::test {
 TriMesh boxMesh(double a, double b, double c) {
   TriMesh m;
   for (int i = 0; i < 8; ++i)
-    m.vertices.push_back(Vec3((i & 1 ? 0.5 : -0.5) * a, (i & 2 ? 0.5 : -0.5) * b,
-                              (i & 4 ? 0.5 : -0.5) * c));
+    m.vertices.push_back(
+        Vec3((i & 1 ? 0.5 : -0.5) * a, (i & 2 ? 0.5 : -0.5) * b, (i & 4 ? 0.5 : -0.5) * c));
   // Two triangles per face, counter-clockwise seen from outside.
   m.triangles = {{0, 2, 3}, {0, 3, 1},   // -z
                  {4, 5, 7}, {4, 7, 6},   // +z
