@@ -21,18 +21,10 @@ WorldDef sleepingWorld() {
   return def;
 }
 
-BodyDef boxAt(std::shared_ptr<const Shape> s, const Vec3& x, double release = 0) {
-  BodyDef b;
-  b.shape = std::move(s);
-  b.position = x;
-  b.releaseTime = release;
-  return b;
-}
-
 TEST(Sleep, BodyAtRestSleepsAndThenCostsNothing) {
   World world(sleepingWorld());
   auto s = test::boxShape(0.3, 0.3, 0.3, 800, 3);
-  world.addBody(boxAt(s, Vec3(0, 0, test::restOffset(*s) + 0.2)));
+  world.addBody(test::bodyAt(s, Vec3(0, 0, test::restOffset(*s) + 0.2)));
   world.advanceTo(0.3);
   EXPECT_FALSE(world.isSleeping(0)) << "still falling or settling";
   world.advanceTo(3.0);  // lands at ~0.2 s, settles, then rests SleepSettings::time = 0.5 s
@@ -52,9 +44,9 @@ TEST(Sleep, DroppedBodyWakesThePileAndAllComeToRestAgain) {
     World world(sleepingWorld());
     auto s = test::boxShape(0.3, 0.3, 0.3, 800, 3);
     const double lift = test::restOffset(*s);
-    world.addBody(boxAt(s, Vec3(0, 0, lift)));
-    world.addBody(boxAt(s, Vec3(0.02, 0, 3 * lift + 0.005)));
-    BodyDef dropped = boxAt(s, Vec3(-0.03, 0.01, 0), 2.5);
+    world.addBody(test::bodyAt(s, Vec3(0, 0, lift)));
+    world.addBody(test::bodyAt(s, Vec3(0.02, 0, 3 * lift + 0.005)));
+    BodyDef dropped = test::bodyAt(s, Vec3(-0.03, 0.01, 0), 2.5);
     dropped.dropHeight = 0.3;  // 0.3 m above the top of the pile at 2.5 s
     world.addBody(dropped);
     world.advanceTo(2.4);
@@ -88,7 +80,7 @@ TEST(Sleep, SlowBodyInEmptySpaceNeverSleeps) {
   def.sleep = true;
   World world(def);
   auto s = test::boxShape(0.3, 0.3, 0.3, 800, 3);
-  BodyDef b = boxAt(s, Vec3::Zero());
+  BodyDef b = test::bodyAt(s, Vec3::Zero());
   b.velocity = Vec3(0.01, 0, 0);  // a fifth of the sleep threshold
   world.addBody(b);
   world.advanceTo(5.0);

@@ -8,20 +8,12 @@
 namespace vf {
 namespace {
 
-BodyDef bodyAt(std::shared_ptr<const Shape> s, const Vec3& x, double release = 0) {
-  BodyDef b;
-  b.shape = std::move(s);
-  b.position = x;
-  b.releaseTime = release;
-  return b;
-}
-
 TEST(World, ReleaseTimesOffByRoundingAreTakenAtTheFrameWithoutSliverSteps) {
   WorldDef def;
   World world(def);
   auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
   const double release = 0.4 * 3;  // 1.2000000000000002, one ulp after the frame time 36/30
-  world.addBody(bodyAt(s, Vec3(0, 0, 5), release));
+  world.addBody(test::bodyAt(s, Vec3(0, 0, 5), release));
   ASSERT_NE(release, 36 / 30.0);
   world.advanceTo(36 / 30.0);
   EXPECT_EQ(world.time(), release) << "the step lands on the release, a hair after the frame";
@@ -34,7 +26,7 @@ TEST(World, BodiesJoinExactlyAtTheirReleaseTime) {
   def.gravity = Vec3::Zero();
   World world(def);
   auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
-  BodyDef b = bodyAt(s, Vec3(0, 0, 0), 0.25);
+  BodyDef b = test::bodyAt(s, Vec3(0, 0, 0), 0.25);
   b.velocity = Vec3(1, 0, 0);
   world.addBody(b);
   world.advanceTo(0.2);
@@ -50,9 +42,9 @@ TEST(World, ReleaseIntoAnotherBodyIsCounted) {
   def.gravity = Vec3::Zero();
   World world(def);
   auto s = test::boxShape(0.2, 0.2, 0.2, 800, 3);
-  world.addBody(bodyAt(s, Vec3(0, 0, 0)));
-  world.addBody(bodyAt(s, Vec3(0.1, 0, 0), 0.1));  // overlaps body 0
-  world.addBody(bodyAt(s, Vec3(3, 0, 0), 0.2));    // free space
+  world.addBody(test::bodyAt(s, Vec3(0, 0, 0)));
+  world.addBody(test::bodyAt(s, Vec3(0.1, 0, 0), 0.1));  // overlaps body 0
+  world.addBody(test::bodyAt(s, Vec3(3, 0, 0), 0.2));    // free space
   world.advanceTo(0.15);
   EXPECT_EQ(world.totals().overlappingReleases, 1u);
   world.advanceTo(0.3);
@@ -64,11 +56,11 @@ TEST(World, DropHeightReleasesThatFarAboveWhatLiesBelow) {
   def.groundHeight = 0.0;
   World world(def);
   auto s = test::boxShape(0.4, 0.4, 0.2, 800, 2);
-  world.addBody(bodyAt(s, Vec3(0, 0, 0.1)));       // resting box, top at z = 0.2
-  BodyDef over = bodyAt(s, Vec3(0.1, 0, 0), 0.5);  // z is ignored: placed at release
+  world.addBody(test::bodyAt(s, Vec3(0, 0, 0.1)));       // resting box, top at z = 0.2
+  BodyDef over = test::bodyAt(s, Vec3(0.1, 0, 0), 0.5);  // z is ignored: placed at release
   over.dropHeight = 0.5;
   world.addBody(over);
-  BodyDef beside = bodyAt(s, Vec3(3, 0, 7), 0.5);  // nothing below but the floor
+  BodyDef beside = test::bodyAt(s, Vec3(3, 0, 7), 0.5);  // nothing below but the floor
   beside.dropHeight = 0.5;
   world.addBody(beside);
   world.advanceTo(0.5);
@@ -81,7 +73,7 @@ TEST(World, AdvanceToNeverShortensAStepToMeetAFrame) {
   WorldDef def;
   def.fixedStep = 0.1;
   World world(def);
-  world.addBody(bodyAt(test::boxShape(0.2, 0.2, 0.2, 800, 2), Vec3(0, 0, 5)));
+  world.addBody(test::bodyAt(test::boxShape(0.2, 0.2, 0.2, 800, 2), Vec3(0, 0, 5)));
   world.advanceTo(0.25);
   EXPECT_EQ(world.totals().steps, 2u);
   EXPECT_EQ(world.totals().dtMin, 0.1);
@@ -94,7 +86,7 @@ TEST(World, StatesBetweenStepsAreFreeMotionOfACopy) {
   def.fixedStep = 0.1;
   World world(def);
   const Vec3 x0(0, 0, 5), v0(1, 2, 3), w0(0, 0, 2);
-  BodyDef b = bodyAt(test::boxShape(0.2, 0.2, 0.2, 800, 2), x0);
+  BodyDef b = test::bodyAt(test::boxShape(0.2, 0.2, 0.2, 800, 2), x0);
   b.velocity = v0;
   b.angularVelocity = w0;
   world.addBody(b);
@@ -119,11 +111,11 @@ TEST(World, StateHashSeesEveryBit) {
   WorldDef def;
   auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
   World a(def), b(def);
-  a.addBody(bodyAt(s, Vec3(0, 0, 1)));
-  b.addBody(bodyAt(s, Vec3(0, 0, std::nextafter(1.0, 2.0))));
+  a.addBody(test::bodyAt(s, Vec3(0, 0, 1)));
+  b.addBody(test::bodyAt(s, Vec3(0, 0, std::nextafter(1.0, 2.0))));
   EXPECT_NE(a.stateHash(), b.stateHash());
   World c(def);
-  c.addBody(bodyAt(s, Vec3(0, 0, 1)));
+  c.addBody(test::bodyAt(s, Vec3(0, 0, 1)));
   EXPECT_EQ(a.stateHash(), c.stateHash());
   a.advanceTo(0.5);
   c.advanceTo(0.5);
@@ -144,7 +136,7 @@ TEST(World, StateHashDoesNotDependOnTheThreadCount) {
       World world(def);
       auto s = test::boxShape(0.3, 0.2, 0.2, 800, 3);
       for (int i = 0; i < 40; ++i) {
-        BodyDef b = bodyAt(s, Vec3(0.13 * (i % 5), 0.11 * (i / 5 % 3), 0.2 + 0.25 * i));
+        BodyDef b = test::bodyAt(s, Vec3(0.13 * (i % 5), 0.11 * (i / 5 % 3), 0.2 + 0.25 * i));
         b.angularVelocity = Vec3(0.5 * (i % 3), 0.3, 0);
         world.addBody(b);
       }

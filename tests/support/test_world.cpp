@@ -46,6 +46,14 @@ Rebound dropAndWatchRebound(World& world, double zTouch, double dt, double until
   return r;
 }
 
+BodyDef bodyAt(std::shared_ptr<const Shape> s, const Vec3& x, double release) {
+  BodyDef b;
+  b.shape = std::move(s);
+  b.position = x;
+  b.releaseTime = release;
+  return b;
+}
+
 std::string sourcePath(const std::string& relative) {
   return std::string(VOXFALL_SOURCE_DIR) + "/" + relative;
 }

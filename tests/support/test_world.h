@@ -16,6 +16,8 @@ TriMesh boxMesh(double a, double b, double c);
 
 // A box shape of the given size and density at voxel level `level`.
 std::shared_ptr<const Shape> boxShape(double a, double b, double c, double density, int level);
+// A body of shape `s` with its centre of mass at x (m), released at `release` (s).
+BodyDef bodyAt(std::shared_ptr<const Shape> s, const Vec3& x, double release = 0);
 
 // Lowest point of the body's leaf spheres below its centre of mass when unrotated: place a
 // body at z = ground + restOffset(...) for its spheres to just touch the floor.
