@@ -17,10 +17,6 @@
 
 namespace vf {
 
-double eq20Step(double diameter, int level, double speed, double angularSpeed) {
-  return diameter / (std::ldexp(1.0, level + 1) * (speed + 0.5 * diameter * angularSpeed));
-}
-
 double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
                   const Vec3& gravity, double maxStep) {
   double radius = INFINITY;  // eq. 19, smallest over moving bodies

@@ -13,7 +13,4 @@ namespace vf {
 double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
                   const Vec3& gravity, double maxStep);
 
-// dt_max of eq. 20 for one kind of body: l / (2^(Lv+1) (v + (l/2) w)).
-double eq20Step(double diameter, int level, double speed, double angularSpeed);
-
 }  // namespace vf
