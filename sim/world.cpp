@@ -94,6 +94,7 @@ void World::advanceTo(double t) {
     // A release time within kTimeTolerance of t is taken at t: no sliver steps.
     const double release = nextReleaseAfter(time_);
     stepToward(release < t - kTimeTolerance ? release : t);
+    if (runaway_) throw RunawayError(*runaway_);
   }
 }
 
@@ -102,6 +103,7 @@ double World::stableStep() const {
 }
 
 void World::stepToward(double target) {
+  if (runaway_) return;
   StepStats s;
   Clock::time_point clock = Clock::now();
 
@@ -138,6 +140,10 @@ void World::stepToward(double target) {
   solver.dt = s.dt;
   solveContacts(contacts_, bodies_, states_, solver, contactCache_);
   s.secondsSolve = secondsSince(clock);
+
+  // Runaway check (run_guard.cpp) on the momenta of this step, before anything moves.
+  runaway_ = guard_.check(bodies_, states_, def_.gravity, time_, s.dt, def_.limits);
+  if (runaway_) return;
 
   s.nonFinite = integrate(bodies_, states_, s.dt);
   time_ = lands ? target : time_ + s.dt;

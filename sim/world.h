@@ -11,6 +11,7 @@
 #include "sim/collide/contact.h"
 #include "sim/core/body.h"
 #include "sim/core/math.h"
+#include "sim/run_guard.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
 
@@ -57,6 +58,7 @@ struct WorldDef {
   std::shared_ptr<const Heightfield> terrain;  // heightfield ground; none: no terrain
   ContactMaterial contact;
   int solverIterations = 12;             // sequential-impulse passes over the contacts
+  RunLimits limits;                      // runaway bounds checked every step (run_guard.h)
 };
 
 // What one step did. Counters are deterministic; the stage times are wall-clock and are never
@@ -102,7 +104,12 @@ class World {
   // smaller). Never throws; numerical trouble is counted in the returned stats.
   const StepStats& step(double maxDt);
   // Steps until time() == t exactly (t >= time()). Release times on the way are hit exactly.
+  // Throws RunawayError if the run guard stopped the run (see runaway()).
   void advanceTo(double t);
+  // Set once a step found a non-finite state, a body over limits.maxSpeed or an energy gain
+  // over the margin (run_guard.h); from then on steps do nothing.
+  const std::optional<Runaway>& runaway() const { return runaway_; }
+  const RunGuard& runGuard() const { return guard_; }
 
   double time() const { return time_; }
   int bodyCount() const { return static_cast<int>(states_.size()); }
@@ -148,6 +155,8 @@ class World {
   std::vector<BodyPair> pairs_;     // scratch, reused every step
   std::vector<Contact> contacts_;   // scratch, reused every step
   ContactCache contactCache_;       // last step's contact impulses (warm starting)
+  RunGuard guard_;
+  std::optional<Runaway> runaway_;
 };
 
 }  // namespace vf

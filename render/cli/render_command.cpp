@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "render/cli/commands.h"
+#include "render/cli/run_options.h"
 #include "render/cli/scene_playback.h"
 #include "render/cli/run_output.h"
 #include "render/draw_list.h"
@@ -50,6 +51,7 @@ struct RenderOptions {
   std::string gl = "osmesa";
   std::string shaders;
   bool quiet = false;
+  RunOptions run;
 };
 
 struct FrameRange {
@@ -144,6 +146,7 @@ int runRender(const RenderOptions& o) {
   SceneSpec spec = loadScene(o.scene);
   if (o.level) applyLevelOverride(spec, *o.level);
   if (!o.step.empty()) applyStepOverride(spec, o.step);
+  applyRunOptions(spec, o.run);
   if (o.fps) spec.fps = *o.fps;
   if (!o.size.empty())
     std::sscanf(o.size.c_str(), "%dx%d", &spec.output.width, &spec.output.height);
@@ -188,7 +191,13 @@ int runRender(const RenderOptions& o) {
   // 4. The world, simulated through every frame.
   ScenePlayback playback(spec, width, height);
   VF_ASSERT(playback.frameCount() == frameCount);
-  if (!playback.simulate(!o.quiet, [&stop] { return stop.signal() != 0; })) {
+  bool simulated = false;
+  try {
+    simulated = playback.simulate(!o.quiet, [&stop] { return stop.signal() != 0; });
+  } catch (const RunawayError& e) {  // nothing drawn yet: the sink removes its temporary file
+    throw InputError(spec.path, e.what());
+  }
+  if (!simulated) {
     std::fprintf(stderr, "voxfall: interrupted before the first frame; no output written\n");
     return 128 + stop.signal();  // the sink's destructor removes its temporary file
   }
@@ -294,6 +303,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "tree's shaders/)")
       ->type_name("DIR");
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
+  addRunOptions(*sub, o->run);
   sub->callback([o, &exitCode] { exitCode = runRender(*o); });
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "render/cli/commands.h"
+#include "render/cli/run_options.h"
 #include "render/cli/run_output.h"
 #include "sim/core/error.h"
 #include "sim/recorder.h"
@@ -26,12 +27,14 @@ struct SimulateOptions {
   std::optional<int> level;
   std::string step;
   bool quiet = false;
+  RunOptions run;
 };
 
 int runSimulate(const SimulateOptions& o) {
   SceneSpec spec = loadScene(o.scene);
   if (o.level) applyLevelOverride(spec, *o.level);
   if (!o.step.empty()) applyStepOverride(spec, o.step);
+  applyRunOptions(spec, o.run);
 
   if (!o.csv.empty() && o.csv == o.summary)
     throw InputError("", "--csv and --summary name the same file '" + o.csv + "'");
@@ -44,10 +47,17 @@ int runSimulate(const SimulateOptions& o) {
   if (csv) writeCsvHeader(csv->stream());
 
   Progress progress(spec.name, recorder.frameCount(), !o.quiet);
-  for (int k = 0; k < recorder.frameCount(); ++k) {
-    recorder.advanceToFrame(k);
-    if (csv) writeCsvFrame(csv->stream(), k, recorder.frameTime(k), *built.world);
-    progress.update(k + 1, recorder.frameTime(k));
+  try {
+    for (int k = 0; k < recorder.frameCount(); ++k) {
+      recorder.advanceToFrame(k);
+      if (csv) writeCsvFrame(csv->stream(), k, recorder.frameTime(k), *built.world);
+      progress.update(k + 1, recorder.frameTime(k));
+    }
+  } catch (const RunawayError& e) {
+    // The rows so far are whole frames of a valid run up to the trouble: keep them.
+    progress.finish();
+    if (csv) csv->commit();
+    throw InputError(spec.path, e.what());
   }
   progress.finish();
 
@@ -84,6 +94,7 @@ void addSimulateCommand(CLI::App& app, int& exitCode) {
           [](std::string& text) { return checkStepOption(text); }, "", "STEP"))
       ->type_name("S|auto");
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
+  addRunOptions(*sub, o->run);
   sub->callback([o, &exitCode] { exitCode = runSimulate(*o); });
 }
 

@@ -23,6 +23,7 @@ struct ShapeSpec {
   double density = 0;              // kg/m^3
   std::optional<int> level;        // overrides [simulation] level for this shape
   std::optional<Color> color;
+  bool repair = false;             // fill small holes, fix winding (geometry/mesh_repair.h)
   std::string where;               // "file:line:column" of the table, for later errors
 };
 
@@ -85,6 +86,7 @@ struct SceneSpec {
   double fixedStep = 0;    // s, when !autoStep
   Vec3 gravity = Vec3(0, 0, -9.81);
   double fps = 30;
+  RunLimits limits;        // max_steps, max_speed (run_guard.h)
   // [contact]
   ContactMaterial contact;
   // [ground]

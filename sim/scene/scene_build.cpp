@@ -3,6 +3,7 @@
 // Body ids follow the spec: [[bodies]] in file order, then each emitter's releases in turn
 // (camera `follow` indices rely on this order).
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <numbers>
@@ -15,6 +16,7 @@
 #include "sim/core/prng.h"
 #include "sim/geometry/mesh_checks.h"
 #include "sim/geometry/mesh_import.h"
+#include "sim/geometry/mesh_repair.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/shape.h"
 #include "sim/shape/sphere_tree.h"
@@ -37,15 +39,39 @@ std::map<std::string, BuiltShape> buildShapes(const SceneSpec& spec) {
   std::map<std::string, BuiltShape> shapes;
   for (std::size_t i = 0; i < spec.shapes.size(); ++i) {
     const ShapeSpec& s = spec.shapes[i];
-    auto mesh = meshes.find(s.meshPath);
+    // A repaired mesh is another mesh than the file's: cached under its own key.
+    const std::string meshKey = s.repair ? s.meshPath + "\n(repaired)" : s.meshPath;
+    auto mesh = meshes.find(meshKey);
     if (mesh == meshes.end()) {
-      // Both throw InputError naming the mesh file; nothing to add.
+      // Both throw InputError naming the mesh file.
       TriMesh m = importMesh(s.meshPath);
-      validateClosedMesh(m, s.meshPath);
-      mesh = meshes.emplace(s.meshPath, std::move(m)).first;
+      if (s.repair) {
+        RepairReport report;
+        m = repairMesh(m, s.meshPath, report);
+        // What repair changed is the user's to know (and to fix in the file for good).
+        std::fprintf(stderr, "voxfall: %s: repaired: %s\n", s.meshPath.c_str(),
+                     report.summary().c_str());
+        validateClosedMesh(m, s.meshPath);
+      } else {
+        try {
+          validateClosedMesh(m, s.meshPath);
+        } catch (const InputError& e) {
+          // Only the faults repair can fix get the hint.
+          const std::string& text = e.message();
+          if (text.find("not closed") == std::string::npos &&
+              text.find("inconsistently oriented") == std::string::npos &&
+              text.find("degenerate") == std::string::npos &&
+              text.find("not manifold") == std::string::npos)
+            throw;
+          throw InputError(e.where(), e.message() + " (or set repair = true on [shapes." + s.name +
+                                          "], or pass --repair, to fill small holes and fix "
+                                          "duplicate, degenerate and flipped triangles)");
+        }
+      }
+      mesh = meshes.emplace(meshKey, std::move(m)).first;
     }
     const int level = s.level.value_or(spec.level);
-    const TreeKey key{s.meshPath, s.scale.x(), s.scale.y(), s.scale.z(), level};
+    const TreeKey key{meshKey, s.scale.x(), s.scale.y(), s.scale.z(), level};
     auto tree = trees.find(key);
     if (tree == trees.end()) {
       auto built = std::make_shared<const SphereTree>(
@@ -112,13 +138,16 @@ BuiltScene buildScene(const SceneSpec& spec) {
   if (!spec.terrainPath.empty())
     def.terrain = std::make_shared<const Heightfield>(loadEsriAsciiGrid(spec.terrainPath));
   def.contact = spec.contact;
+  def.limits = spec.limits;
 
   BuiltScene out;
   out.world = std::make_unique<World>(def);
   const auto shapes = buildShapes(spec);
 
+  std::vector<std::string> where;  // per body id, for the run-length check
   auto add = [&](const BuiltShape& s, const std::string& shapeName, BodyDef body,
-                 const std::optional<Color>& color) {
+                 const std::optional<Color>& color, const std::string& at) {
+    where.push_back(at);
     body.shape = s.shape;
     const int id = out.world->addBody(body);
     VF_ASSERT(id == static_cast<int>(out.colors.size()));
@@ -134,7 +163,7 @@ BuiltScene buildScene(const SceneSpec& spec) {
     def.velocity = b.velocity;
     def.angularVelocity = b.angularVelocity;
     def.isStatic = b.isStatic;
-    add(s, b.shape, def, b.color);
+    add(s, b.shape, def, b.color, b.where);
   }
 
   for (const EmitterSpec& e : spec.emitters) {
@@ -167,9 +196,10 @@ BuiltScene buildScene(const SceneSpec& spec) {
       def.angularVelocity = e.angularVelocity;
       def.releaseTime = e.start + i * e.interval;
       if (e.dropHeight) def.dropHeight = *e.dropHeight;
-      add(s, e.shape, def, e.color);
+      add(s, e.shape, def, e.color, e.where);
     }
   }
+  checkRunLength(*out.world, spec.duration, spec.limits, where);
   return out;
 }
 

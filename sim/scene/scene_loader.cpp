@@ -279,7 +279,8 @@ class Reader {
 // --- [simulation] -------------------------------------------------------------------------
 
 void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
-  r.checkKeys(t, {"duration", "level", "step", "gravity", "fps"}, "[simulation]");
+  r.checkKeys(t, {"duration", "level", "step", "gravity", "fps", "max_steps", "max_speed"},
+              "[simulation]");
   if (const auto* n = t.get("duration")) spec.duration = r.positive(*n, "duration", " s");
   if (const auto* n = t.get("level"))
     spec.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
@@ -300,6 +301,12 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
   }
   if (const auto* n = t.get("gravity")) spec.gravity = r.vec3(*n, "gravity");
   if (const auto* n = t.get("fps")) spec.fps = r.positive(*n, "fps", " frames per second");
+  // Runaway limits (sim/run_guard.h).
+  if (const auto* n = t.get("max_steps"))
+    spec.limits.maxSteps = static_cast<std::uint64_t>(
+        r.integerInRange(*n, "max_steps", 1, std::numeric_limits<std::int64_t>::max()));
+  if (const auto* n = t.get("max_speed"))
+    spec.limits.maxSpeed = r.positive(*n, "max_speed", " m/s");
 }
 
 // --- [contact] ----------------------------------------------------------------------------
@@ -367,10 +374,12 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
 ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table& t,
                     const fs::path& sceneFolder) {
   const std::string label = "[shapes." + name + "]";
-  r.checkKeys(t, {"mesh", "scale", "density", "level", "color"}, label);
+  r.checkKeys(t, {"mesh", "scale", "density", "level", "color", "repair"}, label);
   ShapeSpec s;
   s.name = name;
   s.where = r.where(t);
+
+  if (const auto* n = t.get("repair")) s.repair = r.boolean(*n, "repair");
 
   const toml::node& meshNode = r.require(t, "mesh", label);
   const std::string given = r.string(meshNode, "mesh");
