@@ -22,8 +22,9 @@
 //     S = sum over released bodies of (kinetic energy at release + m |g| l) plus the potential
 //     energy released since (max(0, PE_release - PE)): the energy the bodies brought plus what
 //     falling gave them, and the energy of lifting each body by its own size so that a body
-//     released at rest has a scale. The default margin 0.5 is far above what the paper's scenes
-//     reach (see the README's "Errors, limits and exit codes") and far below a blow-up, which
+//     released at rest has a scale. The default margin 0.5 is far above what the method adds
+//     (measured: 0 on the shipped scenes, 2e-12 S on barrel, at most 0.015 S over the 1,000
+//     random drops of tests/scenario/random_drops_test.cpp) and far below a blow-up, which
 //     gains orders of magnitude.
 #include "sim/run_guard.h"
 
