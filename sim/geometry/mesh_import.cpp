@@ -136,6 +136,17 @@ TriMesh importMesh(const std::string& path) {
   collectNode(*scene, *scene->mRootNode, Eigen::Matrix4d::Identity(), soup);
   if (soup.corners.empty())
     throw InputError(path, "no triangles in the file (only points, lines or nothing)");
+  // The weld grid needs finite coordinates and a finite extent (found by fuzzing: a NaN in a
+  // binary STL made the grid keys overflow).
+  Eigen::AlignedBox3d box;
+  for (std::size_t i = 0; i < soup.corners.size(); ++i) {
+    if (!soup.corners[i].allFinite())
+      throw InputError(path, "triangle " + std::to_string(i / 3) +
+                                 " has a non-finite coordinate (NaN or infinity)");
+    box.extend(soup.corners[i]);
+  }
+  if (!std::isfinite(box.diagonal().norm()))
+    throw InputError(path, "coordinates span more than a double can hold");
   return weld(soup);
 }
 

@@ -7,16 +7,17 @@
 namespace vf::fuzz {
 
 const std::string& tempFolder() {
-  static const std::string folder = [] {
+  // Never destroyed: the exit handler that removes the folder runs after static destructors.
+  static const std::string* folder = [] {
     std::string pattern = (std::filesystem::temp_directory_path() / "voxfall-fuzz-XXXXXX").string();
     if (mkdtemp(pattern.data()) == nullptr) std::abort();
     std::atexit([] {
       std::error_code ec;
       std::filesystem::remove_all(tempFolder(), ec);
     });
-    return pattern;
+    return new std::string(pattern);
   }();
-  return folder;
+  return *folder;
 }
 
 std::string writeInput(const std::string& name, const std::uint8_t* data, std::size_t size) {
