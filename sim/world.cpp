@@ -95,13 +95,14 @@ int World::addBody(const BodyDef& d) {
   states_.push_back(y);
   if (placeNow) placeAbove(bodyCount() - 1, d.dropHeight);
   if (def_.terrain && bodies_.back().active && !d.isStatic)
-    monitor_.onRelease(bodyCount() - 1, states_.back(), time_);
+    monitor_.onRelease(bodyCount() - 1, time_, bodies_, states_);
   return bodyCount() - 1;
 }
 
 const StepStats& World::step(double maxDt) {
   VF_ASSERT(maxDt > 0);
   stepToward(time_ + maxDt);
+  if (runaway_) throw RunawayError(*runaway_);
   foldStepHash();
   return last_;
 }
@@ -114,6 +115,7 @@ double World::nextStepEnd() const {
 
 const StepStats& World::stepNext() {
   stepToward(nextReleaseAfter(time_));
+  if (runaway_) throw RunawayError(*runaway_);
   foldStepHash();
   return last_;
 }
@@ -122,7 +124,7 @@ void World::advanceTo(double t, const std::function<void()>& afterStep) {
   // Frame times are k / fps and release times start + i * interval: where they are meant to
   // agree they can differ in the last bit, so a step ending a hair after t is taken too.
   while (nextStepEnd() <= t + kTimeTolerance) {
-    stepNext();
+    stepNext();  // throws RunawayError when the run guard stopped the run
     if (afterStep) afterStep();
   }
 }
@@ -150,6 +152,7 @@ double World::stableStep() const {
 }
 
 void World::stepToward(double target) {
+  if (runaway_) return;
   StepStats s;
   Clock::time_point clock = Clock::now();
 
@@ -201,6 +204,10 @@ void World::stepToward(double target) {
   if (def_.ground)
     applyRollingResistance(contacts_, normalImpulses_, bodies_, states_, *def_.ground);
   s.secondsSolve = secondsSince(clock);
+
+  // Runaway check (run_guard.cpp) on the momenta of this step, before anything moves.
+  runaway_ = guard_.check(bodies_, states_, def_.gravity, time_, s.dt, def_.limits);
+  if (runaway_) return;
 
   s.nonFinite = integrate(bodies_, states_, s.dt, def_.rotation);
   time_ = lands ? target : time_ + s.dt;
@@ -303,7 +310,7 @@ std::uint64_t World::releaseBodies() {
                 found);
     overlapping += found.empty() ? 0 : 1;
     b.active = true;
-    if (def_.terrain && !b.isStatic) monitor_.onRelease(i, states_[i], time_);
+    if (def_.terrain && !b.isStatic) monitor_.onRelease(i, time_, bodies_, states_);
   }
   return overlapping;
 }

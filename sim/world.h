@@ -15,6 +15,7 @@
 #include "sim/core/math.h"
 #include "sim/ground/ground_material.h"
 #include "sim/ground/rock_monitor.h"
+#include "sim/run_guard.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
 #include "sim/solve/rotation_update.h"
@@ -69,6 +70,7 @@ struct WorldDef {
   // Orientation update; the paper's explicit Euler by default, so the paper's scenes keep
   // their pinned trajectories (solve/integrate.h).
   RotationUpdate rotation = RotationUpdate::kExplicitEuler;
+  RunLimits limits;  // runaway bounds checked every step (run_guard.h)
 };
 
 // What one step did. Counters are deterministic; the stage times are wall-clock and are never
@@ -123,7 +125,12 @@ class World {
   // t counts as ending at t). Never shortens a step to land on t: afterwards
   // time() <= t + 1e-9 < nextStepEnd(). Use statesAt(t) for the state at exactly t.
   // `afterStep`, when given, is called after every step (a bake records each one).
+  // Throws RunawayError if the run guard stopped the run (see runaway()).
   void advanceTo(double t, const std::function<void()>& afterStep = {});
+  // Set once a step found a non-finite state, a body over limits.maxSpeed or an energy gain
+  // over the margin (run_guard.h); from then on a step throws RunawayError instead.
+  const std::optional<Runaway>& runaway() const { return runaway_; }
+  const RunGuard& runGuard() const { return guard_; }
   // Every body's state at time t, for t from time() up to nextStepEnd(): a COPY of the current
   // states moved by the step's own free motion over t - time() (gravity, then explicit Euler
   // on x and q; no contacts). The simulated state is not touched. Eq. 17 bounds what this can
@@ -209,6 +216,8 @@ class World {
   std::uint64_t stepsHash_;             // see stepsHash()
   std::vector<double> normalImpulses_;  // scratch: per contact, for rolling resistance
   RockMonitor monitor_;                 // terrain edges, push-out, rest, outcomes
+  RunGuard guard_;                      // runaway checks (run_guard.h)
+  std::optional<Runaway> runaway_;      // see runaway()
 };
 
 }  // namespace vf

@@ -23,16 +23,14 @@ struct ExportOptions {
   std::string input;
   std::string output;
   std::optional<double> fps;
-  std::optional<int> level;
-  std::string step;
-  std::string collider;  // "": the scene's
+  SceneOverrides overrides;  // --level, --step, --collider, run limits, --repair
   bool quiet = false;
   bool overwrite = false;       // -y
   bool neverOverwrite = false;  // -n
 };
 
 int runExport(const ExportOptions& o) {
-  RunInput input = loadRunInput(o.input, o.level, o.step, o.collider);
+  RunInput input = loadRunInput(o.input, o.overrides);
   SceneSpec& spec = input.spec;
   if (o.fps) spec.fps = *o.fps;
   const std::string path = o.output.empty() ? "out/" + spec.name + ".glb" : o.output;
@@ -78,7 +76,7 @@ void addExportCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--fps", o->fps, "key frames per second (overrides [simulation] fps)")
       ->check(CLI::Range(0.001, 1000.0))
       ->type_name("N");
-  addPhysicsOptions(*sub, o->level, o->step, o->collider, " (scenes only)");
+  addPhysicsOptions(*sub, o->overrides, " (scenes only)");
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
   addOverwriteFlags(*sub, o->overwrite, o->neverOverwrite);
   sub->callback([o, &exitCode] { exitCode = runExport(*o); });

@@ -35,10 +35,8 @@ struct FilmstripOptions {
   std::string times;
   std::string output;
   std::optional<std::pair<int, int>> size;
-  int columns = 0;  // 0: one row
-  std::optional<int> level;
-  std::string step;
-  std::string collider;
+  int columns = 0;              // 0: one row
+  SceneOverrides overrides;     // --level, --step, --collider, run limits, --repair
   bool overwrite = false;       // -y
   bool neverOverwrite = false;  // -n
   std::string gl = "osmesa";
@@ -62,7 +60,7 @@ std::vector<double> parseTimes(const std::string& text) {
 }
 
 int runFilmstrip(const FilmstripOptions& o) {
-  RunInput input = loadRunInput(o.scene, o.level, o.step, o.collider);
+  RunInput input = loadRunInput(o.scene, o.overrides);
   if (input.bake)
     throw InputError(o.scene,
                      "filmstrip draws a scene; render a bake's frames with voxfall render");
@@ -114,7 +112,7 @@ void addFilmstripCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--columns", o->columns, "frames per row (default: all in one row)")
       ->check(CLI::Range(1, 100))
       ->type_name("N");
-  addPhysicsOptions(*sub, o->level, o->step, o->collider);
+  addPhysicsOptions(*sub, o->overrides);
   addOverwriteFlags(*sub, o->overwrite, o->neverOverwrite);
   sub->add_option("--gl", o->gl, "OpenGL backend: osmesa (default) or egl (surfaceless)")
       ->check(CLI::IsMember({"osmesa", "egl"}));

@@ -16,27 +16,40 @@ void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite)
   yes->excludes(no);
 }
 
-void addPhysicsOptions(CLI::App& command, std::optional<int>& level, std::string& step,
-                       std::string& collider, const std::string& what) {
+void addPhysicsOptions(CLI::App& command, SceneOverrides& o, const std::string& what) {
   command
-      .add_option("--level", level,
+      .add_option("--level", o.level,
                   "voxel level Lv for every shape (overrides the scene's levels)" + what)
       ->type_name("N")
       ->check(CLI::Range(kMinLevel, kMaxLevel));
   command
-      .add_option("--step", step,
+      .add_option("--step", o.step,
                   "time step: 'auto' (eq. 20) or seconds, e.g. 0.005 or 1/120 (overrides the "
                   "scene)" +
                       what)
       ->check(CLI::Validator([](std::string& text) { return checkStepOption(text); }, "", "STEP"))
       ->type_name("S|auto");
   command
-      .add_option("--collider", collider,
+      .add_option("--collider", o.collider,
                   "contact method: voxel (sphere trees) or polygon (the paper's comparison "
                   "method, convex meshes only); overrides the scene" +
                       what)
       ->check(CLI::IsMember({"voxel", "polygon"}))
       ->type_name("voxel|polygon");
+  command
+      .add_option("--max-steps", o.maxSteps,
+                  "refuse runs needing more steps than this (default 10000000)" + what)
+      ->type_name("N")
+      ->check(CLI::PositiveNumber);
+  command
+      .add_option("--max-speed", o.maxSpeed,
+                  "stop the run when a body moves faster than this, m/s (default 1000)" + what)
+      ->type_name("V")
+      ->check(CLI::PositiveNumber);
+  command.add_flag("--repair", o.repair,
+                   "repair every shape's mesh: fill small holes, remove duplicate and degenerate "
+                   "triangles, fix the winding" +
+                       what);
 }
 
 std::optional<std::pair<int, int>> parseSize(const std::string& text) {

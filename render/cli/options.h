@@ -5,6 +5,10 @@
 #include <string>
 #include <utility>
 
+namespace vf {
+struct SceneOverrides;
+}
+
 namespace CLI {
 class App;
 }
@@ -14,11 +18,10 @@ namespace vf::cli {
 // -y (overwrite existing outputs) and -n (never overwrite, exit instead), ffmpeg's flags.
 void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite);
 
-// --level N, --step S|auto and --collider voxel|polygon (the scene overrides of
-// sim/scene/scene.h), for the commands that simulate; `what` ends their help ("" or e.g.
-// " (scenes only)").
-void addPhysicsOptions(CLI::App& command, std::optional<int>& level, std::string& step,
-                       std::string& collider, const std::string& what = "");
+// --level N, --step S|auto, --collider voxel|polygon, --max-steps N, --max-speed V and --repair
+// (sim/scene/scene.h's SceneOverrides), for the commands that simulate; `what` ends their help
+// ("" or e.g. " (scenes only)").
+void addPhysicsOptions(CLI::App& command, SceneOverrides& overrides, const std::string& what = "");
 
 // A frame size "WxH" (the x may be capital): width and height in pixels, each 1 ..
 // kMaxImageSide (sim/scene/scene.h, the limit of a scene's [output]); nothing for anything

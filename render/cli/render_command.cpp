@@ -37,6 +37,7 @@
 #include "sim/bake.h"
 #include "sim/core/error.h"
 #include "sim/recorder.h"
+#include "sim/run_guard.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/sphere_tree.h"
 
@@ -49,9 +50,7 @@ struct RenderOptions {
   std::string frames;                       // "A:B", "A:", ":B" or "N"
   std::optional<std::pair<int, int>> size;  // --size WxH
   std::optional<double> fps;
-  std::optional<int> level;
-  std::string step;
-  std::string collider;  // "": the scene's
+  SceneOverrides overrides;  // --level, --step, --collider, run limits, --repair
   std::optional<int> crf;
   std::string gl = "osmesa";
   std::string shaders;
@@ -108,7 +107,7 @@ std::string frameSpan(int first, int last) {
 int runRender(const RenderOptions& o) {
   // 1. The scene (or bake) and the options that change it. A bake's physics is fixed: its
   // steps are recorded, so only what drawing reads (fps, size, quality) can change.
-  RunInput input = loadRunInput(o.scene, o.level, o.step, o.collider);
+  RunInput input = loadRunInput(o.scene, o.overrides);
   SceneSpec& spec = input.spec;
   std::optional<Bake>& bake = input.bake;
   if (o.fps) spec.fps = *o.fps;
@@ -153,7 +152,13 @@ int runRender(const RenderOptions& o) {
   }
   ScenePlayback& playback = *played;
   VF_ASSERT(playback.frameCount() == frameCount);
-  if (!playback.simulate(!o.quiet, [] { return stopSignal() != 0; })) {
+  bool simulated = false;
+  try {
+    simulated = playback.simulate(!o.quiet, [] { return stopSignal() != 0; });
+  } catch (const RunawayError& e) {  // nothing drawn yet: the sink removes its temporary file
+    throw InputError(spec.path, e.what());
+  }
+  if (!simulated) {
     std::fprintf(stderr, "voxfall: interrupted before the first frame; no output written\n");
     return 128 + stopSignal();  // the sink's destructor removes its temporary file
   }
@@ -238,7 +243,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--fps", o->fps, "frames per second (overrides [simulation] fps)")
       ->check(CLI::Range(0.001, 1000.0))
       ->type_name("N");
-  addPhysicsOptions(*sub, o->level, o->step, o->collider);
+  addPhysicsOptions(*sub, o->overrides);
   sub->add_option("--crf", o->crf, "H.264 quality, 0..51, lower is better (default: 18)")
       ->check(CLI::Range(0, 51))
       ->type_name("N");

@@ -15,22 +15,20 @@ namespace vf::cli {
 
 // --- Input -----------------------------------------------------------------------------------
 
-RunInput loadRunInput(const std::string& path, std::optional<int> level, const std::string& step,
-                      const std::string& collider) {
+RunInput loadRunInput(const std::string& path, const SceneOverrides& overrides) {
   RunInput in;
   if (isBakeFile(path)) {
-    if (level || !step.empty() || !collider.empty())
+    if (overrides.any())
       throw InputError(path,
-                       "--level, --step and --collider change the physics of a scene; a bake's "
-                       "steps are recorded (simulate the scene again with them)");
+                       "--level, --step, --collider, --max-steps, --max-speed and --repair change "
+                       "the run of a scene; a bake's steps are recorded (simulate the scene again "
+                       "with them)");
     in.bake = readBake(path);
     in.spec = in.bake->scene;
     return in;
   }
   in.spec = loadScene(path);
-  if (level) applyLevelOverride(in.spec, *level);
-  if (!step.empty()) applyStepOverride(in.spec, step);
-  if (!collider.empty()) applyColliderOverride(in.spec, collider);
+  applyOverrides(in.spec, overrides);
   return in;
 }
 

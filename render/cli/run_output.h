@@ -34,14 +34,12 @@ void writeSummaryJson(std::FILE* out, const std::string& scene, const RunSummary
 void printSummary(std::FILE* out, const std::string& scene, const RunSummary& summary);
 
 // What a run reads: a scene file, or a bake (sim/bake.h) recognised by its first line. The
-// --level, --step and --collider overrides apply to a scene; for a bake, whose steps are
-// recorded, they are an error.
+// overrides apply to a scene; for a bake, whose steps are recorded, they are an error.
 struct RunInput {
   SceneSpec spec;            // the scene, or the bake's scene data
   std::optional<Bake> bake;  // set when the input is a bake
 };
-RunInput loadRunInput(const std::string& path, std::optional<int> level, const std::string& step,
-                      const std::string& collider);
+RunInput loadRunInput(const std::string& path, const SceneOverrides& overrides);
 
 // The output rules of a run (-y, -n) protecting every file it reads: the scene (or bake),
 // each shape's mesh, and the terrain.

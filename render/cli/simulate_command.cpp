@@ -16,6 +16,7 @@
 #include "sim/bake.h"
 #include "sim/core/error.h"
 #include "sim/recorder.h"
+#include "sim/run_guard.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/sphere_tree.h"
 
@@ -28,9 +29,7 @@ struct SimulateOptions {
   std::string summary;
   std::string bake;
   std::string outcomes;
-  std::optional<int> level;
-  std::string step;
-  std::string collider;  // "": the scene's
+  SceneOverrides overrides;  // --level, --step, --collider, run limits, --repair
   bool quiet = false;
   bool overwrite = false;       // -y
   bool neverOverwrite = false;  // -n
@@ -38,9 +37,7 @@ struct SimulateOptions {
 
 int runSimulate(const SimulateOptions& o) {
   SceneSpec spec = loadScene(o.scene);
-  if (o.level) applyLevelOverride(spec, *o.level);
-  if (!o.step.empty()) applyStepOverride(spec, o.step);
-  if (!o.collider.empty()) applyColliderOverride(spec, o.collider);
+  applyOverrides(spec, o.overrides);
 
   // Outputs: checked and opened before the expensive part (each is a temporary file until the
   // end; see render/output/output_file.h).
@@ -81,8 +78,15 @@ int runSimulate(const SimulateOptions& o) {
   // Frame by frame; a stop signal ends the run after the frame in hand (output_file.h).
   Progress progress(spec.name, recorder.frameCount(), !o.quiet);
   int done = 0;
+  std::string runaway;  // set when the run guard stopped the run (sim/run_guard.h)
   for (int k = 0; k < recorder.frameCount() && !stopSignal(); ++k) {
-    recorder.advanceToFrame(k);
+    try {
+      recorder.advanceToFrame(k);
+    } catch (const RunawayError& e) {
+      // The frames so far are whole frames of a valid run up to the trouble: they are kept.
+      runaway = e.what();
+      break;
+    }
     if (csv)
       writeCsvFrame(csv->stream(), k, recorder.frameTime(k), *built.world, recorder.frameStates());
     done = k + 1;
@@ -93,6 +97,18 @@ int runSimulate(const SimulateOptions& o) {
       break;
   }
   progress.finish();
+  if (!runaway.empty()) {
+    // The rows and records of the complete frames are a valid run up to the trouble and are
+    // kept (a bake of them shows what went wrong); a summary or outcomes would pass for those of
+    // a finished run, so they are not written.
+    if (csv) csv->commit();
+    if (bakeFile && done > 0) {
+      bake->scene.duration = recorder.frameTime(done - 1);
+      writeBake(bakeFile->stream(), o.bake, *bake);
+      bakeFile->commit();
+    }
+    throw InputError(spec.path, runaway);
+  }
   const int stop = stopSignal();
   if (stop && done == 0) {
     std::fprintf(stderr, "voxfall: interrupted before the first frame; no output written\n");
@@ -169,7 +185,7 @@ void addSimulateCommand(CLI::App& app, int& exitCode) {
                   "write per-rock outcomes (rock fall on terrain) to this file: CSV, or GeoJSON "
                   "when it ends in .geojson")
       ->type_name("FILE");
-  addPhysicsOptions(*sub, o->level, o->step, o->collider);
+  addPhysicsOptions(*sub, o->overrides);
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
   addOverwriteFlags(*sub, o->overwrite, o->neverOverwrite);
   sub->callback([o, &exitCode] { exitCode = runSimulate(*o); });

@@ -54,7 +54,9 @@ double RockMonitor::groundAt(double x, double y) const {
   return plane_ ? *plane_ : NAN;
 }
 
-void RockMonitor::onRelease(int id, const BodyState& y, double time) {
+void RockMonitor::onRelease(int id, double time, std::vector<BodyInfo>& bodies,
+                            std::vector<BodyState>& states) {
+  const BodyState& y = states[static_cast<std::size_t>(id)];
   if (static_cast<int>(rocks_.size()) <= id) {
     rocks_.resize(static_cast<std::size_t>(id) + 1);
     previous_.resize(rocks_.size(), Vec3::Zero());
@@ -70,6 +72,9 @@ void RockMonitor::onRelease(int id, const BodyState& y, double time) {
   r.path.push_back(y.x);
   previous_[static_cast<std::size_t>(id)] = y.x;
   nextPathTime_[static_cast<std::size_t>(id)] = time + kPathInterval;
+  // A body released below the surface is pushed out (or stopped) before its first step, so no
+  // step ever solves contacts metres deep (and the run guard sees no energy from them).
+  if (terrain_) resolveBelowSurface(id, time, bodies, states);
 }
 
 void RockMonitor::finish(int id, RockState state, const Vec3& where, double time,
@@ -87,6 +92,45 @@ void RockMonitor::finish(int id, RockState state, const Vec3& where, double time
   bodies[static_cast<std::size_t>(id)].releaseTime = INFINITY;
   states[static_cast<std::size_t>(id)].P.setZero();
   states[static_cast<std::size_t>(id)].L.setZero();
+}
+
+bool RockMonitor::resolveBelowSurface(int i, double time, std::vector<BodyInfo>& bodies,
+                                      std::vector<BodyState>& states) {
+  BodyState& y = states[static_cast<std::size_t>(i)];
+  const double h = terrain_->heightAt(y.x.x(), y.x.y());
+  if (std::isnan(h) || y.x.z() >= h) return false;
+  const Shape& shape = *bodies[static_cast<std::size_t>(i)].shape;
+  const Mat3 R = y.q.toRotationMatrix();
+  // Below the surface: how deep is its deepest vertex, and is any vertex above?
+  double deepest = 0, highestAbove = -INFINITY;
+  for (const Vec3& v : shape.mesh.vertices) {
+    const Vec3 p = y.x + R * v;
+    const double hv = terrain_->heightAt(p.x(), p.y());
+    if (std::isnan(hv)) continue;
+    deepest = std::max(deepest, hv - p.z());
+    highestAbove = std::max(highestAbove, p.z() - hv);
+  }
+  char buf[320];
+  if (highestAbove <= 0) {
+    std::snprintf(buf, sizeof buf,
+                  "body %d is wholly below the terrain surface at t = %.4f s, at (%.3f, "
+                  "%.3f, %.3f) m: stopped there",
+                  i, time, y.x.x(), y.x.y(), y.x.z());
+    finish(i, RockState::kBuried, y.x, time, buf, bodies, states);
+    return true;
+  }
+  const Vec3 nrm = terrain_->normalAt(y.x.x(), y.x.y());
+  // Along the normal by deepest * n.z: for a locally planar surface that lifts the
+  // deepest vertex exactly onto it.
+  y.x += (deepest * nrm.z()) * nrm;
+  const double vn = y.P.dot(nrm);
+  if (vn < 0) y.P -= vn * nrm;
+  std::snprintf(buf, sizeof buf,
+                "body %d was partly below the terrain surface at t = %.4f s: pushed out "
+                "%.3f m along the surface normal",
+                i, time, deepest * nrm.z());
+  messages_.push_back(buf);
+  return false;
 }
 
 int RockMonitor::afterStep(double time, std::vector<BodyInfo>& bodies,
@@ -123,40 +167,12 @@ int RockMonitor::afterStep(double time, std::vector<BodyInfo>& bodies,
       }
     }
     if (terrain_) {
-      const double h = terrain_->heightAt(y.x.x(), y.x.y());
-      if (!std::isnan(h) && y.x.z() < h) {
-        // Below the surface: how deep is its deepest vertex, and is any vertex above?
-        double deepest = 0, highestAbove = -INFINITY;
-        for (const Vec3& v : shape.mesh.vertices) {
-          const Vec3 p = y.x + R * v;
-          const double hv = terrain_->heightAt(p.x(), p.y());
-          if (std::isnan(hv)) continue;
-          deepest = std::max(deepest, hv - p.z());
-          highestAbove = std::max(highestAbove, p.z() - hv);
-        }
-        char buf[320];
-        if (highestAbove <= 0) {
-          std::snprintf(buf, sizeof buf,
-                        "body %d is wholly below the terrain surface at t = %.4f s, at (%.3f, "
-                        "%.3f, %.3f) m: stopped there",
-                        i, time, y.x.x(), y.x.y(), y.x.z());
-          finish(i, RockState::kBuried, y.x, time, buf, bodies, states);
-          ++finished;
-          continue;
-        }
-        const Vec3 nrm = terrain_->normalAt(y.x.x(), y.x.y());
-        // Along the normal by deepest * n.z: for a locally planar surface that lifts the
-        // deepest vertex exactly onto it.
-        y.x += (deepest * nrm.z()) * nrm;
-        const double vn = y.P.dot(nrm);
-        if (vn < 0) y.P -= vn * nrm;
-        std::snprintf(buf, sizeof buf,
-                      "body %d was partly below the terrain surface at t = %.4f s: pushed out "
-                      "%.3f m along the surface normal",
-                      i, time, deepest * nrm.z());
-        messages_.push_back(buf);
+      if (resolveBelowSurface(i, time, bodies, states)) {
+        ++finished;
+        continue;
       }
-      if (!std::isnan(h)) previous_[static_cast<std::size_t>(i)] = y.x;
+      if (!std::isnan(terrain_->heightAt(y.x.x(), y.x.y())))
+        previous_[static_cast<std::size_t>(i)] = y.x;
     }
 
     // Maxima, path, rest.

@@ -62,8 +62,10 @@ class RockMonitor {
 
   void configure(TerrainEdge edge, RestCriterion rest, const Heightfield* terrain,
                  std::optional<double> plane, const Vec3& gravity);
-  // A body joins the world (at t = 0 or at its release time).
-  void onRelease(int id, const BodyState& y, double time);
+  // A body joins the world (at t = 0 or at its release time); one released below the terrain
+  // surface is pushed out or stopped at once (as after a step).
+  void onRelease(int id, double time, std::vector<BodyInfo>& bodies,
+                 std::vector<BodyState>& states);
   // After the step that ended at `time`: edge and hole policy, push-out from below the
   // surface, rest, maxima, path. Returns the number of bodies removed or stopped this step.
   int afterStep(double time, std::vector<BodyInfo>& bodies, std::vector<BodyState>& states);
@@ -78,6 +80,10 @@ class RockMonitor {
 
  private:
   double groundAt(double x, double y) const;  // terrain, else plane, else NaN
+  // Body i's centre below the terrain surface: pushed out along the normal when partly below,
+  // stopped (buried) when wholly below; returns true when it was stopped.
+  bool resolveBelowSurface(int i, double time, std::vector<BodyInfo>& bodies,
+                           std::vector<BodyState>& states);
   void finish(int id, RockState state, const Vec3& where, double time, const std::string& why,
               std::vector<BodyInfo>& bodies, std::vector<BodyState>& states);
 

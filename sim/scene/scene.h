@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -25,7 +26,8 @@ struct ShapeSpec {
   bool yUp = false;           // `up = "y"`: the mesh file's y axis is up (rotated to z)
   std::optional<int> level;   // overrides [simulation] level for this shape
   std::optional<Color> color;
-  std::string where;  // "file:line:column" of the table, for later errors
+  bool repair = false;  // fill small holes, fix winding (geometry/mesh_repair.h)
+  std::string where;    // "file:line:column" of the table, for later errors
 };
 
 struct BodySpec {
@@ -130,6 +132,7 @@ struct SceneSpec {
   bool stopWhenSettled = false;  // `stop = "all_at_rest"`: end when every rock stopped or left
   RestCriterion rest;            // `rest = { speed = .., time = .. }`
   TerrainEdge terrainEdge = TerrainEdge::kAuto;  // [ground] edge
+  RunLimits limits;                              // max_steps, max_speed (run_guard.h)
   // [contact]
   ContactMaterial contact;
   // [ground]
@@ -168,6 +171,22 @@ void applyStepOverride(SceneSpec& spec, const std::string& text);
 // The contact method of every body: "voxel" (sphere trees) or "polygon" (the paper's
 // comparison method, convex meshes only); throws InputError for anything else.
 void applyColliderOverride(SceneSpec& spec, const std::string& method);
+// Everything the command line may change in a loaded scene (--level, --step, --collider,
+// --max-steps, --max-speed, --repair), applied in one place so that every command given the
+// same options builds the same world and reports the same checksum.
+struct SceneOverrides {
+  std::optional<int> level;
+  std::string step;      // "" keeps the scene's
+  std::string collider;  // "" keeps the scene's
+  std::optional<std::uint64_t> maxSteps;
+  std::optional<double> maxSpeed;  // m/s
+  bool repair = false;             // repair = true on every shape
+  bool any() const {
+    return level || !step.empty() || !collider.empty() || maxSteps || maxSpeed || repair;
+  }
+};
+// Applies the given overrides; throws InputError for a malformed step or collider.
+void applyOverrides(SceneSpec& spec, const SceneOverrides& o);
 // Makes [cameras.NAME] (or "camera", the [camera] table) the scene's camera. Throws
 // InputError naming the scene's cameras when there is none by that name.
 void selectCamera(SceneSpec& spec, const std::string& name);

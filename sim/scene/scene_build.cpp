@@ -3,6 +3,7 @@
 // Body ids follow the spec: [[bodies]] in file order, then each emitter's releases in turn
 // (camera `follow` indices rely on this order).
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <numbers>
@@ -16,6 +17,7 @@
 #include "sim/geometry/mass_properties.h"
 #include "sim/geometry/mesh_checks.h"
 #include "sim/geometry/mesh_import.h"
+#include "sim/geometry/mesh_repair.h"
 #include "sim/ground/ground_material.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/convex_polyhedron.h"
@@ -40,13 +42,37 @@ std::map<std::string, BuiltShape> buildShapes(const SceneSpec& spec) {
   std::map<std::string, BuiltShape> shapes;
   for (std::size_t i = 0; i < spec.shapes.size(); ++i) {
     const ShapeSpec& s = spec.shapes[i];
-    // A y-up mesh is a different mesh once rotated: it gets its own cache entry and tree.
-    const std::string meshKey = s.meshPath + (s.yUp ? "#y-up" : "");
+    // A y-up mesh is a different mesh once rotated, and a repaired mesh another mesh than the
+    // file's: each gets its own cache entry and tree.
+    const std::string meshKey =
+        s.meshPath + (s.yUp ? "#y-up" : "") + (s.repair ? "\n(repaired)" : "");
     auto mesh = meshes.find(meshKey);
     if (mesh == meshes.end()) {
-      // Both throw InputError naming the mesh file; nothing to add.
+      // Both throw InputError naming the mesh file.
       TriMesh m = importMesh(s.meshPath);
-      validateClosedMesh(m, s.meshPath);
+      if (s.repair) {
+        RepairReport report;
+        m = repairMesh(m, s.meshPath, report);
+        // What repair changed is the user's to know (and to fix in the file for good).
+        std::fprintf(stderr, "voxfall: %s: repaired: %s\n", s.meshPath.c_str(),
+                     report.summary().c_str());
+        validateClosedMesh(m, s.meshPath);
+      } else {
+        try {
+          validateClosedMesh(m, s.meshPath);
+        } catch (const InputError& e) {
+          // Only the faults repair can fix get the hint.
+          const std::string& text = e.message();
+          if (text.find("not closed") == std::string::npos &&
+              text.find("inconsistently oriented") == std::string::npos &&
+              text.find("degenerate") == std::string::npos &&
+              text.find("not manifold") == std::string::npos)
+            throw;
+          throw InputError(e.where(), e.message() + " (or set repair = true on [shapes." + s.name +
+                                          "], or pass --repair, to fill small holes and fix "
+                                          "duplicate, degenerate and flipped triangles)");
+        }
+      }
       // +90 degrees about x takes the file's y (up) to z and its z to -y: a proper rotation,
       // so windings (outward normals) are kept.
       if (s.yUp)
@@ -189,13 +215,16 @@ BuiltScene buildScene(const SceneSpec& spec) {
   def.contactReduction = spec.contactReduction;
   def.sleep = spec.sleep;
   def.threads = spec.threads;
+  def.limits = spec.limits;
 
   BuiltScene out;
   out.world = std::make_unique<World>(def);
   const auto shapes = buildShapes(spec);
 
+  std::vector<std::string> where;  // per body id, for the run-length check
   auto add = [&](const BuiltShape& s, const std::string& shapeName, BodyDef body,
-                 const std::optional<Color>& color) {
+                 const std::optional<Color>& color, const std::string& at) {
+    where.push_back(at);
     body.shape = s.shape;
     const int id = out.world->addBody(body);
     VF_ASSERT(id == static_cast<int>(out.colors.size()));
@@ -212,7 +241,7 @@ BuiltScene buildScene(const SceneSpec& spec) {
     def.angularVelocity = b.angularVelocity;
     def.isStatic = b.isStatic;
     if (b.dropHeight) def.dropHeight = *b.dropHeight;
-    add(s, b.shape, def, b.color);
+    add(s, b.shape, def, b.color, b.where);
   }
 
   for (const EmitterSpec& e : spec.emitters) {
@@ -246,9 +275,10 @@ BuiltScene buildScene(const SceneSpec& spec) {
       def.angularVelocity = e.angularVelocity;
       def.releaseTime = e.start + i * e.interval;
       if (e.dropHeight) def.dropHeight = *e.dropHeight;
-      add(s, e.shape, def, e.color);
+      add(s, e.shape, def, e.color, e.where);
     }
   }
+  checkRunLength(*out.world, spec.duration, spec.limits, where);
   return out;
 }
 

@@ -293,7 +293,7 @@ class Reader {
 void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
   r.checkKeys(t,
               {"duration", "level", "step", "gravity", "fps", "collider", "contact_reduction",
-               "sleep", "stop", "rest", "rotation"},
+               "sleep", "stop", "rest", "rotation", "max_steps", "max_speed"},
               "[simulation]");
   if (const auto* n = t.get("rotation")) {
     const std::string v = r.string(*n, "rotation");
@@ -354,6 +354,12 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
   if (const auto* n = t.get("contact_reduction"))
     spec.contactReduction = r.boolean(*n, "contact_reduction");
   if (const auto* n = t.get("sleep")) spec.sleep = r.boolean(*n, "sleep");
+  // Runaway limits (sim/run_guard.h).
+  if (const auto* n = t.get("max_steps"))
+    spec.limits.maxSteps = static_cast<std::uint64_t>(
+        r.integerInRange(*n, "max_steps", 1, std::numeric_limits<std::int64_t>::max()));
+  if (const auto* n = t.get("max_speed"))
+    spec.limits.maxSpeed = r.positive(*n, "max_speed", " m/s");
 }
 
 // --- [contact] ----------------------------------------------------------------------------
@@ -507,10 +513,12 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
 ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table& t,
                     const fs::path& sceneFolder) {
   const std::string label = "[shapes." + name + "]";
-  r.checkKeys(t, {"mesh", "scale", "density", "mass", "up", "level", "color"}, label);
+  r.checkKeys(t, {"mesh", "scale", "density", "mass", "up", "level", "color", "repair"}, label);
   ShapeSpec s;
   s.name = name;
   s.where = r.where(t);
+
+  if (const auto* n = t.get("repair")) s.repair = r.boolean(*n, "repair");
 
   const toml::node& meshNode = r.require(t, "mesh", label);
   const std::string given = r.string(meshNode, "mesh");

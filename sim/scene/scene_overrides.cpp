@@ -1,5 +1,5 @@
-// Overrides of a loaded scene (the --level and --step options of `simulate` and `render`), so
-// that every command given the same options builds the same world and checksum.
+// Overrides of a loaded scene (the command line's --level, --step, --collider, run limits and
+// --repair), so that every command given the same options builds the same world and checksum.
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -61,6 +61,16 @@ void applyColliderOverride(SceneSpec& spec, const std::string& method) {
   if (method != "voxel" && method != "polygon")
     throw InputError("", "--collider: expected 'voxel' or 'polygon', got '" + method + "'");
   spec.collider = method == "polygon" ? ColliderMethod::kPolygon : ColliderMethod::kVoxel;
+}
+
+void applyOverrides(SceneSpec& spec, const SceneOverrides& o) {
+  if (o.level) applyLevelOverride(spec, *o.level);
+  if (!o.step.empty()) applyStepOverride(spec, o.step);
+  if (!o.collider.empty()) applyColliderOverride(spec, o.collider);
+  if (o.maxSteps) spec.limits.maxSteps = *o.maxSteps;
+  if (o.maxSpeed) spec.limits.maxSpeed = *o.maxSpeed;
+  if (o.repair)
+    for (ShapeSpec& s : spec.shapes) s.repair = true;
 }
 
 }  // namespace vf

@@ -41,10 +41,6 @@ double inverseEffectiveMass(double invMassA, const Mat3& invInertiaA, const Vec3
   return invMassA + invMassB + raXd.dot(invInertiaA * raXd) + rbXd.dot(invInertiaB * rbXd);
 }
 
-double restitutionImpulse(double vRel, double eps, double inverseEffectiveMass) {
-  return -(1 + eps) * vRel / inverseEffectiveMass;
-}
-
 namespace {
 
 struct Motion {  // velocities during the solve

@@ -17,10 +17,6 @@ double inverseEffectiveMass(double invMassA, const Mat3& invInertiaA, const Vec3
                             double invMassB, const Mat3& invInertiaB, const Vec3& rb,
                             const Vec3& d);
 
-// Eq. 15: the impulse magnitude j for one contact approaching at vRel (< 0) with restitution
-// eps: j = -(1 + eps) vRel / inverseEffectiveMass(...).
-double restitutionImpulse(double vRel, double eps, double inverseEffectiveMass);
-
 struct SolverSettings {
   ContactMaterial material;
   int iterations = 12;

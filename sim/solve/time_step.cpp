@@ -17,10 +17,6 @@
 
 namespace vf {
 
-double eq20Step(double diameter, int level, double speed, double angularSpeed) {
-  return diameter / (std::ldexp(1.0, level + 1) * (speed + 0.5 * diameter * angularSpeed));
-}
-
 double chooseStep(double remaining, double fixedStep, double stable, double minStep, bool& lands,
                   bool& floored) {
   double rule = fixedStep > 0 ? fixedStep : stable;

@@ -20,7 +20,4 @@ double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodySta
 double chooseStep(double remaining, double fixedStep, double stable, double minStep, bool& lands,
                   bool& floored);
 
-// dt_max of eq. 20 for one kind of body: l / (2^(Lv+1) (v + (l/2) w)).
-double eq20Step(double diameter, int level, double speed, double angularSpeed);
-
 }  // namespace vf

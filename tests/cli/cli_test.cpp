@@ -257,4 +257,79 @@ TEST_F(CliTest, SizeWithACapitalXIsThatSizeAndMalformedSizesAreUsageErrors) {
   }
 }
 
+// --- Runaway limits and mesh repair (sim/run_guard.h, sim/geometry/mesh_repair.h) ---
+
+// One 0.2 m cube (a mesh written next to the scene) with the given body and [simulation] lines.
+std::string cubeScene(const std::string& simulation, const std::string& body) {
+  return "[simulation]\nduration = 1.0\nlevel = 2\n" + simulation +
+         "\n[ground]\nplane = 0.0\n[shapes.cube]\nmesh = \"" + kScenes +
+         "/meshes/cube.obj\"\nscale = 0.2\ndensity = 800\n[[bodies]]\nshape = \"cube\"\n" + body +
+         "\n";
+}
+
+TEST_F(CliTest, AnAbsurdSpeedIsRefusedBeforeTheRun) {
+  const std::string scene =
+      write("fast.toml", cubeScene("", "position = [0.0, 0.0, 1.0]\nvelocity = [1e30, 0.0, 0.0]"));
+  const std::string csv = (dir_ / "out" / "fast.csv").string();
+  EXPECT_EQ(run("simulate " + quote(scene) + " --quiet --csv " + quote(csv)), 1);
+  ASSERT_EQ(errorLines().size(), 1u) << err_;
+  // The [[bodies]] table is on line 11 of the scene.
+  EXPECT_NE(errorLines()[0].find("fast.toml:11:1: body 0 (shape 'cube') starts at 1e+30 m/s"),
+            std::string::npos)
+      << err_;
+  EXPECT_NE(errorLines()[0].find("--max-speed"), std::string::npos) << err_;
+  EXPECT_FALSE(fs::exists(csv));
+  // With the speed allowed, the step count is next: the 1e-6 s floor of the step needs 1e6
+  // steps for 1 s.
+  EXPECT_EQ(run("simulate " + quote(scene) + " --quiet --max-speed 2e30 --max-steps 1000"), 1);
+  ASSERT_EQ(errorLines().size(), 1u) << err_;
+  EXPECT_NE(errorLines()[0].find("needs about 1e+06 steps over 1 s, over the limit of 1000"),
+            std::string::npos)
+      << err_;
+}
+
+TEST_F(CliTest, ARunawayStopsWithExit1AndKeepsTheFramesSoFar) {
+  // Dropped from 10 m with max_speed = 5 m/s: the speed g t passes 5 m/s at t = 0.51 s, so the
+  // run stops there; frames 0..15 (t <= 0.5 s, 30 fps) were complete and stay in the CSV.
+  const std::string scene =
+      write("drop.toml", cubeScene("max_speed = 5.0", "position = [0.0, 0.0, 10.0]"));
+  const std::string csv = (dir_ / "out" / "drop.csv").string();
+  const std::string summary = (dir_ / "out" / "drop.json").string();
+  EXPECT_EQ(run("simulate " + quote(scene) + " --quiet --csv " + quote(csv) + " --summary " +
+                quote(summary)),
+            1);
+  ASSERT_EQ(errorLines().size(), 1u) << err_;
+  EXPECT_NE(errorLines()[0].find("drop.toml: body 0 (shape 'cube') at t = 0.5"), std::string::npos)
+      << err_;
+  EXPECT_NE(errorLines()[0].find("exceeds the limit of 5 m/s"), std::string::npos) << err_;
+  const auto rows = lines(readFile(csv));
+  ASSERT_EQ(rows.size(), 1u + 16u);
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    EXPECT_EQ(std::stoi(rows[i]), static_cast<int>(i - 1));
+    EXPECT_EQ(std::count(rows[i].begin(), rows[i].end(), ','), 15) << rows[i];
+  }
+  EXPECT_FALSE(fs::exists(summary)) << "no summary of a run that did not finish";
+  // The same scene with the bound raised on the command line runs to the end.
+  EXPECT_EQ(run("simulate " + quote(scene) + " --quiet --max-speed 100"), 0) << err_;
+}
+
+TEST_F(CliTest, AnOpenMeshNamesRepairAndRepairSaysWhatItDid) {
+  // A 0.2 x 0.2 x 1 box with the top face's second triangle missing (a 2.3 % patch).
+  write("holed.obj",
+        "v 0 0 0\nv 0.2 0 0\nv 0 0.2 0\nv 0.2 0.2 0\nv 0 0 1\nv 0.2 0 1\nv 0 0.2 1\nv 0.2 0.2 1\n"
+        "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 1 2 6\nf 1 6 5\nf 3 7 8\nf 3 8 4\n"
+        "f 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n");
+  const std::string scene = write("holed.toml",
+                                  "[simulation]\nduration = 0.2\nlevel = 2\n[ground]\nplane = 0.0\n"
+                                  "[shapes.box]\nmesh = \"holed.obj\"\ndensity = 800\n"
+                                  "[[bodies]]\nshape = \"box\"\nposition = [0.0, 0.0, 0.5]\n");
+  EXPECT_EQ(run("simulate " + quote(scene) + " --quiet"), 1);
+  ASSERT_EQ(errorLines().size(), 1u) << err_;
+  EXPECT_NE(errorLines()[0].find("holed.obj: mesh is not closed"), std::string::npos) << err_;
+  EXPECT_NE(errorLines()[0].find("--repair"), std::string::npos) << err_;
+  EXPECT_EQ(run("simulate " + quote(scene) + " --quiet --repair"), 0) << err_;
+  EXPECT_NE(err_.find("holed.obj: repaired: filled 1 hole with 1 triangle"), std::string::npos)
+      << err_;
+}
+
 }  // namespace

@@ -93,7 +93,7 @@ TEST_F(BakeCommand, ABakeRendersAtAnotherFrameRateAsTheSceneDoes) {
 TEST_F(BakeCommand, PhysicsOptionsAndBrokenBakesAreRefused) {
   ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
   EXPECT_EQ(run("render run.bake --level 3 -o x.mp4"), 1);
-  EXPECT_NE(err_.find("--level, --step and --collider"), std::string::npos) << err_;
+  EXPECT_NE(err_.find("--level, --step, --collider"), std::string::npos) << err_;
   // Cut the body short: the reader names the file and the size it expected.
   const std::string bytes = readFile(dir_.path() / "run.bake");
   std::ofstream(dir_.path() / "short.bake", std::ios::binary) << bytes.substr(0, bytes.size() - 8);

@@ -50,7 +50,6 @@ TEST(Impulse, OffCentreGroundContactMatchesHandComputation) {
   EXPECT_NEAR(inverseEffectiveMass(1 / m, s->inertiaBodyInv, c.point, 0, Mat3::Zero(), Vec3::Zero(),
                                    c.normal),
               K, 1e-9 * K);
-  EXPECT_DOUBLE_EQ(restitutionImpulse(vz, eps, K), j);
   // The contact point now separates at -eps times its approach speed (v_rel+ = -eps v_rel-).
   const Vec3 v = w.states[0].P / m;
   const Vec3 omega = s->inertiaBodyInv * w.states[0].L;

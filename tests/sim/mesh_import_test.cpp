@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -110,6 +111,51 @@ TEST(MeshImport, BinaryStl) {
   }
   writeFile(dir.file("cube.stl"), b);
   expectUnitBox(importMesh(dir.file("cube.stl")), Vec3(2, 2, 2));
+}
+
+// Regression for a fuzz finding (tests/fuzz, mesh_stl_fuzz): a binary STL whose coordinates
+// hold NaN or infinity overflowed the weld grid's keys (undefined behaviour); now it is an
+// error naming the file and the triangle.
+TEST(MeshImport, FuzzFoundNonFiniteStlCoordinatesAreAnError) {
+  test::TempDir dir;
+  for (float bad :
+       {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+    std::string b(80, ' ');
+    appendRaw<std::uint32_t>(b, 12);
+    int corner = 0;
+    for (const auto& t : kUnitBox.triangles) {
+      for (int k = 0; k < 3; ++k) appendRaw<float>(b, 0.0f);
+      for (auto i : t)
+        for (int k = 0; k < 3; ++k)
+          appendRaw<float>(b, corner++ == 13 ? bad : static_cast<float>(kUnitBox.vertices[i][k]));
+      appendRaw<std::uint16_t>(b, 0);
+    }
+    writeFile(dir.file("bad.stl"), b);
+    try {
+      importMesh(dir.file("bad.stl"));
+      ADD_FAILURE() << "a non-finite coordinate should be refused";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where(), dir.file("bad.stl"));
+      // Coordinate 13 is in corner 4, the second corner of triangle 1.
+      EXPECT_EQ(e.message(), "triangle 1 has a non-finite coordinate (NaN or infinity)");
+    }
+  }
+}
+
+// Regression for a fuzz finding (tests/fuzz, mesh_ply_fuzz): assimp 5.2 never returns from an
+// ASCII PLY whose header is cut off inside a property line; the import now refuses a PLY header
+// without 'end_header' before assimp sees it (without the check this test hangs until CTest's
+// timeout).
+TEST(MeshImport, FuzzFoundCutOffPlyHeaderIsAnError) {
+  test::TempDir dir;
+  writeFile(dir.file("cut.ply"), "ply\nformat ascii 1.0\nelement vertex 8\nproperty flo");
+  try {
+    importMesh(dir.file("cut.ply"));
+    ADD_FAILURE() << "a PLY without a whole header should be refused";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), dir.file("cut.ply"));
+    EXPECT_EQ(e.message(), "PLY header has no 'end_header' line (is the file cut off?)");
+  }
 }
 
 TEST(MeshImport, AsciiPlyWithQuads) {

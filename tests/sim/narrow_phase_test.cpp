@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <set>
 #include <utility>
 
@@ -57,12 +58,20 @@ TEST_P(NarrowPhaseTest, DescentFindsExactlyTheBruteForceLeafPairs) {
     const std::uint64_t tests = collide(a, b, contacts);
     const auto expected = bruteForce(a, b);
     std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+    const double radii = sa->tree->leaves().radius + sb->tree->leaves().radius;
     for (const Contact& c : contacts) {
       EXPECT_TRUE(found.insert({c.leafA, c.leafB}).second) << "duplicate contact";
       EXPECT_NEAR(c.normal.norm(), 1.0, 1e-12);
       EXPECT_GT(c.depth, 0.0);
       EXPECT_EQ(c.a, 0);
       EXPECT_EQ(c.b, 1);
+      // Recomputed here from the two leaf centres: depth = r_a + r_b - |x_a - x_b|, normal along
+      // x_a - x_b, point midway (fig. 5). Rounding of metre-sized values: 1e-12.
+      const Vec3 ca = a.x + a.R * sa->tree->leaves().centers[c.leafA];
+      const Vec3 cb = b.x + b.R * sb->tree->leaves().centers[c.leafB];
+      EXPECT_NEAR(c.depth, radii - (ca - cb).norm(), 1e-12);
+      EXPECT_LT((c.normal - (ca - cb).normalized()).norm(), 1e-12);
+      EXPECT_LT((c.point - 0.5 * (ca + cb)).norm(), 1e-12);
     }
     EXPECT_EQ(found, expected) << "trial " << trial;
     if (!expected.empty()) ++posesWithContacts;
@@ -76,8 +85,19 @@ TEST_P(NarrowPhaseTest, DescentFindsExactlyTheBruteForceLeafPairs) {
     std::vector<Contact> swapped;
     collide(b, a, swapped);
     ASSERT_EQ(swapped.size(), contacts.size());
+    std::map<std::pair<std::uint32_t, std::uint32_t>, const Contact*> original;
+    for (const Contact& c : contacts) original[{c.leafA, c.leafB}] = &c;
     std::set<std::pair<std::uint32_t, std::uint32_t>> back;
-    for (const Contact& c : swapped) back.insert({c.leafB, c.leafA});
+    for (const Contact& c : swapped) {
+      back.insert({c.leafB, c.leafA});
+      EXPECT_EQ(c.a, 1);
+      EXPECT_EQ(c.b, 0);
+      const auto it = original.find({c.leafB, c.leafA});
+      if (it == original.end()) continue;  // reported by the set comparison below
+      EXPECT_LT((c.normal + it->second->normal).norm(), 1e-12) << "normal not flipped";
+      EXPECT_NEAR(c.depth, it->second->depth, 1e-12);
+      EXPECT_LT((c.point - it->second->point).norm(), 1e-12);
+    }
     EXPECT_EQ(back, expected);
   }
   EXPECT_GT(posesWithContacts, 10) << "the random poses should exercise contacts";
@@ -130,6 +150,9 @@ TEST(NarrowPhase, PlaneContactsAreTheLeafSpheresCrossingThePlane) {
       EXPECT_EQ(c.b, kGround);
       EXPECT_EQ(c.normal, Vec3::UnitZ());
       EXPECT_NEAR(c.point.z(), h, 1e-15);  // on the plane, to rounding of metre-sized values
+      // depth = r - (z - h) of the leaf sphere, to rounding of metre-sized values.
+      const double z = (a.x + a.R * leaves.centers[c.leafA]).z();
+      EXPECT_NEAR(c.depth, leaves.radius - (z - h), 1e-12);
       EXPECT_GT(c.depth, 0.0);
     }
     EXPECT_EQ(found, expected) << "trial " << trial;
