@@ -188,8 +188,12 @@ TEST(HazardMap, ValuesHillshadeAndReleaseAreasLandWhereTheLayoutSays) {
   EXPECT_EQ(pixelAt(im, nx, ny), (Rgb8{grey, grey, grey}));
   // The outline's top edge, the line's middle and the marker are red (3 px lines: the middle
   // pixel row is fully covered whatever the anti-aliasing); far from them, no red.
-  const auto [ex, ey] = centre(3, 4);
-  EXPECT_TRUE(colourNear(im, ex + 0.5, ey, 2, kRed)) << "outline";
+  for (const auto& [ei, ej] : {std::pair{3.5, 2.0}, {5.0, 3.0}, {3.5, 4.0}, {2.0, 3.0}}) {
+    // The midpoint of each side of the outline, the closing side (2, 4) -> (2, 2) included.
+    const double ex = f.columnOf(m.dem.x0 + ei * m.dem.cell);
+    const double ey = f.rowOf(m.dem.y0 + ej * m.dem.cell);
+    EXPECT_TRUE(colourNear(im, ex, ey, 2, kRed)) << "outline side at " << ei << "," << ej;
+  }
   const auto [ax, ay] = centre(10, 1);
   EXPECT_TRUE(colourNear(im, ax + 0.5, ay, 2, kRed)) << "line";
   const auto [px, py] = centre(16, 6);
