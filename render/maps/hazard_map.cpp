@@ -49,24 +49,52 @@ std::string lengthLabel(double m) {
   return number(m) + " m";
 }
 
-// The map area as RGBA, rows from the bottom (gnuplot's image order), each pixel the sample
-// under its centre: statistic colour, else hillshade grey, else transparent.
+// The samples a map pixel covers along one axis, for each of `pixels` pixels of `pixelSize` m
+// over `samples` samples `cell` m apart: those whose centres fall inside the pixel, or the
+// nearest one when none does (a pixel smaller than a cell).
+struct SampleSpan {
+  int nearest, first, last;
+};
+std::vector<SampleSpan> sampleSpans(int pixels, double pixelSize, int samples, double cell) {
+  std::vector<SampleSpan> spans(static_cast<std::size_t>(pixels));
+  const auto clampIndex = [samples](double k) {
+    return std::clamp(static_cast<int>(k), 0, samples - 1);
+  };
+  for (int u = 0; u < pixels; ++u) {
+    SampleSpan& sp = spans[static_cast<std::size_t>(u)];
+    sp.nearest = clampIndex(std::floor((u + 0.5) * pixelSize / cell));
+    sp.first = clampIndex(std::ceil(u * pixelSize / cell - 0.5));
+    sp.last = clampIndex(std::ceil((u + 1) * pixelSize / cell - 0.5) - 1);
+    if (sp.last < sp.first) sp.first = sp.last = sp.nearest;
+  }
+  return spans;
+}
+
+// The map area as RGBA, rows from the bottom (gnuplot's image order). A pixel shows the largest
+// value among the samples it covers (a map smaller than its grid never hides a narrow track of
+// high values between pixels), else the hillshade grey of the sample under its centre, else
+// nothing (transparent).
 std::vector<std::uint8_t> mapPixels(const Heightfield& dem, const MapLayer& layer,
                                     const MapFrame& f, double lo, double hi) {
   std::vector<std::uint8_t> rgba(static_cast<std::size_t>(f.plotWidth) * f.plotHeight * 4, 0);
-  const double pxX = (f.xMax - f.xMin) / f.plotWidth, pxY = (f.yMax - f.yMin) / f.plotHeight;
+  const auto columns = sampleSpans(f.plotWidth, (f.xMax - f.xMin) / f.plotWidth, dem.nx, dem.cell);
+  const auto rows = sampleSpans(f.plotHeight, (f.yMax - f.yMin) / f.plotHeight, dem.ny, dem.cell);
   for (int v = 0; v < f.plotHeight; ++v) {
-    const int j =
-        std::clamp(static_cast<int>(std::floor((v + 0.5) * pxY / dem.cell)), 0, dem.ny - 1);
+    const SampleSpan& row = rows[static_cast<std::size_t>(v)];
     for (int u = 0; u < f.plotWidth; ++u) {
-      const int i =
-          std::clamp(static_cast<int>(std::floor((u + 0.5) * pxX / dem.cell)), 0, dem.nx - 1);
-      const std::size_t s = static_cast<std::size_t>(j) * dem.nx + i;
+      const SampleSpan& col = columns[static_cast<std::size_t>(u)];
+      double value = std::nan("");
+      for (int j = row.first; j <= row.last; ++j)
+        for (int i = col.first; i <= col.last; ++i) {
+          const double x = layer.values[static_cast<std::size_t>(j) * dem.nx + i];
+          if (std::isfinite(x) && !(x <= value)) value = x;  // the first finite, then larger
+        }
       std::uint8_t* p = &rgba[(static_cast<std::size_t>(v) * f.plotWidth + u) * 4];
-      if (std::isfinite(layer.values[s])) {
-        const Rgb8 c = viridis(hi > lo ? (layer.values[s] - lo) / (hi - lo) : 0.5);
+      if (std::isfinite(value)) {
+        const Rgb8 c = viridis(hi > lo ? (value - lo) / (hi - lo) : 0.5);
         p[0] = c.r, p[1] = c.g, p[2] = c.b, p[3] = 255;
-      } else if (const double shade = hillshadeAt(dem, i, j); !std::isnan(shade)) {
+      } else if (const double shade = hillshadeAt(dem, col.nearest, row.nearest);
+                 !std::isnan(shade)) {
         const auto g = static_cast<std::uint8_t>(
             std::lround(255 * (kHillshadeFloor + (1 - kHillshadeFloor) * shade)));
         p[0] = p[1] = p[2] = g, p[3] = 255;
@@ -306,6 +334,10 @@ void writeRunoutPlot(const std::vector<double>& runoutsM, const std::vector<doub
       cdfPanel(reachAnglesDeg, "Reach angle", "°", scratch.file("reach_angle.csv"), pngPath));
   f.title = "Runout and reach angle of " + std::to_string(runoutsM.size()) + " realisations";
   f.footnote = "Empirical cumulative distributions; dashed: median and 95th percentile.";
+  const auto missing =
+      std::count_if(runoutsM.begin(), runoutsM.end(), [](double v) { return !std::isfinite(v); });
+  if (missing > 0)
+    f.footnote += " " + std::to_string(missing) + " realisation(s) without a runout left out.";
   fig::drawFigurePng(f, pngPath);
 }
 

@@ -49,15 +49,17 @@ inline constexpr int kMapLongSidePx = 800;
 MapFrame hazardMapFrame(const Heightfield& dem);
 
 // Writes a PNG map of `layer` over a hillshade of `dem` (hillshade.h: Horn's slope and aspect,
-// sun at azimuth 315 deg, altitude 45 deg): each map pixel shows the sample it falls on, in
-// viridis (colour_map.h) scaled linearly from the layer's smallest to its largest value where
-// the layer has a value (opaque, so the colour reads exactly against the legend), the hillshade
-// in grey (kHillshadeFloor) where it has none, white where the DEM has no data. With a colour
-// legend titled with `layer.title` and `layer.units`, a scale bar in metres of a round length (1, 2
-// or 5 times a power of ten, at most a quarter of the map's width), a north arrow, and the release
-// areas outlined in red: each a polygon of world (x, y) points, m; one point is drawn as a marker,
-// two as a line. Throws InputError (naming the file) if values has the wrong size, the path
-// cannot be written under `rules`, or gnuplot fails; nothing is left at pngPath then.
+// sun at azimuth 315 deg, altitude 45 deg): each map pixel shows the largest value of the
+// samples it covers (the sample under it when a pixel is smaller than a cell), in viridis
+// (colour_map.h) scaled linearly from the layer's smallest to its largest value where the layer has
+// a value (opaque, so the colour reads exactly against the legend), the hillshade in grey
+// (kHillshadeFloor) where it has none, white where the DEM has no data. With a colour legend titled
+// with `layer.title` and `layer.units`, a scale bar in metres of a round length (1, 2 or 5 times a
+// power of ten, at most a quarter of the map's width), a north arrow, and the release areas
+// outlined in red: each a polygon of world (x, y) points, m; one point is drawn as a marker, two as
+// a line. `rules` as for every output (output_file.h). Throws InputError (naming the file) if
+// values has the wrong size, the path cannot be written under `rules`, or gnuplot fails; a file
+// already at pngPath is then left as it was, and no temporary file remains.
 void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
                     const std::vector<std::vector<Vec2>>& releaseAreas, const std::string& pngPath,
                     const OutputRules& rules = replaceOutputs());

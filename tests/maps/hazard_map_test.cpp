@@ -7,6 +7,7 @@
 //   - the map PNG, read back: the highest and lowest values show the colour map's ends at the
 //     pixels the layout puts them, a cell without a value shows the plane's analytic hillshade
 //     as grey, the release outline, line and marker are red where they lie and nowhere else;
+//     a map smaller than its grid still shows a one-sample-wide track;
 //     the same input gives the same bytes;
 //   - errors: a wrong number of values, an unwritable place, an empty runout list: InputError
 //     and no file;
@@ -201,6 +202,24 @@ TEST(HazardMap, ValuesHillshadeAndReleaseAreasLandWhereTheLayoutSays) {
   const auto [ix, iy] = centre(3, 3);  // inside the outline: no fill
   EXPECT_FALSE(colourNear(im, ix, iy, 10, kRed));
   EXPECT_FALSE(colourNear(im, hx, hy, 10, kRed));
+}
+
+TEST(HazardMap, AMapSmallerThanItsGridKeepsANarrowTrack) {
+  // 1600 x 1200 samples on an 800 x 600 px map: two samples a pixel each way. A track one sample
+  // wide (column 800, an even one: the sample under pixel 400's centre is 801) must still show,
+  // at its highest value: a pixel shows the largest value it covers.
+  test::ScratchDir dir("hazard_map_track");
+  const Heightfield dem = plane(1600, 1200, 1.0, -0.5, 0);
+  MapLayer layer{"passages", "Passages", "", std::vector<double>(dem.z.size(), std::nan(""))};
+  for (int j = 0; j < dem.ny; ++j) layer.values[static_cast<std::size_t>(j) * dem.nx + 800] = 9;
+  layer.values[100] = 0;
+  const std::string path = (dir.path() / "track.png").string();
+  writeHazardMap(dem, layer, {}, path);
+  const MapFrame f = hazardMapFrame(dem);
+  ASSERT_EQ(f.plotHeight, 600);
+  const Image im = readPng(path);
+  for (double y : {150.0, 600.0, 1050.0})
+    EXPECT_EQ(pixelAt(im, f.columnOf(800), f.rowOf(y)), viridis(1.0)) << y;
 }
 
 TEST(HazardMap, SameInputSameBytes) {
