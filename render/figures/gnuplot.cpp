@@ -1,18 +1,20 @@
-// gnuplot is driven with a script file (never by parsing its output): the script is written
-// next to the figure under a temporary name, gnuplot runs it once, writing both terminals'
-// files under temporary names, and those are renamed when gnuplot exits cleanly. A failure
+// gnuplot is driven with a script file (never by parsing its output): the script is written to
+// a scratch folder of its own, gnuplot runs it once, writing the figure's files under temporary
+// names next to the final ones, and those are renamed when gnuplot exits cleanly. A failure
 // removes the temporaries and reports gnuplot's first error line.
 #include "render/figures/gnuplot.h"
 
 #include <unistd.h>
 
 #include <array>
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "render/output/output_file.h"
 #include "sim/core/error.h"
 
 namespace vf::fig {
@@ -24,16 +26,6 @@ namespace fs = std::filesystem;
 constexpr std::array<const char*, 7> kPalette{"#0072B2", "#D55E00", "#009E73", "#CC79A7",
                                               "#E69F00", "#56B4E9", "#000000"};
 
-// A gnuplot double-quoted string.
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
-
 // A shell single-quoted word.
 std::string shellWord(const std::string& s) {
   std::string out = "'";
@@ -44,13 +36,14 @@ std::string shellWord(const std::string& s) {
 std::string seriesClause(const Series& s) {
   std::ostringstream o;
   const char* color = kPalette[static_cast<std::size_t>(s.color) % kPalette.size()];
-  o << quoted(s.csv) << " using " << s.using_ << " with " << s.style;
-  o << " lc rgb " << quoted(color) << " lw 2";
+  o << gnuplotString(s.csv) << " using " << s.using_ << " with " << s.style;
+  o << " lc rgb " << gnuplotString(color) << " lw 2";
   if (s.style == "boxes")  // the fill takes the line colour; the border is given again
-    o << (s.hollow ? " fs empty border lc rgb " : " fs solid 0.75 border lc rgb ") << quoted(color);
+    o << (s.hollow ? " fs empty border lc rgb " : " fs solid 0.75 border lc rgb ")
+      << gnuplotString(color);
   if (s.style == "linespoints" || s.style == "points")
     o << " pt " << (s.hollow ? 6 : 7) << " ps 1.3";
-  o << (s.title.empty() ? " notitle" : " title " + quoted(s.title));
+  o << (s.title.empty() ? " notitle" : " title " + gnuplotString(s.title));
   return o.str();
 }
 
@@ -59,15 +52,16 @@ std::string body(const Figure& f) {
   std::ostringstream o;
   o << "set datafile separator ','\n";
   if (!f.footnote.empty())
-    o << "set label 1000 " << quoted(f.footnote) << " at screen 0.01, screen 0.03 font ',9'\n";
+    o << "set label 1000 " << gnuplotString(f.footnote)
+      << " at screen 0.01, screen 0.03 font ',9'\n";
   const int n = static_cast<int>(f.panels.size());
-  o << "set multiplot layout 1," << n << " title " << quoted(f.title)
+  o << "set multiplot layout 1," << n << " title " << gnuplotString(f.title)
     << " font ',13' margins 0.08,0.98,0.2,0.86 spacing 0.09\n";
   for (const Panel& p : f.panels) {
     o << "unset logscale\nunset xtics\nunset ytics\nset xtics nomirror\nset ytics nomirror\n"
       << "set grid lc rgb '#d0d0d0'\nset key top left box opaque\nset autoscale\n"
-      << "set boxwidth 0.6\nset title " << quoted(p.title) << "\nset xlabel " << quoted(p.xLabel)
-      << "\nset ylabel " << quoted(p.yLabel) << "\n";
+      << "set boxwidth 0.6\nset title " << gnuplotString(p.title) << "\nset xlabel "
+      << gnuplotString(p.xLabel) << "\nset ylabel " << gnuplotString(p.yLabel) << "\n";
     if (p.logY) o << "set logscale y\n";
     if (p.logX) o << "set logscale x\n";
     for (const std::string& s : p.settings) o << s << "\n";
@@ -90,46 +84,100 @@ std::string partialName(const std::string& path) {
   return (p.parent_path() / name).string();
 }
 
+// The pngcairo terminal every figure uses.
+std::string pngTerminal(const Figure& f) {
+  return "set terminal pngcairo noenhanced size " + std::to_string(f.width) + "," +
+         std::to_string(f.height) + " font 'DejaVu Sans,11'\n";
+}
+
 }  // namespace
+
+std::string gnuplotString(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+ScratchFolder::ScratchFolder() {
+  // Process id plus a counter: two figures of one run, or two runs, never share a folder.
+  static std::atomic<unsigned> counter{0};
+  std::error_code ec;
+  const fs::path base = fs::temp_directory_path(ec);
+  std::string name = "voxfall-plot-";
+  name += std::to_string(static_cast<long>(::getpid()));
+  name += "-";
+  name += std::to_string(counter++);
+  const fs::path folder = (ec ? fs::path("/tmp") : base) / name;
+  fs::remove_all(folder, ec);
+  if (!fs::create_directories(folder, ec))
+    throw InputError(folder.string(), "cannot create a temporary folder: " + ec.message());
+  path_ = folder.string();
+}
+
+ScratchFolder::~ScratchFolder() {
+  std::error_code ignored;
+  fs::remove_all(path_, ignored);
+}
+
+std::string ScratchFolder::file(const std::string& name) const {
+  return (fs::path(path_) / name).string();
+}
+
+void runGnuplot(const std::string& script, const std::string& where) {
+  const ScratchFolder scratch;
+  const std::string scriptPath = scratch.file("figure.gp"), log = scratch.file("gnuplot.log");
+  {
+    std::ofstream s(scriptPath);
+    s << script;
+    if (!s) throw InputError(where, "cannot write the gnuplot script " + scriptPath);
+  }
+  const std::string command = "gnuplot " + shellWord(scriptPath) + " >" + shellWord(log) + " 2>&1";
+  const int status = std::system(command.c_str());
+  if (status == 0) return;
+  std::string firstError;
+  std::ifstream l(log);
+  for (std::string line; std::getline(l, line);)
+    if (!line.empty() && line.find_first_not_of(" ^") != std::string::npos) {
+      firstError = line;
+      break;
+    }
+  throw InputError(where,
+                   "gnuplot failed (is gnuplot-nox installed?): " +
+                       (firstError.empty() ? "exit status " + std::to_string(status) : firstError));
+}
 
 void drawFigure(const Figure& figure, const std::string& basePath) {
   const std::string png = basePath + ".png", svg = basePath + ".svg";
   const std::string pngTmp = partialName(png), svgTmp = partialName(svg);
-  const std::string script = partialName(basePath + ".gp");
-  const std::string log = partialName(basePath + ".log");
-  {
-    std::ofstream s(script);
-    s << "set terminal pngcairo noenhanced size " << figure.width << "," << figure.height
-      << " font 'DejaVu Sans,11'\nset output " << quoted(pngTmp) << "\n"
-      << body(figure) << "set output\n"
-      << "set terminal svg noenhanced size " << figure.width << "," << figure.height
-      << " font 'DejaVu Sans,11' dynamic background '#ffffff'\nset output " << quoted(svgTmp)
-      << "\n"
-      << body(figure) << "set output\n";
-    if (!s) throw InputError(basePath, "cannot write the gnuplot script " + script);
-  }
-  const std::string command = "gnuplot " + shellWord(script) + " >" + shellWord(log) + " 2>&1";
-  const int status = std::system(command.c_str());
-  std::string firstError;
-  {
-    std::ifstream l(log);
-    std::string line;
-    while (std::getline(l, line))
-      if (firstError.empty() && !line.empty() && line.find_first_not_of(" ^") != std::string::npos)
-        firstError = line;
-  }
+  const std::string script = pngTerminal(figure) + "set output " + gnuplotString(pngTmp) + "\n" +
+                             body(figure) + "set output\n" + "set terminal svg noenhanced size " +
+                             std::to_string(figure.width) + "," + std::to_string(figure.height) +
+                             " font 'DejaVu Sans,11' dynamic background '#ffffff'\nset output " +
+                             gnuplotString(svgTmp) + "\n" + body(figure) + "set output\n";
   std::error_code ignored;
-  fs::remove(script, ignored);
-  fs::remove(log, ignored);
-  if (status != 0 || !fs::exists(pngTmp) || !fs::exists(svgTmp)) {
+  try {
+    runGnuplot(script, basePath);
+    if (!fs::exists(pngTmp) || !fs::exists(svgTmp))
+      throw InputError(basePath, "gnuplot failed (is gnuplot-nox installed?): no output written");
+  } catch (const InputError&) {
     fs::remove(pngTmp, ignored);
     fs::remove(svgTmp, ignored);
-    throw InputError(
-        basePath, "gnuplot failed (is gnuplot-nox installed?): " +
-                      (firstError.empty() ? "exit status " + std::to_string(status) : firstError));
+    throw;
   }
   fs::rename(pngTmp, png);
   fs::rename(svgTmp, svg);
+}
+
+void drawFigurePng(const Figure& figure, const std::string& pngPath) {
+  OutputFile out(pngPath, replaceOutputs());
+  out.closeStream();  // gnuplot writes the temporary file by name
+  runGnuplot(pngTerminal(figure) + "set output " + gnuplotString(out.tempPath()) + "\n" +
+                 body(figure) + "set output\n",
+             pngPath);
+  out.commit();
 }
 
 }  // namespace vf::fig

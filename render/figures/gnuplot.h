@@ -39,4 +39,30 @@ struct Figure {
 // Throws InputError naming gnuplot's complaint if it is missing or fails.
 void drawFigure(const Figure& figure, const std::string& basePath);
 
+// Writes `figure` as one PNG (no SVG) at `pngPath` through an OutputFile (temporary name,
+// renamed when gnuplot succeeded; existing files are replaced). Throws InputError as drawFigure.
+void drawFigurePng(const Figure& figure, const std::string& pngPath);
+
+// A folder of its own under the system's temporary folder for a figure's data files; removed
+// with everything in it when destroyed.
+class ScratchFolder {
+ public:
+  ScratchFolder();  // throws InputError if it cannot be created
+  ~ScratchFolder();
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  // The path of `name` inside the folder.
+  std::string file(const std::string& name) const;
+
+ private:
+  std::string path_;
+};
+
+// Runs gnuplot once on `script` (gnuplot's language; it is written to a scratch file). Throws
+// InputError(where, gnuplot's first error line) if gnuplot is missing or fails.
+void runGnuplot(const std::string& script, const std::string& where);
+
+// `s` as a gnuplot double-quoted string literal.
+std::string gnuplotString(const std::string& s);
+
 }  // namespace vf::fig

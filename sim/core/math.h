@@ -8,6 +8,7 @@
 
 namespace vf {
 
+using Vec2 = Eigen::Vector2d;  // plan-view points (x, y), e.g. map outlines
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 using Quat = Eigen::Quaterniond;  // stored (x, y, z, w); constructed Quat(w, x, y, z)

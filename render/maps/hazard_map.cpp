@@ -1,0 +1,344 @@
+// A hazard map is one gnuplot plot: the map pixels (statistic in viridis over the hillshade)
+// are composed here into one RGBA image of exactly the map area's size, so gnuplot draws it
+// 1:1 and every map pixel is a colour this file chose; gnuplot adds what needs fonts and
+// vectors (axes, title, colour box, scale bar, north arrow, release outlines). Its data files
+// go to a scratch folder; the PNG goes through an OutputFile.
+#include "render/maps/hazard_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+#include "render/figures/gnuplot.h"
+#include "render/maps/colour_map.h"
+#include "render/maps/hillshade.h"
+#include "sim/core/error.h"
+
+namespace vf {
+namespace {
+
+using fig::gnuplotString;
+
+// Space around the map, px: tick labels and axis title on the left and below, the title above,
+// the colour box and its label on the right. The colour box is at least kMinLegendPx tall.
+constexpr int kLeftPx = 100, kRightPx = 200, kTopPx = 50, kBottomPx = 80, kMinLegendPx = 260;
+// Release outlines: red, a colour neither viridis nor the grey hillshade contains.
+constexpr const char* kReleaseColour = "#e41a1c";
+
+// The largest 1, 2 or 5 times a power of ten not above `target` (> 0), m.
+double roundLength(double target) {
+  const double p = std::pow(10.0, std::floor(std::log10(target)));
+  for (double m : {5.0, 2.0, 1.0})
+    if (m * p <= target) return m * p;
+  return p;
+}
+
+std::string number(double v) {
+  std::ostringstream o;
+  o << std::setprecision(15) << v;
+  return o.str();
+}
+
+// A length for the scale bar's label: "500 m", "2 km", "0.5 m".
+std::string lengthLabel(double m) {
+  if (m >= 1000) return number(m / 1000) + " km";
+  return number(m) + " m";
+}
+
+// The samples a map pixel covers along one axis, for each of `pixels` pixels of `pixelSize` m
+// over `samples` samples `cell` m apart: those whose centres fall inside the pixel, or the
+// nearest one when none does (a pixel smaller than a cell).
+struct SampleSpan {
+  int nearest, first, last;
+};
+std::vector<SampleSpan> sampleSpans(int pixels, double pixelSize, int samples, double cell) {
+  std::vector<SampleSpan> spans(static_cast<std::size_t>(pixels));
+  const auto clampIndex = [samples](double k) {
+    return std::clamp(static_cast<int>(k), 0, samples - 1);
+  };
+  for (int u = 0; u < pixels; ++u) {
+    SampleSpan& sp = spans[static_cast<std::size_t>(u)];
+    sp.nearest = clampIndex(std::floor((u + 0.5) * pixelSize / cell));
+    sp.first = clampIndex(std::ceil(u * pixelSize / cell - 0.5));
+    sp.last = clampIndex(std::ceil((u + 1) * pixelSize / cell - 0.5) - 1);
+    if (sp.last < sp.first) sp.first = sp.last = sp.nearest;
+  }
+  return spans;
+}
+
+// The map area as RGBA, rows from the bottom (gnuplot's image order). A pixel shows the largest
+// value among the samples it covers (a map smaller than its grid never hides a narrow track of
+// high values between pixels), else the hillshade grey of the sample under its centre, else
+// nothing (transparent).
+std::vector<std::uint8_t> mapPixels(const Heightfield& dem, const MapLayer& layer,
+                                    const MapFrame& f, double lo, double hi) {
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(f.plotWidth) * f.plotHeight * 4, 0);
+  const auto columns = sampleSpans(f.plotWidth, (f.xMax - f.xMin) / f.plotWidth, dem.nx, dem.cell);
+  const auto rows = sampleSpans(f.plotHeight, (f.yMax - f.yMin) / f.plotHeight, dem.ny, dem.cell);
+  for (int v = 0; v < f.plotHeight; ++v) {
+    const SampleSpan& row = rows[static_cast<std::size_t>(v)];
+    for (int u = 0; u < f.plotWidth; ++u) {
+      const SampleSpan& col = columns[static_cast<std::size_t>(u)];
+      double value = std::nan("");
+      for (int j = row.first; j <= row.last; ++j)
+        for (int i = col.first; i <= col.last; ++i) {
+          const double x = layer.values[static_cast<std::size_t>(j) * dem.nx + i];
+          if (std::isfinite(x) && !(x <= value)) value = x;  // the first finite, then larger
+        }
+      std::uint8_t* p = &rgba[(static_cast<std::size_t>(v) * f.plotWidth + u) * 4];
+      if (std::isfinite(value)) {
+        const Rgb8 c = viridis(hi > lo ? (value - lo) / (hi - lo) : 0.5);
+        p[0] = c.r, p[1] = c.g, p[2] = c.b, p[3] = 255;
+      } else if (const double shade = hillshadeAt(dem, col.nearest, row.nearest);
+                 !std::isnan(shade)) {
+        const auto g = static_cast<std::uint8_t>(
+            std::lround(255 * (kHillshadeFloor + (1 - kHillshadeFloor) * shade)));
+        p[0] = p[1] = p[2] = g, p[3] = 255;
+      }
+    }
+  }
+  return rgba;
+}
+
+// The release areas in map coordinates: polygons (closed) and lines as blank-line separated
+// runs for `with lines`, single points for `with points`. Returns whether each file has any.
+std::pair<bool, bool> writeReleaseAreas(const std::vector<std::vector<Vec2>>& areas,
+                                        const MapFrame& f, const std::string& linesPath,
+                                        const std::string& pointsPath) {
+  std::ofstream lines(linesPath), points(pointsPath);
+  lines << std::setprecision(15);
+  points << std::setprecision(15);
+  bool anyLine = false, anyPoint = false;
+  for (const auto& area : areas) {
+    if (area.empty()) continue;
+    if (area.size() == 1) {
+      points << area[0].x() - f.shiftX << ' ' << area[0].y() - f.shiftY << '\n';
+      anyPoint = true;
+      continue;
+    }
+    for (const Vec2& p : area) lines << p.x() - f.shiftX << ' ' << p.y() - f.shiftY << '\n';
+    if (area.size() > 2) lines << area[0].x() - f.shiftX << ' ' << area[0].y() - f.shiftY << '\n';
+    lines << "\n\n";
+    anyLine = true;
+  }
+  return {anyLine, anyPoint};
+}
+
+// Screen fraction of a pixel position (x from the left, y from the bottom).
+std::string screenX(const MapFrame& f, double px) { return "screen " + number(px / f.width); }
+std::string screenY(const MapFrame& f, double px) { return "screen " + number(px / f.height); }
+
+}  // namespace
+
+MapFrame hazardMapFrame(const Heightfield& dem) {
+  MapFrame f;
+  f.fileCoordinates = !dem.crsWkt.empty();
+  if (f.fileCoordinates) f.shiftX = dem.shift.x(), f.shiftY = dem.shift.y();
+  f.xMin = dem.x0 - f.shiftX - dem.cell / 2;
+  f.xMax = f.xMin + dem.nx * dem.cell;
+  f.yMin = dem.y0 - f.shiftY - dem.cell / 2;
+  f.yMax = f.yMin + dem.ny * dem.cell;
+  const double aspect = static_cast<double>(dem.ny) / dem.nx;  // height over width
+  f.plotWidth =
+      aspect <= 1 ? kMapLongSidePx : std::max(1, int(std::lround(kMapLongSidePx / aspect)));
+  f.plotHeight =
+      aspect <= 1 ? std::max(1, int(std::lround(kMapLongSidePx * aspect))) : kMapLongSidePx;
+  f.left = kLeftPx;
+  f.top = kTopPx;
+  f.width = kLeftPx + f.plotWidth + kRightPx;
+  f.height = kTopPx + std::max(f.plotHeight, kMinLegendPx) + kBottomPx;
+  return f;
+}
+
+void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
+                    const std::vector<std::vector<Vec2>>& releaseAreas, const std::string& pngPath,
+                    const OutputRules& rules) {
+  if (dem.nx < 1 || dem.ny < 1 || dem.z.size() != static_cast<std::size_t>(dem.nx) * dem.ny)
+    throw InputError(pngPath, "hazard map: the DEM has no samples");
+  if (layer.values.size() != dem.z.size())
+    throw InputError(pngPath, "hazard map '" + layer.name + "': " +
+                                  std::to_string(layer.values.size()) + " values for a grid of " +
+                                  std::to_string(dem.nx) + " x " + std::to_string(dem.ny));
+  OutputFile out(pngPath, rules);
+  out.closeStream();  // gnuplot writes the temporary file by name
+
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (double v : layer.values)
+    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  const bool anyValue = lo <= hi;
+  // The colour box needs a range: an empty layer shows 0..1, a constant one its value +- 1.
+  const double cbLo = !anyValue ? 0 : hi > lo ? lo : lo - 1;
+  const double cbHi = !anyValue ? 1 : hi > lo ? hi : hi + 1;
+
+  const MapFrame f = hazardMapFrame(dem);
+  const fig::ScratchFolder scratch;
+  const std::string image = scratch.file("map.rgba");
+  {
+    const std::vector<std::uint8_t> rgba = mapPixels(dem, layer, f, lo, hi);
+    std::ofstream o(image, std::ios::binary);
+    o.write(reinterpret_cast<const char*>(rgba.data()), static_cast<std::streamsize>(rgba.size()));
+    if (!o) throw InputError(pngPath, "cannot write the temporary file " + image);
+  }
+  const std::string lines = scratch.file("release_lines.dat");
+  const std::string points = scratch.file("release_points.dat");
+  const auto [anyLine, anyPoint] = writeReleaseAreas(releaseAreas, f, lines, points);
+
+  const double w = f.xMax - f.xMin, h = f.yMax - f.yMin;
+  const double mPerPx = w / f.plotWidth;                   // same along y
+  const int plotBottom = f.height - f.top - f.plotHeight;  // px from the PNG's bottom edge
+  std::ostringstream s;
+  s << "set terminal pngcairo noenhanced size " << f.width << "," << f.height
+    << " font 'DejaVu Sans,11' background '#ffffff'\n"
+    << "set encoding utf8\nset output " << gnuplotString(out.tempPath()) << "\n"
+    << "set lmargin at " << screenX(f, f.left) << "\nset rmargin at "
+    << screenX(f, f.left + f.plotWidth) << "\nset bmargin at " << screenY(f, plotBottom)
+    << "\nset tmargin at " << screenY(f, plotBottom + f.plotHeight) << "\n"
+    << "set xrange [" << number(f.xMin) << ":" << number(f.xMax) << "]\nset yrange ["
+    << number(f.yMin) << ":" << number(f.yMax) << "]\n"
+    << "set title " << gnuplotString(layer.title) << " font ',13'\n"
+    << "set xlabel " << gnuplotString(f.fileCoordinates ? "Easting (m)" : "x (m)") << "\n"
+    << "set ylabel " << gnuplotString(f.fileCoordinates ? "Northing (m)" : "y (m)") << "\n"
+    << "set format x '" << (w >= 50 ? "%.0f" : "%g") << "'\nset format y '"
+    << (h >= 50 ? "%.0f" : "%g") << "'\n"
+    << "set tics out nomirror\nset border front\n";
+  // Legend: the colour box beside the map, as tall as the map (at least kMinLegendPx).
+  const int legendPx = std::max(f.plotHeight, kMinLegendPx);
+  const int legendBottom = f.height - f.top - legendPx;
+  s << "set palette maxcolors 256\nset palette defined (";
+  const auto& table = viridisTable();
+  for (int k = 0; k < 256; ++k) {
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", table[k].r, table[k].g, table[k].b);
+    s << (k ? ", " : "") << k << " '" << hex << "'";
+  }
+  s << ")\nset cbrange [" << number(cbLo) << ":" << number(cbHi) << "]\n"
+    << "set colorbox user origin " << screenX(f, f.left + f.plotWidth + 30) << ", "
+    << screenY(f, legendBottom) << " size " << screenX(f, 22) << ", " << screenY(f, legendPx)
+    << "\nset cbtics out\nset format cb '%g'\n"
+    << "set cblabel offset 1.5,0 "
+    << gnuplotString(layer.title + (layer.units.empty() ? "" : " (" + layer.units + ")") +
+                     (anyValue ? "" : ": no values"))
+    << "\n";
+  // Small print: how the relief is drawn and which CRS the axes are in.
+  std::string note = "Hillshade: Horn slopes, sun azimuth 315°, altitude 45°. Grey: no value.";
+  if (f.fileCoordinates)
+    note += dem.crsName.empty() ? " Axes in the DEM's CRS." : " CRS " + dem.crsName + ".";
+  s << "set label 1 " << gnuplotString(note) << " at " << screenX(f, 8) << ", " << screenY(f, 8)
+    << " font ',9'\n";
+
+  // Scale bar, bottom left inside the map on a white panel: a black and a white half, 8 px tall.
+  const double bar = roundLength(0.25 * w);
+  const double bx = f.xMin + 20 * mPerPx, by = f.yMin + 20 * mPerPx, bh = 8 * mPerPx;
+  const auto rect = [&s](int tag, double x0, double y0, double x1, double y1, const char* fill,
+                         const std::string& border) {
+    s << "set object " << tag << " rect from " << number(x0) << "," << number(y0) << " to "
+      << number(x1) << "," << number(y1) << " front fc rgb '" << fill << "' fs solid 1.0 " << border
+      << "\n";
+  };
+  rect(1, bx - 10 * mPerPx, by - 10 * mPerPx, bx + bar + 10 * mPerPx, by + bh + 30 * mPerPx,
+       "#ffffff", "noborder");
+  rect(2, bx, by, bx + bar / 2, by + bh, "#000000", "border lc rgb '#000000'");
+  rect(3, bx + bar / 2, by, bx + bar, by + bh, "#ffffff", "border lc rgb '#000000'");
+  s << "set label 2 " << gnuplotString(lengthLabel(bar)) << " at " << number(bx + bar / 2) << ","
+    << number(by + bh + 12 * mPerPx) << " center front\n";
+  // North arrow, top right inside the map (the grid is north-up).
+  const double nx = f.xMax - 25 * mPerPx, ny0 = f.yMax - 80 * mPerPx, ny1 = f.yMax - 40 * mPerPx;
+  rect(4, nx - 15 * mPerPx, ny0 - 8 * mPerPx, nx + 15 * mPerPx, f.yMax - 4 * mPerPx, "#ffffff",
+       "noborder");
+  s << "set arrow 1 from " << number(nx) << "," << number(ny0) << " to " << number(nx) << ","
+    << number(ny1) << " front filled size screen 0.015,25 lw 2 lc rgb '#000000'\n"
+    << "set label 3 'N' at " << number(nx) << "," << number(ny1 + 14 * mPerPx)
+    << " center front font ',12'\n";
+
+  s << "set key at " << screenX(f, f.left + f.plotWidth + 10) << ", " << screenY(f, 40)
+    << " left bottom Left reverse samplen 2\n";
+  s << "plot " << gnuplotString(image) << " binary array=(" << f.plotWidth << "," << f.plotHeight
+    << ") format='%uchar' dx=" << number(mPerPx) << " dy=" << number(mPerPx) << " origin=("
+    << number(f.xMin + mPerPx / 2) << "," << number(f.yMin + mPerPx / 2)
+    << ") with rgbalpha notitle";
+  // Anything drawn with the palette shows the colour box; a point off the map draws nothing.
+  s << ", '+' using (NaN):(NaN):(0) with points lc palette notitle";
+  bool titled = false;
+  const auto key = [&titled] {
+    const bool first = !titled;
+    titled = true;
+    return first ? " title 'Release area'" : " notitle";
+  };
+  if (anyLine)
+    s << ", " << gnuplotString(lines) << " using 1:2 with lines lw 3 lc rgb '" << kReleaseColour
+      << "'" << key();
+  if (anyPoint)
+    s << ", " << gnuplotString(points) << " using 1:2 with points pt 7 ps 1.6 lc rgb '"
+      << kReleaseColour << "'" << key();
+  s << "\nset output\n";
+  fig::runGnuplot(s.str(), pngPath);
+  out.commit();
+}
+
+namespace {
+
+// The type-1 quantile of sorted `x` (the inverse of its empirical CDF): x[ceil(p n) - 1].
+double quantile(const std::vector<double>& sorted, double p) {
+  const auto n = static_cast<double>(sorted.size());
+  const auto k = static_cast<std::size_t>(std::max(1.0, std::ceil(p * n)));
+  return sorted[std::min(k, sorted.size()) - 1];
+}
+
+// One panel: the empirical CDF of `values` (written to `csv`) with its median and p95 marked.
+fig::Panel cdfPanel(std::vector<double> values, const std::string& what, const std::string& unit,
+                    const std::string& csv, const std::string& pngPath) {
+  std::erase_if(values, [](double v) { return !std::isfinite(v); });
+  if (values.empty()) throw InputError(pngPath, "runout plot: no finite " + what + " to plot");
+  std::sort(values.begin(), values.end());
+  std::ofstream o(csv);
+  o << std::setprecision(15) << what << ",cumulative_fraction\n" << values[0] << ",0\n";
+  const auto n = static_cast<double>(values.size());
+  for (std::size_t k = 0; k < values.size(); ++k) o << values[k] << "," << (k + 1) / n << "\n";
+  if (!o) throw InputError(pngPath, "cannot write the temporary file " + csv);
+  const double p50 = quantile(values, 0.5), p95 = quantile(values, 0.95);
+  std::ostringstream title;
+  const std::string u = unit == "°" ? unit : " " + unit;  // 33°, but 550 m
+  title << std::setprecision(4) << "median " << p50 << u << ", 95th percentile " << p95 << u;
+  fig::Panel p;
+  p.title = title.str();
+  p.xLabel = what + " (" + unit + ")";
+  p.yLabel = "Fraction of realisations at or below";
+  p.series.push_back({"", csv, "1:2", "steps", 0, false});
+  p.settings = {"set yrange [0:1]",
+                "set key off",
+                "set arrow 1 from graph 0, first 0.5 to graph 1, first 0.5 nohead dt 2 lc rgb "
+                "'#808080'",
+                "set arrow 2 from graph 0, first 0.95 to graph 1, first 0.95 nohead dt 2 lc rgb "
+                "'#808080'",
+                "set arrow 3 from " + number(p50) + ", graph 0 to " + number(p50) +
+                    ", first 0.5 nohead dt 3 lc rgb '#808080'",
+                "set arrow 4 from " + number(p95) + ", graph 0 to " + number(p95) +
+                    ", first 0.95 nohead dt 3 lc rgb '#808080'"};
+  return p;
+}
+
+}  // namespace
+
+void writeRunoutPlot(const std::vector<double>& runoutsM, const std::vector<double>& reachAnglesDeg,
+                     const std::string& pngPath) {
+  const fig::ScratchFolder scratch;
+  fig::Figure f;
+  f.width = kRunoutPlotWidthPx;
+  f.height = kRunoutPlotHeightPx;
+  f.panels.push_back(cdfPanel(runoutsM, "Runout", "m", scratch.file("runout.csv"), pngPath));
+  f.panels.push_back(
+      cdfPanel(reachAnglesDeg, "Reach angle", "°", scratch.file("reach_angle.csv"), pngPath));
+  f.title = "Runout and reach angle of " + std::to_string(runoutsM.size()) + " realisations";
+  f.footnote = "Empirical cumulative distributions; dashed: median and 95th percentile.";
+  const auto missing =
+      std::count_if(runoutsM.begin(), runoutsM.end(), [](double v) { return !std::isfinite(v); });
+  if (missing > 0)
+    f.footnote += " " + std::to_string(missing) + " realisation(s) without a runout left out.";
+  fig::drawFigurePng(f, pngPath);
+}
+
+}  // namespace vf

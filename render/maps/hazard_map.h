@@ -1,0 +1,81 @@
+// Maps people look at (issue 11, item 3): a per-cell statistic of an ensemble over a hillshade
+// of its DEM, with a legend, a scale bar, a north arrow and the release areas; and the runout
+// and reach-angle distributions of the realisations. Both are drawn by gnuplot (pngcairo)
+// through render/figures/gnuplot.h and written through an OutputFile (temporary name, renamed
+// when complete).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "render/output/output_file.h"
+#include "sim/core/math.h"
+#include "sim/shape/heightfield.h"
+
+namespace vf {
+
+// One per-cell statistic to map.
+struct MapLayer {
+  std::string name;            // file stem, e.g. "energy_p95"
+  std::string title;           // e.g. "Kinetic energy, 95th percentile"
+  std::string units;           // e.g. "kJ"; empty for a dimensionless number
+  std::vector<double> values;  // dem.nx * dem.ny, laid out as Heightfield::z (z[j * nx + i],
+                               // j from the south); NaN = no value
+};
+
+// Where a hazard map of a DEM lands in its PNG. Map coordinates are the DEM file's (easting,
+// northing: world minus dem.shift) when the DEM has a CRS, else world x, y; metres.
+struct MapFrame {
+  int width = 0, height = 0;                      // PNG size, px
+  int left = 0, top = 0;                          // the map area's top-left pixel corner
+  int plotWidth = 0, plotHeight = 0;              // the map area, px (same scale along x and y)
+  double xMin = 0, xMax = 0, yMin = 0, yMax = 0;  // map coordinates of its edges, m
+  double shiftX = 0, shiftY = 0;                  // map coordinates = world - shift, m
+  bool fileCoordinates = false;  // axes in the DEM file's coordinates (it has a CRS)
+
+  // The pixel (column, row from the top; fractional, pixel centres at .5) of world (x, y).
+  double columnOf(double x) const { return left + (x - shiftX - xMin) / (xMax - xMin) * plotWidth; }
+  double rowOf(double y) const { return top + (yMax - (y - shiftY)) / (yMax - yMin) * plotHeight; }
+};
+
+// The hillshade's grey where a map has no value: 255 (kHillshadeFloor + (1 - kHillshadeFloor)
+// hillshade), so shadows stay mid-grey and never compete with the colour map's dark end.
+inline constexpr double kHillshadeFloor = 0.4;
+
+// The layout writeHazardMap uses for `dem`: the map's longer side is kMapLongSidePx pixels and
+// covers the grid's cells (each sample at the centre of its square), with room left for the
+// axes, the title and the legend.
+inline constexpr int kMapLongSidePx = 800;
+MapFrame hazardMapFrame(const Heightfield& dem);
+
+// Writes a PNG map of `layer` over a hillshade of `dem` (hillshade.h: Horn's slope and aspect,
+// sun at azimuth 315 deg, altitude 45 deg): each map pixel shows the largest value of the
+// samples it covers (the sample under it when a pixel is smaller than a cell), in viridis
+// (colour_map.h) scaled linearly from the layer's smallest to its largest value where the layer has
+// a value (opaque, so the colour reads exactly against the legend), the hillshade in grey
+// (kHillshadeFloor) where it has none, white where the DEM has no data. With a colour legend titled
+// with `layer.title` and `layer.units`, a scale bar in metres of a round length (1, 2 or 5 times a
+// power of ten, at most a quarter of the map's width), a north arrow, and the release areas
+// outlined in red: each a polygon of world (x, y) points, m; one point is drawn as a marker, two as
+// a line. `rules` as for every output (output_file.h). Throws InputError (naming the file) if
+// values has the wrong size, the path cannot be written under `rules`, or gnuplot fails; a file
+// already at pngPath is then left as it was, and no temporary file remains.
+void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
+                    const std::vector<std::vector<Vec2>>& releaseAreas, const std::string& pngPath,
+                    const OutputRules& rules = replaceOutputs());
+
+// Size of the runout plot's PNG, px.
+inline constexpr int kRunoutPlotWidthPx = 1000, kRunoutPlotHeightPx = 450;
+
+// Writes the runout (m) and reach-angle (deg) distributions of an ensemble's realisations as
+// one PNG of two panels, each the empirical cumulative distribution (fraction of realisations
+// at or below a value) with its median and 95th percentile (the smallest value whose cumulative
+// fraction reaches 0.5 and 0.95) marked. Why a CDF and not a histogram: it needs no bin width
+// (a histogram of a few hundred runs changes shape with it), shows every realisation, and the
+// numbers a hazard assessment quotes (median runout, the runout exceeded by 5 % of the rocks)
+// are read straight off it. Non-finite values are left out. Throws InputError if either list has
+// no finite value, the path cannot be written, or gnuplot fails.
+void writeRunoutPlot(const std::vector<double>& runoutsM, const std::vector<double>& reachAnglesDeg,
+                     const std::string& pngPath);
+
+}  // namespace vf
