@@ -1,0 +1,421 @@
+// voxfall ensemble SCENE --runs N: many independent realisations of the scene's [ensemble]
+// release (sim/ensemble/), reduced into per-cell rasters on the DEM's grid, a table of runs and
+// a summary (README, "Ensembles and hazard maps").
+//
+// The command is thin: options, output files (render/output/output_file.h: temporary names,
+// renamed when complete; -y/-n; inputs never written), threads and MPI ranks, the progress
+// line. Every number comes from sim/ensemble; the reduction reads the realisations in index
+// order only, so the files are the same bytes for any --jobs and any number of MPI ranks.
+// Outputs are written by rank 0 alone.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "render/cli/commands.h"
+#include "render/cli/ensemble_mpi.h"
+#include "render/cli/options.h"
+#include "render/cli/run_output.h"
+#include "render/output/output_file.h"
+#include "render/progress.h"
+#include "sim/core/error.h"
+#include "sim/ensemble/ensemble.h"
+#include "sim/ensemble/ensemble_stats.h"
+#include "sim/ensemble/raster_output.h"
+#include "sim/scene/scene.h"
+
+namespace vf::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct EnsembleOptions {
+  std::string scene;
+  std::int64_t runs = 0;
+  std::optional<std::uint64_t> seed;
+  int jobs = 1;
+  std::optional<std::int64_t> only;
+  std::string outDir;
+  bool converge = false;
+  bool paths = false;
+  bool quiet = false;
+  std::optional<int> level;
+  std::string step;
+  std::string collider;
+  bool overwrite = false;
+  bool neverOverwrite = false;
+};
+
+// The cells with the most passages that --converge follows.
+constexpr int kConvergenceCells = 3;
+
+std::string fmt(const char* format, double v) {
+  if (!std::isfinite(v)) return "";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+// JSON numbers: non-finite ones become null.
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+// One output per statistic and format, the runs table, the summary and the optional files; all
+// opened (checked) before any realisation runs.
+struct Outputs {
+  struct Raster {
+    std::unique_ptr<OutputFile> tif, asc, prj;
+  };
+  std::vector<Raster> rasters;  // per layer, in cellStatistics' order
+  std::unique_ptr<OutputFile> runs, summary, converge, paths;
+};
+
+const char* const kLayerNames[] = {"passages",   "reach_probability", "energy_mean",
+                                   "energy_p50", "energy_p95",        "energy_max",
+                                   "height_p95", "speed_p95",         "deposited"};
+
+Outputs openOutputs(const EnsembleOptions& o, const OutputRules& rules, bool hasCrs) {
+  Outputs out;
+  const fs::path dir(o.outDir);
+  auto open = [&](const std::string& name) {
+    return std::make_unique<OutputFile>((dir / name).string(), rules);
+  };
+  for (const char* name : kLayerNames) {
+    Outputs::Raster r;
+    r.tif = open(std::string(name) + ".tif");
+    r.asc = open(std::string(name) + ".asc");
+    if (hasCrs) r.prj = open(std::string(name) + ".prj");
+    out.rasters.push_back(std::move(r));
+  }
+  out.runs = open("runs.csv");
+  out.summary = open("summary.json");
+  if (o.converge) out.converge = open("converge.csv");
+  if (o.paths) out.paths = open("paths.csv");
+  return out;
+}
+
+// runs.csv: one row per realisation; coordinates in the DEM file's own coordinates.
+void writeRunsCsv(std::FILE* f, const Ensemble& ens, const std::vector<RealisationResult>& runs) {
+  const Heightfield& dem = ens.dem();
+  std::fputs(
+      "index,seed,shape,release_x,release_y,release_z,stop_x,stop_y,stop_z,stop_time,runout_m,"
+      "reach_angle_deg,max_speed_ms,max_energy_kJ,max_jump_height_m,state,steps,checksum\n",
+      f);
+  for (const RealisationResult& r : runs) {
+    const Vec3 a = worldToDem(dem, r.release), b = worldToDem(dem, r.end);
+    std::fprintf(f,
+                 "%lld,%llu,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%lld,"
+                 "%016llx\n",
+                 static_cast<long long>(r.index), static_cast<unsigned long long>(r.seed),
+                 ens.ensemble().shapes[static_cast<std::size_t>(r.shape)].c_str(), a.x(), a.y(),
+                 a.z(), b.x(), b.y(), b.z(), r.endTime, r.runout, r.reachAngle, r.maxSpeed,
+                 r.maxEnergy / 1000.0, r.maxJumpHeight, rockStateName(r.state),
+                 static_cast<long long>(r.steps), static_cast<unsigned long long>(r.checksum));
+  }
+}
+
+// paths.csv: every step's centre of mass, DEM coordinates, numbers that read back bit-exact.
+void writePathsCsv(std::FILE* f, const Heightfield& dem,
+                   const std::vector<RealisationResult>& runs) {
+  std::fputs("index,time,x,y,z\n", f);
+  for (const RealisationResult& r : runs)
+    for (const PathPoint& p : r.path) {
+      const Vec3 x = worldToDem(dem, p.x);
+      std::fprintf(f, "%lld,%.17g,%.17g,%.17g,%.17g\n", static_cast<long long>(r.index), p.time,
+                   x.x(), x.y(), x.z());
+    }
+}
+
+// Sorted copy, for the summary's percentiles.
+std::vector<double> sorted(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+nlohmann::ordered_json distribution(const std::vector<double>& values) {
+  const std::vector<double> s = sorted(values);
+  if (s.empty()) return nlohmann::ordered_json();
+  nlohmann::ordered_json j;
+  j["min"] = number(s.front());
+  j["p50"] = number(nearestRankPercentile(s.data(), s.size(), 50));
+  j["p95"] = number(nearestRankPercentile(s.data(), s.size(), 95));
+  j["max"] = number(s.back());
+  return j;
+}
+
+int runEnsemble(const EnsembleOptions& o) {
+  SceneSpec spec = loadScene(o.scene);
+  if (o.level) applyLevelOverride(spec, *o.level);
+  if (!o.step.empty()) applyStepOverride(spec, o.step);
+  if (!o.collider.empty()) applyColliderOverride(spec, o.collider);
+  if (!spec.ensemble)
+    throw InputError(spec.path,
+                     "the scene has no [ensemble] table (what varies between realisations; see "
+                     "the README, \"Ensembles and hazard maps\")");
+  if (o.only && (*o.only < 0 || *o.only >= o.runs))
+    throw InputError("", "--only " + std::to_string(*o.only) + " is not a realisation of --runs " +
+                             std::to_string(o.runs) + " (0 .. " + std::to_string(o.runs - 1) + ")");
+  const std::uint64_t seed = o.seed.value_or(spec.ensemble->seed);
+  EnsembleOptions opts = o;
+  if (opts.outDir.empty()) opts.outDir = "out/" + spec.name + "_ensemble";
+
+  MpiSession mpi;
+  const bool root = mpi.rank() == 0;
+  // Outputs are checked and opened by rank 0 before the expensive part; every rank learns
+  // whether that worked, so none waits for a rank that gave up.
+  OutputRules rules = runOutputRules(spec, o.scene, o.overwrite, o.neverOverwrite);
+  if (!spec.ensemble->cellsPath.empty()) rules.inputs.push_back(spec.ensemble->cellsPath);
+  if (!spec.groundClassesPath.empty()) rules.inputs.push_back(spec.groundClassesPath);
+  std::optional<Outputs> outputs;
+  std::optional<Ensemble> ensemble;
+  std::exception_ptr failure;
+  try {
+    if (root) {
+      const Heightfield probe = loadDem(spec.terrainPath);
+      outputs = openOutputs(opts, rules, !probe.crsWkt.empty());
+    }
+    ensemble.emplace(spec);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  if (!mpi.allOk(!failure)) {
+    if (failure) std::rethrow_exception(failure);
+    return 1;  // another rank reported the problem
+  }
+  installStopHandlers();
+
+  // Realisations of this rank: every size-th from its rank (round robin balances ranks when
+  // realisation costs drift with the index, which they do not by construction, but cheaply).
+  std::vector<std::int64_t> indices;
+  if (o.only) {
+    if (root) indices.push_back(*o.only);
+  } else {
+    for (std::int64_t i = mpi.rank(); i < o.runs; i += mpi.size()) indices.push_back(i);
+  }
+  const int jobs = std::max(1, o.jobs);
+  const auto started = std::chrono::steady_clock::now();
+  Progress progress(spec.name + " ensemble", static_cast<int>(indices.size()), root && !o.quiet);
+  const auto report = [&](int done) {
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    char detail[96];
+    std::snprintf(detail, sizeof detail, "%.2f realisations/s%s", s > 0 ? done / s : 0.0,
+                  mpi.size() > 1 ? " on rank 0" : "");
+    progress.update(done, detail);
+  };
+  std::vector<RealisationResult> mine;
+  try {
+    mine = runRealisations(*ensemble, indices, seed, jobs, o.paths, report,
+                           [] { return stopSignal() != 0; });
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  progress.finish();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  if (!mpi.allOk(!failure)) {
+    if (failure) std::rethrow_exception(failure);
+    return 1;
+  }
+
+  // Every rank's realisations on rank 0, in index order.
+  const std::vector<std::string> gathered = mpi.gather(serializeResults(mine));
+  if (!root) return stopSignal() ? 128 + stopSignal() : 0;
+  std::vector<RealisationResult> all;
+  for (const std::string& bytes : gathered) {
+    std::vector<RealisationResult> part = deserializeResults(bytes);
+    for (RealisationResult& r : part) all.push_back(std::move(r));
+  }
+  std::sort(all.begin(), all.end(), [](const RealisationResult& a, const RealisationResult& b) {
+    return a.index < b.index;
+  });
+  // An interrupted ensemble keeps its complete prefix 0 .. k-1: exactly the ensemble --runs k
+  // would give, so what it wrote can be reproduced.
+  std::size_t complete = 0;
+  while (complete < all.size() && all[complete].complete) ++complete;
+  all.resize(complete);
+  const int stop = stopSignal();
+  if (all.empty()) {
+    std::fprintf(stderr, "voxfall: %s; no realisation complete, no output written\n",
+                 stop ? "interrupted" : "nothing ran");
+    return stop ? 128 + stop : 1;
+  }
+
+  const Ensemble& ens = *ensemble;
+  const Heightfield& dem = ens.dem();
+  const std::vector<StatLayer> layers = cellStatistics(dem, all);
+  std::string written;
+  const auto commit = [&](OutputFile& f) {
+    f.commit();
+    written += (written.empty() ? "" : ", ") + fs::path(f.path()).filename().string();
+  };
+  for (std::size_t k = 0; k < layers.size(); ++k) {
+    Outputs::Raster& r = outputs->rasters[k];
+    r.tif->closeStream();
+    writeRaster(r.tif->tempPath(), RasterFormat::kGeoTiff, layers[k].values, dem.nx, dem.ny,
+                spec.terrainPath);
+    commit(*r.tif);
+    r.asc->closeStream();
+    const std::string prj = writeRaster(r.asc->tempPath(), RasterFormat::kEsriAscii,
+                                        layers[k].values, dem.nx, dem.ny, spec.terrainPath);
+    commit(*r.asc);
+    if (r.prj && !prj.empty()) {
+      r.prj->closeStream();
+      if (std::rename(prj.c_str(), r.prj->tempPath().c_str()) != 0)
+        throw InputError(r.prj->path(), "cannot move GDAL's .prj file into place");
+      commit(*r.prj);
+    } else if (!prj.empty()) {
+      std::remove(prj.c_str());
+    }
+  }
+  writeRunsCsv(outputs->runs->stream(), ens, all);
+  commit(*outputs->runs);
+  if (outputs->paths) {
+    writePathsCsv(outputs->paths->stream(), dem, all);
+    commit(*outputs->paths);
+  }
+
+  std::vector<ConvergenceRow> conv;
+  if (o.converge) {
+    conv = convergence(dem, all, kConvergenceCells);
+    std::FILE* f = outputs->converge->stream();
+    std::fputs("runs,cell_i,cell_j,x,y,passages,reach_probability,energy_p95_kJ\n", f);
+    std::fprintf(stderr, "convergence at the %d cells with the most passages:\n",
+                 kConvergenceCells);
+    std::fprintf(stderr, "  %8s  %6s %6s  %9s  %11s  %14s\n", "runs", "i", "j", "passages",
+                 "reach prob.", "energy p95 kJ");
+    for (const ConvergenceRow& c : conv) {
+      const int i = c.cell % dem.nx, j = c.cell / dem.nx;
+      const Vec3 at = worldToDem(dem, Vec3(dem.x0 + i * dem.cell, dem.y0 + j * dem.cell, 0));
+      std::fprintf(f, "%lld,%d,%d,%.4f,%.4f,%lld,%.6f,%s\n", static_cast<long long>(c.runs), i, j,
+                   at.x(), at.y(), static_cast<long long>(c.passages), c.reachProbability,
+                   fmt("%.4f", c.energyP95).c_str());
+      std::fprintf(stderr, "  %8lld  %6d %6d  %9lld  %11.4f  %14s\n",
+                   static_cast<long long>(c.runs), i, j, static_cast<long long>(c.passages),
+                   c.reachProbability, fmt("%.3f", c.energyP95).c_str());
+    }
+    commit(*outputs->converge);
+  }
+
+  // The summary holds nothing that depends on threads, ranks or the clock.
+  nlohmann::ordered_json s;
+  s["scene"] = spec.name;
+  s["seed"] = seed;
+  s["runs_requested"] = o.only ? 1 : o.runs;
+  s["runs"] = all.size();
+  if (o.only) s["only"] = *o.only;
+  int states[4] = {0, 0, 0, 0};
+  std::vector<double> runouts, angles;
+  for (const RealisationResult& r : all) {
+    ++states[static_cast<int>(r.state)];
+    runouts.push_back(r.runout);
+    angles.push_back(r.reachAngle);
+  }
+  s["states"] = {{"stopped", states[1]},
+                 {"left", states[2]},
+                 {"buried", states[3]},
+                 {"moving_at_end", states[0]}};
+  s["runout_m"] = distribution(runouts);
+  s["reach_angle_deg"] = distribution(angles);
+  s["dem"] = {{"path", spec.terrainPath},
+              {"nx", dem.nx},
+              {"ny", dem.ny},
+              {"cell", dem.cell},
+              {"crs", dem.crsName}};
+  nlohmann::ordered_json stats = nlohmann::ordered_json::array();
+  for (const StatLayer& l : layers) {
+    double most = NAN;
+    for (double v : l.values)
+      if (!std::isnan(v) && !(most >= v)) most = v;
+    stats.push_back({{"name", l.name},
+                     {"title", l.title},
+                     {"units", l.units},
+                     {"max", number(most)},
+                     {"files", {l.name + ".tif", l.name + ".asc"}}});
+  }
+  s["statistics"] = stats;
+  s["passage"] =
+      "a realisation passes a cell (the DEM pixel) when its centre of mass's straight path over "
+      "some step meets the cell; counted once per realisation and cell";
+  s["percentile"] = "nearest rank over the realisations that passed the cell";
+  if (o.converge) {
+    nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+    for (const ConvergenceRow& c : conv)
+      rows.push_back({{"runs", c.runs},
+                      {"cell_i", c.cell % dem.nx},
+                      {"cell_j", c.cell / dem.nx},
+                      {"reach_probability", c.reachProbability},
+                      {"energy_p95_kJ", number(c.energyP95)}});
+    s["convergence"] = rows;
+  }
+  const std::string text = s.dump(2) + "\n";
+  std::fputs(text.c_str(), outputs->summary->stream());
+  commit(*outputs->summary);
+
+  std::printf(
+      "%s: %zu realisations (seed %llu): %d stopped, %d left the DEM, %d buried, %d "
+      "still moving at %.4g s\n",
+      spec.name.c_str(), all.size(), static_cast<unsigned long long>(seed), states[1], states[2],
+      states[3], states[0], spec.duration);
+  std::fprintf(stderr, "voxfall: %zu realisations in %.2f s (%.2f realisations/s, %d thread%s%s)\n",
+               all.size(), seconds, seconds > 0 ? all.size() / seconds : 0.0, jobs,
+               jobs == 1 ? "" : "s",
+               mpi.size() > 1 ? (" x " + std::to_string(mpi.size()) + " ranks").c_str() : "");
+  std::printf("  wrote %s in %s\n", written.c_str(), opts.outDir.c_str());
+  if (stop) {
+    std::fprintf(stderr,
+                 "voxfall: interrupted; the first %zu realisations (0 .. %zu) are written, the "
+                 "same as --runs %zu\n",
+                 all.size(), all.size() - 1, all.size());
+    return 128 + stop;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addEnsembleCommand(CLI::App& app, int& exitCode) {
+  auto o = std::make_shared<EnsembleOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "ensemble",
+      "Run many independent realisations of a scene's [ensemble] release and write per-cell "
+      "hazard rasters (GeoTIFF and ESRI ASCII), runs.csv and summary.json");
+  sub->add_option("SCENE", o->scene, "scene file (TOML) with an [ensemble] table")
+      ->required()
+      ->type_name("");
+  sub->add_option("--runs", o->runs, "number of realisations N")
+      ->required()
+      ->type_name("N")
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{100000000}));
+  sub->add_option("--seed", o->seed,
+                  "ensemble seed S (default: [ensemble] seed); realisation i uses a seed made "
+                  "from S and i only")
+      ->type_name("S");
+  sub->add_option("--jobs,-j", o->jobs,
+                  "threads running realisations (outputs are the same bytes for any value)")
+      ->type_name("J")
+      ->check(CLI::Range(1, 1024));
+  sub->add_option("--only", o->only,
+                  "run realisation i of the N alone (the same trajectory as inside the ensemble)")
+      ->type_name("i");
+  sub->add_option("-o,--output", o->outDir, "output folder (default out/SCENE_ensemble)")
+      ->type_name("DIR");
+  sub->add_flag("--converge", o->converge,
+                "write converge.csv and print how reach probability and p95 energy at the 3 "
+                "busiest cells change over N/8, N/4, N/2, N realisations");
+  sub->add_flag("--paths", o->paths,
+                "write paths.csv: every realisation's centre of mass after every step");
+  addPhysicsOptions(*sub, o->level, o->step, o->collider);
+  sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
+  addOverwriteFlags(*sub, o->overwrite, o->neverOverwrite);
+  sub->callback([o, &exitCode] { exitCode = runEnsemble(*o); });
+}
+
+}  // namespace vf::cli
