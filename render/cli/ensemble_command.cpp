@@ -168,7 +168,7 @@ int runEnsemble(const EnsembleOptions& o) {
 
   MpiSession mpi;
   const bool root = mpi.rank() == 0;
-  // Outputs are checked and opened by rank 0 before the expensive part; every rank learns
+  // Outputs are checked and opened by rank 0 before any realisation runs; every rank learns
   // whether that worked, so none waits for a rank that gave up.
   OutputRules rules = runOutputRules(spec, o.scene, o.overwrite, o.neverOverwrite);
   if (!spec.ensemble->cellsPath.empty()) rules.inputs.push_back(spec.ensemble->cellsPath);
@@ -177,11 +177,8 @@ int runEnsemble(const EnsembleOptions& o) {
   std::optional<Ensemble> ensemble;
   std::exception_ptr failure;
   try {
-    if (root) {
-      const Heightfield probe = loadDem(spec.terrainPath);
-      outputs = openOutputs(opts, rules, !probe.crsWkt.empty());
-    }
-    ensemble.emplace(spec);
+    ensemble.emplace(spec);  // terrain and shapes, once (a few seconds at most)
+    if (root) outputs = openOutputs(opts, rules, !ensemble->dem().crsWkt.empty());
   } catch (...) {
     failure = std::current_exception();
   }
@@ -263,16 +260,12 @@ int runEnsemble(const EnsembleOptions& o) {
                 spec.terrainPath);
     commit(*r.tif);
     r.asc->closeStream();
-    const std::string prj = writeRaster(r.asc->tempPath(), RasterFormat::kEsriAscii,
-                                        layers[k].values, dem.nx, dem.ny, spec.terrainPath);
+    writeRaster(r.asc->tempPath(), RasterFormat::kEsriAscii, layers[k].values, dem.nx, dem.ny,
+                spec.terrainPath);
     commit(*r.asc);
-    if (r.prj && !prj.empty()) {
-      r.prj->closeStream();
-      if (std::rename(prj.c_str(), r.prj->tempPath().c_str()) != 0)
-        throw InputError(r.prj->path(), "cannot move GDAL's .prj file into place");
+    if (r.prj) {  // the ASCII grid's CRS: the DEM's own WKT
+      std::fputs(dem.crsWkt.c_str(), r.prj->stream());
       commit(*r.prj);
-    } else if (!prj.empty()) {
-      std::remove(prj.c_str());
     }
   }
   writeRunsCsv(outputs->runs->stream(), ens, all);

@@ -39,9 +39,8 @@ class QuietGdalErrors {
 
 }  // namespace
 
-std::string writeRaster(const std::string& path, RasterFormat format,
-                        const std::vector<double>& values, int nx, int ny,
-                        const std::string& demPath) {
+void writeRaster(const std::string& path, RasterFormat format, const std::vector<double>& values,
+                 int nx, int ny, const std::string& demPath) {
   static std::once_flag registered;
   std::call_once(registered, [] { GDALAllRegister(); });
   QuietGdalErrors errors;
@@ -90,10 +89,12 @@ std::string writeRaster(const std::string& path, RasterFormat format,
   out.h = nullptr;
   if (CPLGetLastErrorType() >= CE_Failure)
     throw InputError(path, "cannot write the raster: " + errors.last());
-  if (tiff || !hasCrs) return "";
-  std::filesystem::path prj(path);
-  prj.replace_extension(".prj");
-  return std::filesystem::exists(prj) ? prj.string() : "";
+  if (!tiff && hasCrs) {
+    std::filesystem::path prj(path);
+    prj.replace_extension(".prj");
+    std::error_code ec;
+    std::filesystem::remove(prj, ec);
+  }
 }
 
 }  // namespace vf
