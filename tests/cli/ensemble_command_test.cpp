@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "tests/support/chute_dem.h"
+#include "tests/support/segment_square.h"
 #include "tests/support/voxfall_command.h"
 
 namespace {
@@ -149,29 +150,6 @@ TEST_F(EnsembleCommandTest, RastersCarryTheInputGeoreferenceAndCrs) {
   GDALClose(in);
 }
 
-// Segment p-q against the closed square [x0, x1] x [y0, y1] (Liang and Barsky's clipping): an
-// oracle written apart from the command's cell walk.
-bool segmentMeetsSquare(double px, double py, double qx, double qy, double x0, double x1, double y0,
-                        double y1) {
-  double t0 = 0, t1 = 1;
-  const double dx = qx - px, dy = qy - py;
-  const double p[4] = {-dx, dx, -dy, dy};
-  const double q[4] = {px - x0, x1 - px, py - y0, y1 - py};
-  for (int k = 0; k < 4; ++k) {
-    if (p[k] == 0) {
-      if (q[k] < 0) return false;
-    } else {
-      const double t = q[k] / p[k];
-      if (p[k] < 0)
-        t0 = std::max(t0, t);
-      else
-        t1 = std::min(t1, t);
-      if (t0 > t1) return false;
-    }
-  }
-  return true;
-}
-
 TEST_F(EnsembleCommandTest, ReachProbabilityEqualsAnIndependentCountFromThePaths) {
   vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
   const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 8 --jobs 2 --paths -q -o p");
@@ -203,7 +181,8 @@ TEST_F(EnsembleCommandTest, ReachProbabilityEqualsAnIndependentCountFromThePaths
         bool met = false;
         for (std::size_t k = 0; k < pts.size() && !met; ++k) {
           const auto& a = pts[k > 0 ? k - 1 : 0];
-          met = segmentMeetsSquare(a.first, a.second, pts[k].first, pts[k].second, x0, x1, y0, y1);
+          met = vf::test::segmentMeetsSquare(a.first, a.second, pts[k].first, pts[k].second, x0, x1,
+                                             y0, y1);
         }
         count += met ? 1 : 0;
       }
