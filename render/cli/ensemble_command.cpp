@@ -28,6 +28,7 @@
 #include "render/progress.h"
 #include "sim/core/error.h"
 #include "sim/ensemble/ensemble.h"
+#include "sim/ensemble/ensemble_bake.h"
 #include "sim/ensemble/ensemble_stats.h"
 #include "sim/ensemble/raster_output.h"
 #include "sim/scene/scene.h"
@@ -46,6 +47,7 @@ struct EnsembleOptions {
   std::string outDir;
   bool converge = false;
   bool paths = false;
+  int videoRuns = 0;
   bool quiet = false;
   std::optional<int> level;
   std::string step;
@@ -74,7 +76,7 @@ struct Outputs {
     std::unique_ptr<OutputFile> tif, asc, prj;
   };
   std::vector<Raster> rasters;  // per layer, in cellStatistics' order
-  std::unique_ptr<OutputFile> runs, summary, converge, paths;
+  std::unique_ptr<OutputFile> runs, summary, converge, paths, bake;
 };
 
 const char* const kLayerNames[] = {"passages",   "reach_probability", "energy_mean",
@@ -98,6 +100,7 @@ Outputs openOutputs(const EnsembleOptions& o, const OutputRules& rules, bool has
   out.summary = open("summary.json");
   if (o.converge) out.converge = open("converge.csv");
   if (o.paths) out.paths = open("paths.csv");
+  if (o.videoRuns > 0) out.bake = open("ensemble_subset.bake");
   return out;
 }
 
@@ -275,6 +278,17 @@ int runEnsemble(const EnsembleOptions& o) {
     commit(*outputs->paths);
   }
 
+  if (outputs->bake) {
+    // The first --video-runs complete realisations (or the --only one), stepped again frame by
+    // frame for `voxfall render ensemble_subset.bake`.
+    std::vector<std::int64_t> chosen;
+    for (std::size_t k = 0; k < all.size() && static_cast<int>(k) < o.videoRuns; ++k)
+      chosen.push_back(all[k].index);
+    const Bake bake = ensembleBake(ens, seed, chosen);
+    writeBake(outputs->bake->stream(), outputs->bake->path(), bake);
+    commit(*outputs->bake);
+  }
+
   std::vector<ConvergenceRow> conv;
   if (o.converge) {
     conv = convergence(dem, all, kConvergenceCells);
@@ -405,6 +419,11 @@ void addEnsembleCommand(CLI::App& app, int& exitCode) {
                 "busiest cells change over N/8, N/4, N/2, N realisations");
   sub->add_flag("--paths", o->paths,
                 "write paths.csv: every realisation's centre of mass after every step");
+  sub->add_option("--video-runs", o->videoRuns,
+                  "write ensemble_subset.bake with the first K realisations' trajectories, for "
+                  "`voxfall render DIR/ensemble_subset.bake -o trajectories.mp4`")
+      ->type_name("K")
+      ->check(CLI::Range(1, 10000));
   addPhysicsOptions(*sub, o->level, o->step, o->collider);
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
   addOverwriteFlags(*sub, o->overwrite, o->neverOverwrite);

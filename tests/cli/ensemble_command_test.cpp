@@ -2,18 +2,23 @@
 // outputs do not depend on --jobs, a realisation rerun alone is the same trajectory, the rasters
 // carry the input DEM's georeference and CRS, the reach probability agrees with an independent
 // count from the written paths, and bad [ensemble] input is one clear error.
+#include <fcntl.h>
 #include <gdal.h>
 #include <gtest/gtest.h>
 #include <ogr_srs_api.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <map>
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "tests/support/chute_dem.h"
@@ -224,6 +229,51 @@ TEST_F(EnsembleCommandTest, MalformedEnsembleKeysAreClearErrors) {
     const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o bad");
     EXPECT_EQ(r.code, 1) << table;
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+  }
+}
+
+TEST_F(EnsembleCommandTest, SubsetBakeRendersWithTheRenderCommand) {
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+  const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 4 --video-runs 3 -q -o v");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto frame = runVoxfall(
+      kExe, dir_, "render v/ensemble_subset.bake --frames 30:30 --size 160x120 -o f.png -q");
+  ASSERT_EQ(frame.code, 0) << frame.err;
+  EXPECT_GT(fs::file_size(dir_ / "f.png"), 1000u);
+}
+
+TEST_F(EnsembleCommandTest, AnInterruptedEnsembleWritesItsCompletePrefix) {
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 10.0);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    if (::chdir(dir_.c_str()) != 0) ::_exit(126);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    ::execl(kExe.c_str(), kExe.c_str(), "ensemble", "scene.toml", "--runs", "100000", "--jobs", "2",
+            "-q", "-o", "int", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // Long enough for some realisations (tens of milliseconds each) to finish, on a busy machine
+  // too; 100000 of them take minutes, so the run is still going.
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  ::kill(child, SIGINT);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const auto rows = lines(readFile(dir_ / "int" / "runs.csv"));
+  ASSERT_GE(rows.size(), 2u) << "no realisation finished in 2 s";
+  const std::size_t k = rows.size() - 1;
+  for (std::size_t i = 0; i < k; ++i) EXPECT_EQ(split(rows[i + 1])[0], std::to_string(i));
+  // Exactly what --runs k writes.
+  const auto ref =
+      runVoxfall(kExe, dir_, "ensemble scene.toml -q -o ref --runs " + std::to_string(k));
+  ASSERT_EQ(ref.code, 0) << ref.err;
+  const auto a = files("int"), b = files("ref");
+  for (const auto& [name, bytes] : b) {
+    if (name == "summary.json") continue;  // it names the runs asked for (100000 and k)
+    EXPECT_TRUE(a.count(name) && a.at(name) == bytes) << name;
   }
 }
 
