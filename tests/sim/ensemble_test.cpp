@@ -3,6 +3,7 @@
 // a realisation.
 #include "sim/ensemble/ensemble.h"
 
+#include <gdal.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -197,6 +198,48 @@ TEST_F(EnsembleRunTest, ReleasesLieInTheAreaOnTheLineOrOnThePoints) {
     }
     EXPECT_GT(first, 5);
     EXPECT_LT(first, 35);
+  }
+}
+
+TEST_F(EnsembleRunTest, ReleasesFromASourceRasterLieInItsSourceCells) {
+  // Sources: DEM pixels (column 3, row 4 from the south) and (column 10, row 8), on a copy of
+  // the chute's grid with every other value 0.
+  test::ChuteDem c;
+  ASSERT_TRUE(test::writeChuteDem(dir_ / "sources.tif", c));
+  {
+    GDALDatasetH ds = GDALOpen((dir_ / "sources.tif").c_str(), GA_Update);
+    ASSERT_NE(ds, nullptr);
+    std::vector<double> v(static_cast<std::size_t>(c.nx) * c.ny, 0.0);
+    v[static_cast<std::size_t>(c.ny - 1 - 4) * c.nx + 3] = 1;  // GDAL rows from the north
+    v[static_cast<std::size_t>(c.ny - 1 - 8) * c.nx + 10] = 7;
+    ASSERT_EQ(GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Write, 0, 0, c.nx, c.ny, v.data(), c.nx,
+                           c.ny, GDT_Float64, 0, 0),
+              CE_None);
+    GDALClose(ds);
+  }
+  const Ensemble e(load("shape = \"rock\"\nrelease = { cells = \"sources.tif\" }\n"));
+  int inFirst = 0;
+  for (int i = 0; i < 40; ++i) {
+    const Vec3 x = e.makeWorld(realisationSeed(1, i))->state(0).x;
+    // World x of sample (i, j) is 1 + 2 i (DEM x0 = 1001 minus the offset 1000), y is 1 + 2 j.
+    const bool a = std::abs(x.x() - 7) <= 1 && std::abs(x.y() - 9) <= 1;
+    const bool b = std::abs(x.x() - 21) <= 1 && std::abs(x.y() - 17) <= 1;
+    EXPECT_TRUE(a || b) << x.transpose();
+    inFirst += a;
+  }
+  EXPECT_GT(inFirst, 5);
+  EXPECT_LT(inFirst, 35);
+  EXPECT_EQ(e.releaseAreas().size(), 2u);  // one square per source cell
+  // A raster on another grid is an error naming the key.
+  c.nx = 30;
+  ASSERT_TRUE(test::writeChuteDem(dir_ / "sources.tif", c));
+  try {
+    const Ensemble bad(load("shape = \"rock\"\nrelease = { cells = \"sources.tif\" }\n"));
+    ADD_FAILURE() << "a source raster off the DEM's grid was accepted";
+  } catch (const InputError& err) {
+    EXPECT_NE(std::string(err.what()).find("'release.cells' raster must lie on the DEM's grid"),
+              std::string::npos)
+        << err.what();
   }
 }
 
