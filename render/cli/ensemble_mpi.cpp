@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <string>
 
 #ifdef VOXFALL_WITH_MPI
 #include <mpi.h>
@@ -81,7 +82,17 @@ std::vector<std::string> MpiSession::gather(const std::string& bytes) {
 #else  // built without MPI: one process
 
 bool builtWithMpi() { return false; }
-MpiSession::MpiSession() = default;
+MpiSession::MpiSession() {
+  // Started as one of several processes by mpirun or srun: each would run the whole ensemble
+  // and write the same files at once. Say so instead.
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    const char* v = std::getenv(name);
+    if (v != nullptr && std::atoi(v) > 1)
+      throw InputError("", std::string("started as one of ") + v +
+                               " MPI processes, but this voxfall was built without MPI (configure "
+                               "with MPI installed, or run one process with --jobs)");
+  }
+}
 MpiSession::~MpiSession() = default;
 bool MpiSession::allOk(bool ok) { return ok; }
 std::vector<std::string> MpiSession::gather(const std::string& bytes) { return {bytes}; }
