@@ -120,10 +120,11 @@ Ensemble::Ensemble(const SceneSpec& spec) : spec_(spec) {
   VF_ASSERT(base_.terrain != nullptr);  // loadScene requires a heightfield with [ensemble]
   const Heightfield& dem = *base_.terrain;
   const auto outside = [&](const std::string& key, double x, double y) {
+    char range[160];
+    std::snprintf(range, sizeof range, "x %.3f .. %.3f, y %.3f .. %.3f", dem.x0,
+                  dem.x0 + (dem.nx - 1) * dem.cell, dem.y0, dem.y0 + (dem.ny - 1) * dem.cell);
     return "'" + key + "' " + formatPoint(x, y) + " lies outside the DEM '" + spec_.terrainPath +
-           "' or over NODATA (the grid covers x " +
-           formatPoint(dem.x0, dem.x0 + (dem.nx - 1) * dem.cell) + ", y " +
-           formatPoint(dem.y0, dem.y0 + (dem.ny - 1) * dem.cell) +
+           "' or over NODATA (the grid covers " + range +
            " in world coordinates, after [ground] offset)";
   };
   for (std::size_t i = 0; i < e.releasePoints.size(); ++i) {
