@@ -24,5 +24,7 @@ void addFiguresCommand(CLI::App& app, int& exitCode);
 void addFilmstripCommand(CLI::App& app, int& exitCode);
 // voxfall plot RUN.csv [--scene SCENE] [-o DIR]
 void addPlotCommand(CLI::App& app, int& exitCode);
+// voxfall ensemble SCENE --runs N [--seed S] [--jobs J] [--only i] [-o DIR] [--converge]
+void addEnsembleCommand(CLI::App& app, int& exitCode);
 
 }  // namespace vf::cli

@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
   vf::cli::addFiguresCommand(app, exitCode);
   vf::cli::addFilmstripCommand(app, exitCode);
   vf::cli::addPlotCommand(app, exitCode);
+  // Hazard ensembles: render/cli/ensemble_command.cpp (sim/ensemble/).
+  vf::cli::addEnsembleCommand(app, exitCode);
 
   try {
     app.parse(argc, argv);

@@ -171,8 +171,8 @@ void drawFigure(const Figure& figure, const std::string& basePath) {
   fs::rename(svgTmp, svg);
 }
 
-void drawFigurePng(const Figure& figure, const std::string& pngPath) {
-  OutputFile out(pngPath, replaceOutputs());
+void drawFigurePng(const Figure& figure, const std::string& pngPath, const OutputRules& rules) {
+  OutputFile out(pngPath, rules);
   out.closeStream();  // gnuplot writes the temporary file by name
   runGnuplot(pngTerminal(figure) + "set output " + gnuplotString(out.tempPath()) + "\n" +
                  body(figure) + "set output\n",

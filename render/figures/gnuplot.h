@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "render/output/output_file.h"
+
 namespace vf::fig {
 
 // One curve or bar set read from a CSV file with a header row.
@@ -40,8 +42,10 @@ struct Figure {
 void drawFigure(const Figure& figure, const std::string& basePath);
 
 // Writes `figure` as one PNG (no SVG) at `pngPath` through an OutputFile (temporary name,
-// renamed when gnuplot succeeded; existing files are replaced). Throws InputError as drawFigure.
-void drawFigurePng(const Figure& figure, const std::string& pngPath);
+// renamed when gnuplot succeeded) under `rules` (default: existing files are replaced). Throws
+// InputError as drawFigure.
+void drawFigurePng(const Figure& figure, const std::string& pngPath,
+                   const OutputRules& rules = replaceOutputs());
 
 // A folder of its own under the system's temporary folder for a figure's data files; removed
 // with everything in it when destroyed.

@@ -324,7 +324,7 @@ fig::Panel cdfPanel(std::vector<double> values, const std::string& what, const s
 }  // namespace
 
 void writeRunoutPlot(const std::vector<double>& runoutsM, const std::vector<double>& reachAnglesDeg,
-                     const std::string& pngPath) {
+                     const std::string& pngPath, const OutputRules& rules) {
   const fig::ScratchFolder scratch;
   fig::Figure f;
   f.width = kRunoutPlotWidthPx;
@@ -338,7 +338,7 @@ void writeRunoutPlot(const std::vector<double>& runoutsM, const std::vector<doub
       std::count_if(runoutsM.begin(), runoutsM.end(), [](double v) { return !std::isfinite(v); });
   if (missing > 0)
     f.footnote += " " + std::to_string(missing) + " realisation(s) without a runout left out.";
-  fig::drawFigurePng(f, pngPath);
+  fig::drawFigurePng(f, pngPath, rules);
 }
 
 }  // namespace vf

@@ -76,6 +76,6 @@ inline constexpr int kRunoutPlotWidthPx = 1000, kRunoutPlotHeightPx = 450;
 // are read straight off it. Non-finite values are left out. Throws InputError if either list has
 // no finite value, the path cannot be written, or gnuplot fails.
 void writeRunoutPlot(const std::vector<double>& runoutsM, const std::vector<double>& reachAnglesDeg,
-                     const std::string& pngPath);
+                     const std::string& pngPath, const OutputRules& rules = replaceOutputs());
 
 }  // namespace vf

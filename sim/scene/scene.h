@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -104,6 +105,31 @@ struct GroundMaterialSpec {
   std::string where;
 };
 
+// [ensemble]: what varies between the realisations of `voxfall ensemble` (README, "Ensembles
+// and hazard maps"). Each realisation is one rock in its own world; the scene's [[bodies]] and
+// [[emitters]] are not part of it (they serve `simulate` and `render` of the same file).
+enum class ReleaseKind { kArea, kLine, kPoints, kCells };
+using Point2 = std::array<double, 2>;  // world x, y (m)
+
+struct EnsembleSpec {
+  std::uint64_t seed = 1;           // `seed`; --seed overrides it
+  std::vector<std::string> shapes;  // `shapes` (or `shape`): drawn with `weights`
+  std::vector<double> weights;      // one per shape, > 0; equal when not given
+  ReleaseKind release = ReleaseKind::kPoints;
+  std::vector<Point2> releasePoints;           // area polygon, line vertices or points, world x, y
+  std::vector<std::string> releasePointWhere;  // "file:line:column" of each point
+  std::string releaseWhere;                    // of the release table's key
+  std::string releaseKey;                      // "release.area", "release.line", ...
+  std::string cellsPath;    // release.cells: source raster on the DEM's grid (non-zero = source)
+  double dropHeight = 1.0;  // m, lowest point above the surface under the rock at release
+  bool randomOrientation = true;  // `orientation = "random" | "fixed"` (fixed: identity)
+  Vec3 velocityMin = Vec3::Zero(), velocityMax = Vec3::Zero();                // m/s, per component
+  Vec3 angularVelocityMin = Vec3::Zero(), angularVelocityMax = Vec3::Zero();  // rad/s
+  // Ground contact parameters drawn per realisation, [lo, hi]; unset: the scene's.
+  std::optional<std::array<double, 2>> restitution, friction, rollingResistance;
+  std::string where;  // "file:line:column" of [ensemble]
+};
+
 struct OutputSpec {
   int width = 1280;
   int height = 720;
@@ -150,6 +176,7 @@ struct SceneSpec {
   CameraSpec camera;                // [camera], or the one `render --camera NAME` chose
   std::vector<CameraSpec> cameras;  // [cameras.NAME] tables, in file order
   OutputSpec output;
+  std::optional<EnsembleSpec> ensemble;  // [ensemble]
 };
 
 // Parses and validates a scene file. Unknown keys, wrong types, impossible values and missing
@@ -205,6 +232,22 @@ struct BuiltScene {
 // A distinct colour per body id for scenes that give none: a fixed palette of muted,
 // well-separated hues (linear RGB) that reads well under the sun and on the grey floor.
 Color defaultBodyColor(int id);
+
+// The World settings of a scene (terrain loaded, ground map built), without bodies.
+WorldDef sceneWorldDef(const SceneSpec& spec);
+// Each shape of a scene built once (mesh read once per file, sphere tree once per mesh, scale
+// and level), by name, with the shape's colour if it has one.
+struct SceneShape {
+  std::shared_ptr<const Shape> shape;
+  std::optional<Color> color;
+};
+std::map<std::string, SceneShape> buildSceneShapes(const SceneSpec& spec);
+// Centre of mass of a body of `shape` whose mesh-file origin is at `filePosition` with
+// orientation q (scenes place the file origin; the World places the centre of mass), m.
+Vec3 centreOfMass(const Shape& shape, const Vec3& filePosition, const Quat& q);
+// A rotation drawn uniformly from SO(3) (Shoemake, Graphics Gems III) from three uniforms in
+// [0, 1).
+Quat uniformRotation(double u1, double u2, double u3);
 
 // Loads meshes (each file once), validates them, builds each shape's sphere tree once per
 // (mesh, scale, level), and adds the bodies and the emitters' bodies (with release times).

@@ -27,16 +27,15 @@
 namespace vf {
 namespace {
 
-struct BuiltShape {
-  std::shared_ptr<const Shape> shape;
-  std::optional<Color> color;
-};
+using BuiltShape = SceneShape;
 
 // Sphere trees are a pure function of the scaled, centred mesh and the level, so
 // shapes that differ only in density or colour share one.
 using TreeKey = std::tuple<std::string, double, double, double, int>;
 
-std::map<std::string, BuiltShape> buildShapes(const SceneSpec& spec) {
+}  // namespace
+
+std::map<std::string, SceneShape> buildSceneShapes(const SceneSpec& spec) {
   std::map<std::string, TriMesh> meshes;  // by resolved file path and up axis
   std::map<TreeKey, std::shared_ptr<const SphereTree>> trees;
   std::map<std::string, BuiltShape> shapes;
@@ -108,28 +107,14 @@ std::map<std::string, BuiltShape> buildShapes(const SceneSpec& spec) {
   return shapes;
 }
 
+namespace {
+
 const BuiltShape& findShape(const std::map<std::string, BuiltShape>& shapes,
                             const std::string& name, const std::string& where) {
   auto it = shapes.find(name);
   // loadScene already rejects this; a spec built in code may not have been through it.
   if (it == shapes.end()) throw InputError(where, "unknown shape '" + name + "'");
   return it->second;
-}
-
-// The World places bodies by their centre of mass; scenes place the mesh file's origin. The
-// body frame has the centre of mass at its origin and the file origin at shape.meshOrigin, so
-// position = x + R * meshOrigin, i.e. x = position - R * meshOrigin.
-Vec3 centreOfMass(const Shape& shape, const Vec3& filePosition, const Quat& q) {
-  return filePosition - q.toRotationMatrix() * shape.meshOrigin;
-}
-
-// A rotation drawn uniformly from SO(3) (Shoemake, "Uniform random rotations", Graphics Gems
-// III) from three uniforms in [0, 1).
-Quat uniformRotation(double u1, double u2, double u3) {
-  const double twoPi = 2 * std::numbers::pi;
-  const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
-  return Quat(b * std::cos(twoPi * u3), a * std::sin(twoPi * u2), a * std::cos(twoPi * u2),
-              b * std::sin(twoPi * u3));
 }
 
 // The ground material named `name`: a custom one (its unset values from [contact]), else a
@@ -176,6 +161,20 @@ std::shared_ptr<const GroundMap> buildGroundMap(const SceneSpec& spec, const Hei
 
 }  // namespace
 
+// The World places bodies by their centre of mass; scenes place the mesh file's origin. The
+// body frame has the centre of mass at its origin and the file origin at shape.meshOrigin, so
+// position = x + R * meshOrigin, i.e. x = position - R * meshOrigin.
+Vec3 centreOfMass(const Shape& shape, const Vec3& filePosition, const Quat& q) {
+  return filePosition - q.toRotationMatrix() * shape.meshOrigin;
+}
+
+Quat uniformRotation(double u1, double u2, double u3) {
+  const double twoPi = 2 * std::numbers::pi;
+  const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
+  return Quat(b * std::cos(twoPi * u3), a * std::sin(twoPi * u2), a * std::cos(twoPi * u2),
+              b * std::sin(twoPi * u3));
+}
+
 Color defaultBodyColor(int id) {
   // Hand-picked: hue steps far apart in order, similar lightness, saturation kept below
   // "toy" levels so shading stays readable. Linear RGB (sRGB values in the comments).
@@ -201,7 +200,7 @@ std::shared_ptr<const Heightfield> loadSceneTerrain(const SceneSpec& spec) {
   return std::make_shared<const Heightfield>(std::move(terrain));
 }
 
-BuiltScene buildScene(const SceneSpec& spec) {
+WorldDef sceneWorldDef(const SceneSpec& spec) {
   WorldDef def;
   def.gravity = spec.gravity;
   def.fixedStep = spec.autoStep ? 0 : spec.fixedStep;
@@ -216,10 +215,13 @@ BuiltScene buildScene(const SceneSpec& spec) {
   def.sleep = spec.sleep;
   def.threads = spec.threads;
   def.limits = spec.limits;
+  return def;
+}
 
+BuiltScene buildScene(const SceneSpec& spec) {
   BuiltScene out;
-  out.world = std::make_unique<World>(def);
-  const auto shapes = buildShapes(spec);
+  out.world = std::make_unique<World>(sceneWorldDef(spec));
+  const auto shapes = buildSceneShapes(spec);
 
   std::vector<std::string> where;  // per body id, for the run-length check
   auto add = [&](const BuiltShape& s, const std::string& shapeName, BodyDef body,

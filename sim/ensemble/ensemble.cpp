@@ -1,0 +1,500 @@
+// Hazard ensembles: one realisation = one rock in its own World (see ensemble.h).
+//
+// Passages. A realisation passes a DEM cell (the pixel square centred on a DEM sample) when
+// the straight segment between its centre of mass before and after some step meets the cell;
+// the release cell counts. Under the eq.-20 rule a step moves a rock by at most about one
+// leaf-sphere radius (eq. 17), far less than a DEM cell, so the segments follow the
+// trajectory closely and a rock cannot jump over a cell it flew across. Each segment is walked
+// through the grid cell by cell (cellsOnSegment), so no cell on the way is missed, and the
+// cell is given the larger of the values at the segment's two ends (energy, height above
+// ground, speed); a realisation keeps, per cell, the largest over all its segments there.
+#include "sim/ensemble/ensemble.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <type_traits>
+
+#include "sim/core/error.h"
+#include "sim/core/prng.h"
+#include "sim/run_guard.h"
+
+namespace vf {
+namespace {
+
+// Release points are drawn inside the area by rejection from its bounding box; an area whose
+// box is mostly outside it (or over NODATA) could take long, so give up with a message.
+constexpr int kMaxReleaseTries = 100000;
+
+bool insidePolygon(const std::vector<Point2>& poly, double x, double y) {
+  // Even-odd rule (crossings of a ray towards +x).
+  bool inside = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const Point2& a = poly[i];
+    const Point2& b = poly[j];
+    if ((a[1] > y) != (b[1] > y) && x < (b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]) + a[0])
+      inside = !inside;
+  }
+  return inside;
+}
+
+std::string formatPoint(double x, double y) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%.3f, %.3f)", x, y);
+  return buf;
+}
+
+// Kinetic energy of body 0, J, and its lowest point's height above the ground under its centre.
+struct SampleValues {
+  double energy = 0, height = 0, speed = 0;
+};
+
+SampleValues sample(const World& w, const Heightfield& dem) {
+  SampleValues s;
+  const BodyState& y = w.state(0);
+  const Vec3 v = w.velocity(0);
+  const Vec3 om = w.angularVelocity(0);
+  s.speed = v.norm();
+  s.energy = 0.5 * w.shape(0).mass * v.squaredNorm() + 0.5 * y.L.dot(om);
+  const double g = dem.heightAt(y.x.x(), y.x.y());
+  if (!std::isnan(g)) {
+    const Mat3 R = y.q.toRotationMatrix();
+    double lowest = INFINITY;
+    for (const Vec3& p : w.shape(0).mesh.vertices) lowest = std::min(lowest, (R * p).z());
+    s.height = std::max(0.0, y.x.z() + lowest - g);
+  }
+  return s;
+}
+
+}  // namespace
+
+std::uint64_t realisationSeed(std::uint64_t ensembleSeed, std::int64_t index) {
+  Prng outer(ensembleSeed);
+  Prng inner(outer.next() + static_cast<std::uint64_t>(index));
+  return inner.next();
+}
+
+void cellsOnSegment(const Heightfield& dem, const Vec3& a, const Vec3& b,
+                    std::vector<std::int32_t>& out) {
+  // Grid coordinates in which cell (i, j) is [i, i + 1) x [j, j + 1) (Amanatides and Woo's
+  // walk: step to whichever cell border the segment reaches first).
+  const double ax = (a.x() - dem.x0) / dem.cell + 0.5, ay = (a.y() - dem.y0) / dem.cell + 0.5;
+  const double bx = (b.x() - dem.x0) / dem.cell + 0.5, by = (b.y() - dem.y0) / dem.cell + 0.5;
+  if (!std::isfinite(ax) || !std::isfinite(ay) || !std::isfinite(bx) || !std::isfinite(by)) return;
+  long i = static_cast<long>(std::floor(ax)), j = static_cast<long>(std::floor(ay));
+  const long iEnd = static_cast<long>(std::floor(bx)), jEnd = static_cast<long>(std::floor(by));
+  const double dx = bx - ax, dy = by - ay;
+  const int si = dx > 0 ? 1 : -1, sj = dy > 0 ? 1 : -1;
+  // Parameter t (0 at a, 1 at b) of the next x and y border, and per whole cell.
+  const double tdx = dx != 0 ? std::abs(1.0 / dx) : INFINITY;
+  const double tdy = dy != 0 ? std::abs(1.0 / dy) : INFINITY;
+  double tx = dx != 0
+                  ? ((si > 0 ? static_cast<double>(i + 1) - ax : ax - static_cast<double>(i)) * tdx)
+                  : INFINITY;
+  double ty = dy != 0
+                  ? ((sj > 0 ? static_cast<double>(j + 1) - ay : ay - static_cast<double>(j)) * tdy)
+                  : INFINITY;
+  const long maxCells = std::abs(iEnd - i) + std::abs(jEnd - j) + 1;
+  for (long k = 0; k < maxCells; ++k) {
+    if (i >= 0 && j >= 0 && i < dem.nx && j < dem.ny)
+      out.push_back(static_cast<std::int32_t>(j * dem.nx + i));
+    if (i == iEnd && j == jEnd) break;
+    if (tx < ty) {
+      i += si;
+      tx += tdx;
+    } else {
+      j += sj;
+      ty += tdy;
+    }
+  }
+}
+
+Ensemble::Ensemble(const SceneSpec& spec) : spec_(spec) {
+  VF_ASSERT(spec_.ensemble.has_value());
+  const EnsembleSpec& e = *spec_.ensemble;
+  base_ = sceneWorldDef(spec_);
+  base_.threads = 1;                    // parallel over realisations instead
+  VF_ASSERT(base_.terrain != nullptr);  // loadScene requires a heightfield with [ensemble]
+  const Heightfield& dem = *base_.terrain;
+  const auto outside = [&](const std::string& key, double x, double y) {
+    char range[160];
+    std::snprintf(range, sizeof range, "x %.3f .. %.3f, y %.3f .. %.3f", dem.x0,
+                  dem.x0 + (dem.nx - 1) * dem.cell, dem.y0, dem.y0 + (dem.ny - 1) * dem.cell);
+    return "'" + key + "' " + formatPoint(x, y) + " lies outside the DEM '" + spec_.terrainPath +
+           "' or over NODATA (the grid covers " + range +
+           " in world coordinates, after [ground] offset)";
+  };
+  for (std::size_t i = 0; i < e.releasePoints.size(); ++i) {
+    const Point2& p = e.releasePoints[i];
+    if (std::isnan(dem.heightAt(p[0], p[1])))
+      throw InputError(e.releasePointWhere[i],
+                       outside(e.releaseKey + "[" + std::to_string(i) + "]", p[0], p[1]));
+  }
+  if (e.release == ReleaseKind::kCells) {
+    const Heightfield cells = loadDem(e.cellsPath);
+    // The source raster lies on the DEM's file grid: compare before the scene's offset.
+    const double x0 = dem.x0 - dem.shift.x(), y0 = dem.y0 - dem.shift.y();
+    if (cells.nx != dem.nx || cells.ny != dem.ny || std::abs(cells.x0 - x0) > 1e-6 * dem.cell ||
+        std::abs(cells.y0 - y0) > 1e-6 * dem.cell ||
+        std::abs(cells.cell - dem.cell) > 1e-9 * dem.cell)
+      throw InputError(e.releaseWhere, "'release.cells' raster must lie on the DEM's grid (" +
+                                           std::to_string(dem.nx) + " x " + std::to_string(dem.ny) +
+                                           " samples, same origin and cell size), got " +
+                                           std::to_string(cells.nx) + " x " +
+                                           std::to_string(cells.ny));
+    for (std::size_t k = 0; k < cells.z.size(); ++k)
+      if (!std::isnan(cells.z[k]) && cells.z[k] != 0 && !std::isnan(dem.z[k]))
+        sourceCells_.push_back(static_cast<std::int32_t>(k));
+    if (sourceCells_.empty())
+      throw InputError(
+          e.releaseWhere,
+          "'release.cells' raster has no source cell (a non-zero value over DEM data)");
+  }
+  const auto built = buildSceneShapes(spec_);
+  for (const std::string& name : e.shapes) shapes_.push_back(built.at(name).shape);
+}
+
+Point2 Ensemble::drawRelease(std::uint64_t seed) const {
+  const EnsembleSpec& e = *spec_.ensemble;
+  const Heightfield& dem = *base_.terrain;
+  Prng rng(seed);
+  switch (e.release) {
+    case ReleaseKind::kPoints: {
+      const std::size_t n = e.releasePoints.size();
+      return e.releasePoints[std::min(n - 1, static_cast<std::size_t>(rng.uniform() * n))];
+    }
+    case ReleaseKind::kLine: {
+      double total = 0;
+      for (std::size_t i = 1; i < e.releasePoints.size(); ++i)
+        total += std::hypot(e.releasePoints[i][0] - e.releasePoints[i - 1][0],
+                            e.releasePoints[i][1] - e.releasePoints[i - 1][1]);
+      double along = rng.uniform() * total;
+      for (std::size_t i = 1; i < e.releasePoints.size(); ++i) {
+        const Point2& a = e.releasePoints[i - 1];
+        const Point2& b = e.releasePoints[i];
+        const double len = std::hypot(b[0] - a[0], b[1] - a[1]);
+        if (along <= len || i + 1 == e.releasePoints.size()) {
+          const double f = len > 0 ? std::min(1.0, along / len) : 0.0;
+          return {a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])};
+        }
+        along -= len;
+      }
+      return e.releasePoints.back();
+    }
+    case ReleaseKind::kArea: {
+      double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+      for (const Point2& p : e.releasePoints) {
+        x0 = std::min(x0, p[0]), x1 = std::max(x1, p[0]);
+        y0 = std::min(y0, p[1]), y1 = std::max(y1, p[1]);
+      }
+      for (int k = 0; k < kMaxReleaseTries; ++k) {
+        const double x = rng.uniform(x0, x1), y = rng.uniform(y0, y1);
+        if (insidePolygon(e.releasePoints, x, y) && !std::isnan(dem.heightAt(x, y))) return {x, y};
+      }
+      throw InputError(e.releaseWhere, "no point with DEM data found inside 'release.area' in " +
+                                           std::to_string(kMaxReleaseTries) + " tries");
+    }
+    case ReleaseKind::kCells: {
+      const std::size_t n = sourceCells_.size();
+      const std::int32_t c =
+          sourceCells_[std::min(n - 1, static_cast<std::size_t>(rng.uniform() * n))];
+      const double u = rng.uniform(-0.5, 0.5), v = rng.uniform(-0.5, 0.5);
+      return {dem.x0 + (c % dem.nx + u) * dem.cell, dem.y0 + (c / dem.nx + v) * dem.cell};
+    }
+  }
+  return e.releasePoints.front();
+}
+
+std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex) const {
+  const EnsembleSpec& e = *spec_.ensemble;
+  // One generator per realisation drawing the same numbers whatever is switched on, so that
+  // varying one thing does not reshuffle the others. The release point gets its own stream
+  // (seeded by the first draw): drawing inside an area may take several tries.
+  Prng rng(seed);
+  const std::uint64_t releaseSeed = rng.next();
+  const double uShape = rng.uniform();
+  const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+  Vec3 uv, uw;
+  for (int k = 0; k < 3; ++k) uv[k] = rng.uniform();
+  for (int k = 0; k < 3; ++k) uw[k] = rng.uniform();
+  const double uRestitution = rng.uniform(), uFriction = rng.uniform(), uRolling = rng.uniform();
+
+  double totalWeight = 0;
+  for (double w : e.weights) totalWeight += w;
+  int shape = static_cast<int>(e.shapes.size()) - 1;
+  double cumulative = 0;
+  for (std::size_t k = 0; k < e.weights.size(); ++k) {
+    cumulative += e.weights[k];
+    if (uShape * totalWeight < cumulative) {
+      shape = static_cast<int>(k);
+      break;
+    }
+  }
+  if (shapeIndex) *shapeIndex = shape;
+
+  WorldDef def = base_;
+  const auto lerp = [](const std::array<double, 2>& r, double u) {
+    return r[0] + (r[1] - r[0]) * u;
+  };
+  if (e.restitution) def.contact.restitutionBodyGround = lerp(*e.restitution, uRestitution);
+  if (e.friction) def.contact.frictionBodyGround = lerp(*e.friction, uFriction);
+  if (def.ground && (e.restitution || e.friction || e.rollingResistance)) {
+    // Every ground material takes the realisation's values (the class raster is shared).
+    auto ground = std::make_shared<GroundMap>(*def.ground);
+    for (GroundMaterial& m : ground->materials) {
+      if (e.restitution) m.restitution = def.contact.restitutionBodyGround;
+      if (e.friction) m.friction = def.contact.frictionBodyGround;
+      if (e.rollingResistance) m.rollingResistance = lerp(*e.rollingResistance, uRolling);
+    }
+    def.ground = std::move(ground);
+  }
+
+  const Point2 xy = drawRelease(releaseSeed);
+  BodyDef body;
+  body.shape = shapes_[static_cast<std::size_t>(shape)];
+  body.orientation = e.randomOrientation ? uniformRotation(u1, u2, u3) : Quat::Identity();
+  // Placed on the surface at (x, y); addBody lifts it to drop_height above what lies below.
+  body.position = Vec3(xy[0], xy[1], base_.terrain->heightAt(xy[0], xy[1]));
+  body.velocity = e.velocityMin + (e.velocityMax - e.velocityMin).cwiseProduct(uv);
+  body.angularVelocity =
+      e.angularVelocityMin + (e.angularVelocityMax - e.angularVelocityMin).cwiseProduct(uw);
+  body.dropHeight = e.dropHeight;
+  auto world = std::make_unique<World>(std::move(def));
+  world->addBody(body);
+  return world;
+}
+
+RealisationResult Ensemble::run(std::int64_t index, std::uint64_t seed, bool keepPath,
+                                const std::function<bool()>& stop) const {
+  RealisationResult r;
+  r.index = index;
+  r.seed = seed;
+  std::unique_ptr<World> world = makeWorld(seed, &r.shape);
+  World& w = *world;
+  const Heightfield& dem = *base_.terrain;
+
+  // Per cell met, the index of its entry in r.cells (a realisation meets each cell once).
+  std::map<std::int32_t, std::size_t> seen;
+  std::vector<std::int32_t> met;
+  const auto record = [&](const Vec3& a, const Vec3& b, const SampleValues& v) {
+    met.clear();
+    cellsOnSegment(dem, a, b, met);
+    for (std::int32_t c : met) {
+      auto [it, added] = seen.emplace(c, r.cells.size());
+      if (added) r.cells.push_back(CellPassage{c, 0, 0, 0});
+      CellPassage& p = r.cells[it->second];
+      p.energy = std::max(p.energy, v.energy);
+      p.height = std::max(p.height, v.height);
+      p.speed = std::max(p.speed, v.speed);
+    }
+  };
+
+  SampleValues before = sample(w, dem);
+  Vec3 xBefore = w.state(0).x;
+  r.maxEnergy = before.energy;
+  record(xBefore, xBefore, before);
+  if (keepPath) r.path.push_back(PathPoint{w.time(), xBefore});
+  const double duration = spec_.duration;
+  r.complete = true;
+  while (w.nextStepEnd() <= duration + kTimeTolerance) {
+    if (stop && stop()) {
+      r.complete = false;
+      break;
+    }
+    try {
+      w.stepNext();
+    } catch (const RunawayError& e) {
+      // The whole ensemble stops (exit 1), naming the realisation so that `--only` reruns it.
+      throw std::runtime_error("realisation " + std::to_string(index) + " (seed " +
+                               std::to_string(seed) + "): " + e.what());
+    }
+    const SampleValues after = sample(w, dem);
+    const Vec3 x = w.state(0).x;
+    const SampleValues most{std::max(before.energy, after.energy),
+                            std::max(before.height, after.height),
+                            std::max(before.speed, after.speed)};
+    record(xBefore, x, most);
+    r.maxEnergy = std::max(r.maxEnergy, after.energy);
+    if (keepPath) r.path.push_back(PathPoint{w.time(), x});
+    before = after;
+    xBefore = x;
+    if (w.outcomes()[0].state != RockState::kMoving) break;  // stopped, left or buried
+  }
+  std::sort(r.cells.begin(), r.cells.end(),
+            [](const CellPassage& a, const CellPassage& b) { return a.cell < b.cell; });
+  const RockOutcome& o = w.outcomes()[0];
+  r.release = o.release;
+  r.end = o.end;
+  r.endTime = o.endTime;
+  r.state = o.state;
+  r.runout = o.runout();
+  r.reachAngle = o.reachAngleDegrees();
+  r.maxSpeed = o.maxSpeed;
+  r.maxJumpHeight = o.maxJumpHeight;
+  r.steps = static_cast<std::int64_t>(w.totals().steps);
+  r.checksum = w.stepsHash();
+  return r;
+}
+
+std::vector<std::vector<Point2>> Ensemble::releaseAreas() const {
+  const EnsembleSpec& e = *spec_.ensemble;
+  if (e.release != ReleaseKind::kCells) return {e.releasePoints};
+  const Heightfield& dem = *base_.terrain;
+  std::vector<std::vector<Point2>> squares;
+  const double h = 0.5 * dem.cell;
+  for (std::int32_t c : sourceCells_) {
+    const double x = dem.x0 + (c % dem.nx) * dem.cell, y = dem.y0 + (c / dem.nx) * dem.cell;
+    squares.push_back({{x - h, y - h}, {x + h, y - h}, {x + h, y + h}, {x - h, y + h}});
+  }
+  return squares;
+}
+
+std::vector<RealisationResult> runRealisations(const Ensemble& ensemble,
+                                               const std::vector<std::int64_t>& indices,
+                                               std::uint64_t ensembleSeed, int jobs, bool keepPaths,
+                                               const std::function<void(int)>& progress,
+                                               const std::function<bool()>& stop) {
+  std::vector<RealisationResult> results(indices.size());
+  for (std::size_t k = 0; k < indices.size(); ++k) results[k].index = indices[k];
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> done{0};
+  const int threads = std::max(1, std::min<int>(jobs, static_cast<int>(indices.size())));
+  std::atomic<int> running{threads};
+  std::mutex failure;
+  std::exception_ptr error;
+  // Each worker takes the next index; results land at their own slot, so the order of the
+  // results never depends on which thread ran what.
+  const auto work = [&] {
+    for (;;) {
+      const std::size_t k = next.fetch_add(1);
+      if (k >= indices.size() || (stop && stop())) break;
+      try {
+        results[k] =
+            ensemble.run(indices[k], realisationSeed(ensembleSeed, indices[k]), keepPaths, stop);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(failure);
+        if (!error) error = std::current_exception();
+        next.store(indices.size());
+        break;
+      }
+      done.fetch_add(1);
+    }
+    running.fetch_sub(1);
+  };
+  std::vector<std::thread> workers;
+  for (int t = 0; t < threads; ++t) workers.emplace_back(work);
+  // The calling thread reports progress while the workers run.
+  while (running.load() > 0) {
+    if (progress) progress(done.load());
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  for (std::thread& w : workers) w.join();
+  if (error) std::rethrow_exception(error);
+  if (progress) progress(done.load());
+  return results;
+}
+
+// --- serialisation (MPI) ------------------------------------------------------------------
+
+namespace {
+
+template <typename T>
+void put(std::string& s, const T& v) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  s.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+template <typename T>
+T take(const std::string& s, std::size_t& pos) {
+  T v;
+  if (pos + sizeof v > s.size()) throw InputError("", "truncated ensemble results");
+  std::memcpy(&v, s.data() + pos, sizeof v);
+  pos += sizeof v;
+  return v;
+}
+
+void putVec(std::string& s, const Vec3& v) {
+  for (int k = 0; k < 3; ++k) put(s, v[k]);
+}
+
+Vec3 takeVec(const std::string& s, std::size_t& pos) {
+  Vec3 v;
+  for (int k = 0; k < 3; ++k) v[k] = take<double>(s, pos);
+  return v;
+}
+
+}  // namespace
+
+std::string serializeResults(const std::vector<RealisationResult>& results) {
+  std::string s;
+  put<std::uint64_t>(s, results.size());
+  for (const RealisationResult& r : results) {
+    put(s, r.index);
+    put(s, r.seed);
+    put<std::uint8_t>(s, r.complete ? 1 : 0);
+    put<std::int32_t>(s, r.shape);
+    putVec(s, r.release);
+    putVec(s, r.end);
+    put(s, r.endTime);
+    put<std::int32_t>(s, static_cast<std::int32_t>(r.state));
+    for (double v : {r.runout, r.reachAngle, r.maxSpeed, r.maxEnergy, r.maxJumpHeight}) put(s, v);
+    put(s, r.steps);
+    put(s, r.checksum);
+    put<std::uint64_t>(s, r.cells.size());
+    for (const CellPassage& c : r.cells) {
+      put(s, c.cell);
+      put(s, c.energy);
+      put(s, c.height);
+      put(s, c.speed);
+    }
+    put<std::uint64_t>(s, r.path.size());
+    for (const PathPoint& p : r.path) {
+      put(s, p.time);
+      putVec(s, p.x);
+    }
+  }
+  return s;
+}
+
+std::vector<RealisationResult> deserializeResults(const std::string& s) {
+  std::size_t pos = 0;
+  std::vector<RealisationResult> out(take<std::uint64_t>(s, pos));
+  for (RealisationResult& r : out) {
+    r.index = take<std::int64_t>(s, pos);
+    r.seed = take<std::uint64_t>(s, pos);
+    r.complete = take<std::uint8_t>(s, pos) != 0;
+    r.shape = take<std::int32_t>(s, pos);
+    r.release = takeVec(s, pos);
+    r.end = takeVec(s, pos);
+    r.endTime = take<double>(s, pos);
+    r.state = static_cast<RockState>(take<std::int32_t>(s, pos));
+    r.runout = take<double>(s, pos);
+    r.reachAngle = take<double>(s, pos);
+    r.maxSpeed = take<double>(s, pos);
+    r.maxEnergy = take<double>(s, pos);
+    r.maxJumpHeight = take<double>(s, pos);
+    r.steps = take<std::int64_t>(s, pos);
+    r.checksum = take<std::uint64_t>(s, pos);
+    r.cells.resize(take<std::uint64_t>(s, pos));
+    for (CellPassage& c : r.cells) {
+      c.cell = take<std::int32_t>(s, pos);
+      c.energy = take<double>(s, pos);
+      c.height = take<double>(s, pos);
+      c.speed = take<double>(s, pos);
+    }
+    r.path.resize(take<std::uint64_t>(s, pos));
+    for (PathPoint& p : r.path) {
+      p.time = take<double>(s, pos);
+      p.x = takeVec(s, pos);
+    }
+  }
+  return out;
+}
+
+}  // namespace vf

@@ -1,0 +1,59 @@
+// A subset of an ensemble as a bake (see ensemble_bake.h). Each realisation is stepped again in
+// its own world, frame by frame, exactly as Ensemble::run steps it (same seed, same step
+// sequence, same end), so the bake shows the trajectories the statistics were made from.
+#include "sim/ensemble/ensemble_bake.h"
+
+#include <algorithm>
+
+#include "sim/core/error.h"
+#include "sim/recorder.h"
+
+namespace vf {
+
+Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
+                  const std::vector<std::int64_t>& indices) {
+  const SceneSpec& spec = ensemble.spec();
+  Bake bake;
+  bake.scene = spec;
+  bake.scene.bodies.clear();
+  bake.scene.emitters.clear();
+  bake.scene.ensemble.reset();
+  const int frames = Recorder::frameCountFor(spec.fps, spec.duration);
+  bake.records.resize(static_cast<std::size_t>(frames));
+  for (int k = 0; k < frames; ++k) bake.records[static_cast<std::size_t>(k)].time = k / spec.fps;
+
+  for (std::size_t b = 0; b < indices.size(); ++b) {
+    int shapeIndex = 0;
+    const std::unique_ptr<World> world =
+        ensemble.makeWorld(realisationSeed(ensembleSeed, indices[b]), &shapeIndex);
+    World& w = *world;
+    const std::string& shapeName = ensemble.ensemble().shapes[static_cast<std::size_t>(shapeIndex)];
+    const auto shape = std::find_if(spec.shapes.begin(), spec.shapes.end(),
+                                    [&](const ShapeSpec& s) { return s.name == shapeName; });
+    VF_ASSERT(shape != spec.shapes.end());
+    BakeBody body;
+    body.shape = static_cast<int>(shape - spec.shapes.begin());
+    body.color = defaultBodyColor(static_cast<int>(b));
+    body.invMass = 1.0 / w.shape(0).mass;
+    body.inertiaBodyInv = w.shape(0).inertiaBodyInv;
+    bake.bodies.push_back(body);
+
+    bool ended = false;
+    for (int k = 0; k < frames; ++k) {
+      const double t = bake.records[static_cast<std::size_t>(k)].time;
+      // Ensemble::run's loop: steps of the scene's own sequence, ending when the rock does.
+      while (!ended && w.nextStepEnd() <= t + kTimeTolerance &&
+             w.nextStepEnd() <= spec.duration + kTimeTolerance) {
+        w.stepNext();
+        ended = w.outcomes()[0].state != RockState::kMoving;
+      }
+      BakeRecord& r = bake.records[static_cast<std::size_t>(k)];
+      r.states.push_back(ended ? w.state(0) : w.statesAt(t)[0]);
+      const RockState s = w.outcomes()[0].state;
+      r.active.push_back(s == RockState::kLeft || s == RockState::kBuried ? 0 : 1);
+    }
+  }
+  return bake;
+}
+
+}  // namespace vf

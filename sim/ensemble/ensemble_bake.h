@@ -1,0 +1,21 @@
+// A chosen subset of an ensemble's realisations as one bake (sim/bake.h), so that
+// `voxfall render SUBSET.bake` draws their trajectories together over the terrain.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sim/bake.h"
+#include "sim/ensemble/ensemble.h"
+
+namespace vf {
+
+// One body per realisation of `indices` (in that order), a record at every frame time
+// t = k / fps (k = 0 .. floor(duration * fps)) holding each realisation's state at t as
+// World::statesAt(t) gives it in that realisation's own world (its own step sequence, the one
+// Ensemble::run takes). A realisation that ended (stopped, left, buried) keeps its last state;
+// one that left the DEM or was buried is inactive from then on. Bodies get distinct colours.
+Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
+                  const std::vector<std::int64_t>& indices);
+
+}  // namespace vf

@@ -1,0 +1,291 @@
+// voxfall ensemble end to end on a small synthetic chute (tests/support/chute_dem.h): the
+// outputs do not depend on --jobs, a realisation rerun alone is the same trajectory, the rasters
+// carry the input DEM's georeference and CRS, the reach probability agrees with an independent
+// count from the written paths, and bad [ensemble] input is one clear error.
+#include <fcntl.h>
+#include <gdal.h>
+#include <gtest/gtest.h>
+#include <ogr_srs_api.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "tests/support/chute_dem.h"
+#include "tests/support/segment_square.h"
+#include "tests/support/voxfall_command.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using vf::test::readFile;
+using vf::test::runVoxfall;
+
+const std::string kExe = VOXFALL_EXE;
+constexpr int kRuns = 8;
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::istringstream in(line);
+  for (std::string f; std::getline(in, f, ',');) out.push_back(f);
+  return out;
+}
+
+class EnsembleCommandTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("voxfall_ensemble_test_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    ASSERT_TRUE(vf::test::writeChuteDem(dir_ / "chute.tif"));
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Every regular file of an output folder, by name.
+  std::map<std::string, std::string> files(const std::string& folder) const {
+    std::map<std::string, std::string> out;
+    for (const auto& e : fs::directory_iterator(dir_ / folder))
+      out[e.path().filename().string()] = readFile(e.path());
+    return out;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(EnsembleCommandTest, OutputsAreTheSameBytesForOneAndTwoThreads) {
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+  const std::string common = "ensemble scene.toml --runs " + std::to_string(kRuns) +
+                             " --seed 7 --converge --paths --maps -q";
+  const auto one = runVoxfall(kExe, dir_, common + " --jobs 1 -o j1");
+  ASSERT_EQ(one.code, 0) << one.err;
+  const auto two = runVoxfall(kExe, dir_, common + " --jobs 2 -o j2");
+  ASSERT_EQ(two.code, 0) << two.err;
+  const auto a = files("j1"), b = files("j2");
+  // 9 statistics x (GeoTIFF, ASCII, .prj, map PNG) + runs.csv, summary.json, converge.csv,
+  // paths.csv, runout.png.
+  EXPECT_EQ(a.size(), 9u * 4 + 5);
+  EXPECT_TRUE(a.count("reach_probability.png") && a.count("runout.png"));
+  ASSERT_EQ(a.size(), b.size());
+  for (const auto& [name, bytes] : a) {
+    ASSERT_TRUE(b.count(name)) << name;
+    EXPECT_TRUE(bytes == b.at(name)) << name << " differs between --jobs 1 and --jobs 2";
+  }
+  EXPECT_EQ(lines(a.at("runs.csv")).size(), static_cast<std::size_t>(kRuns) + 1);
+  // A different seed gives a different ensemble (the seed reaches the realisations).
+  const auto other = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 8 --seed 8 -q -o s8");
+  ASSERT_EQ(other.code, 0) << other.err;
+  EXPECT_NE(files("s8").at("runs.csv"), a.at("runs.csv"));
+}
+
+TEST_F(EnsembleCommandTest, RealisationAloneEqualsItsRunInsideTheEnsemble) {
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+  const auto all =
+      runVoxfall(kExe, dir_, "ensemble scene.toml --runs 8 --jobs 2 --paths -q -o all");
+  ASSERT_EQ(all.code, 0) << all.err;
+  const auto alone =
+      runVoxfall(kExe, dir_, "ensemble scene.toml --runs 8 --only 5 --paths -q -o alone");
+  ASSERT_EQ(alone.code, 0) << alone.err;
+  const auto rowsAll = lines(readFile(dir_ / "all" / "runs.csv"));
+  const auto rowsAlone = lines(readFile(dir_ / "alone" / "runs.csv"));
+  ASSERT_EQ(rowsAlone.size(), 2u);
+  ASSERT_EQ(rowsAll.size(), 9u);
+  EXPECT_EQ(rowsAlone[1], rowsAll[6]);  // row of realisation 5, checksum of every step included
+  EXPECT_EQ(split(rowsAlone[1])[0], "5");
+  // The path, every step, bit for bit (%.17g).
+  std::vector<std::string> pathAll, pathAlone;
+  for (const auto& l : lines(readFile(dir_ / "all" / "paths.csv")))
+    if (l.rfind("5,", 0) == 0) pathAll.push_back(l);
+  for (const auto& l : lines(readFile(dir_ / "alone" / "paths.csv")))
+    if (l.rfind("5,", 0) == 0) pathAlone.push_back(l);
+  EXPECT_GT(pathAll.size(), 100u);
+  EXPECT_EQ(pathAll, pathAlone);
+  // --only outside the ensemble is a usage error.
+  const auto bad = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 8 --only 8 -q -o bad");
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("--only 8"), std::string::npos) << bad.err;
+}
+
+TEST_F(EnsembleCommandTest, RastersCarryTheInputGeoreferenceAndCrs) {
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+  const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 4 -q -o geo");
+  ASSERT_EQ(r.code, 0) << r.err;
+  GDALAllRegister();
+  GDALDatasetH in = GDALOpen((dir_ / "chute.tif").c_str(), GA_ReadOnly);
+  ASSERT_NE(in, nullptr);
+  double gtIn[6];
+  ASSERT_EQ(GDALGetGeoTransform(in, gtIn), CE_None);
+  OGRSpatialReferenceH srsIn = OSRNewSpatialReference(GDALGetProjectionRef(in));
+  for (const char* name : {"energy_p95.tif", "energy_p95.asc", "reach_probability.tif"}) {
+    GDALDatasetH out = GDALOpen((dir_ / "geo" / name).c_str(), GA_ReadOnly);
+    ASSERT_NE(out, nullptr) << name;
+    EXPECT_EQ(GDALGetRasterXSize(out), GDALGetRasterXSize(in)) << name;
+    EXPECT_EQ(GDALGetRasterYSize(out), GDALGetRasterYSize(in)) << name;
+    double gt[6];
+    ASSERT_EQ(GDALGetGeoTransform(out, gt), CE_None) << name;
+    // ESRI ASCII stores corner and cell size as decimal text: equal to the last digit GDAL
+    // prints (1e-9 m on kilometre coordinates); GeoTIFF stores the doubles.
+    const double tol = std::string(name).ends_with(".asc") ? 1e-9 : 0.0;
+    for (int k = 0; k < 6; ++k) EXPECT_NEAR(gt[k], gtIn[k], tol) << name << " gt[" << k << "]";
+    OGRSpatialReferenceH srs = OSRNewSpatialReference(GDALGetProjectionRef(out));
+    // The ASCII grid's CRS is GDAL's ESRI .prj, which spells datum names the ESRI way: the same
+    // CRS by definition (projection, parameters, datum, units), not by name.
+    const char* const criterion[] = {"CRITERION=EQUIVALENT", nullptr};
+    EXPECT_TRUE(OSRIsSameEx(srs, srsIn, criterion)) << name << ": " << GDALGetProjectionRef(out);
+    OSRDestroySpatialReference(srs);
+    GDALClose(out);
+  }
+  OSRDestroySpatialReference(srsIn);
+  GDALClose(in);
+}
+
+TEST_F(EnsembleCommandTest, ReachProbabilityEqualsAnIndependentCountFromThePaths) {
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+  const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 8 --jobs 2 --paths -q -o p");
+  ASSERT_EQ(r.code, 0) << r.err;
+  // Paths per realisation, DEM coordinates.
+  std::map<int, std::vector<std::pair<double, double>>> paths;
+  const auto pathLines = lines(readFile(dir_ / "p" / "paths.csv"));
+  for (std::size_t k = 1; k < pathLines.size(); ++k) {
+    const auto f = split(pathLines[k]);
+    paths[std::stoi(f[0])].emplace_back(std::stod(f[2]), std::stod(f[3]));
+  }
+  ASSERT_EQ(paths.size(), 8u);
+  const vf::test::ChuteDem c;
+  GDALAllRegister();
+  GDALDatasetH ds = GDALOpen((dir_ / "p" / "reach_probability.asc").c_str(), GA_ReadOnly);
+  ASSERT_NE(ds, nullptr);
+  std::vector<double> reach(static_cast<std::size_t>(c.nx) * c.ny);
+  ASSERT_EQ(GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Read, 0, 0, c.nx, c.ny, reach.data(), c.nx,
+                         c.ny, GDT_Float64, 0, 0),
+            CE_None);
+  GDALClose(ds);
+  int cellsReached = 0;
+  for (int row = 0; row < c.ny; ++row)
+    for (int i = 0; i < c.nx; ++i) {
+      const double x0 = c.west + i * c.cell, x1 = x0 + c.cell;
+      const double y1 = c.north - row * c.cell, y0 = y1 - c.cell;
+      int count = 0;
+      for (const auto& [index, pts] : paths) {
+        bool met = false;
+        for (std::size_t k = 0; k < pts.size() && !met; ++k) {
+          const auto& a = pts[k > 0 ? k - 1 : 0];
+          met = vf::test::segmentMeetsSquare(a.first, a.second, pts[k].first, pts[k].second, x0, x1,
+                                             y0, y1);
+        }
+        count += met ? 1 : 0;
+      }
+      cellsReached += count > 0;
+      // Written with 10 significant digits: k / 8 is exact in them.
+      EXPECT_NEAR(reach[static_cast<std::size_t>(row) * c.nx + i], count / 8.0, 1e-12)
+          << "cell column " << i << ", row " << row << " from the north";
+    }
+  EXPECT_GT(cellsReached, 20);  // the rocks went down the chute, not nowhere
+}
+
+TEST_F(EnsembleCommandTest, ReleaseAreaOutsideTheDemIsAnErrorNamingTheKey) {
+  vf::test::writeChuteScene(dir_,
+                            "shape = \"rock\"\n"
+                            "release = { area = [[4.0, 6.0], [500.0, 6.0], [4.0, 18.0]] }\n");
+  const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 4 -q -o bad");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("scene.toml:15:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'release.area[1]' (500.000, 6.000) lies outside the DEM"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "bad" / "runs.csv"));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST_F(EnsembleCommandTest, MalformedEnsembleKeysAreClearErrors) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"shape = \"rock\"\nrelase = { points = [[4.0, 6.0]] }\n",
+       "scene.toml:15:1: unknown key 'relase' in [ensemble]; did you mean 'release'?"},
+      {"shape = \"rock\"\nrelease = { points = [[4.0, 6.0]] }\nrestitution = [0.5, 0.2]\n",
+       "scene.toml:16:15: 'restitution' must be [lo, hi] with lo <= hi"},
+      {"shape = \"rok\"\nrelease = { points = [[4.0, 6.0]] }\n",
+       "scene.toml:14:9: unknown shape 'rok'; did you mean 'rock'?"},
+      {"shape = \"rock\"\nrelease = { area = [[4.0, 6.0], [5.0, 6.0]] }\n",
+       "'release.area' must be an array of at least 3 [x, y] points"},
+  };
+  for (const auto& [table, message] : cases) {
+    vf::test::writeChuteScene(dir_, table);
+    const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o bad");
+    EXPECT_EQ(r.code, 1) << table;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+  }
+}
+
+TEST_F(EnsembleCommandTest, SubsetBakeRendersWithTheRenderCommand) {
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+  const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 4 --video-runs 3 -q -o v");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto frame = runVoxfall(
+      kExe, dir_, "render v/ensemble_subset.bake --frames 30:30 --size 160x120 -o f.png -q");
+  ASSERT_EQ(frame.code, 0) << frame.err;
+  EXPECT_GT(fs::file_size(dir_ / "f.png"), 1000u);
+}
+
+TEST_F(EnsembleCommandTest, AnInterruptedEnsembleWritesItsCompletePrefix) {
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 10.0);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    if (::chdir(dir_.c_str()) != 0) ::_exit(126);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    ::execl(kExe.c_str(), kExe.c_str(), "ensemble", "scene.toml", "--runs", "100000", "--jobs", "2",
+            "-q", "-o", "int", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // Long enough for some realisations (tens of milliseconds each) to finish, on a busy machine
+  // too; 100000 of them take minutes, so the run is still going.
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  ::kill(child, SIGINT);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const auto rows = lines(readFile(dir_ / "int" / "runs.csv"));
+  ASSERT_GE(rows.size(), 2u) << "no realisation finished in 2 s";
+  const std::size_t k = rows.size() - 1;
+  for (std::size_t i = 0; i < k; ++i) EXPECT_EQ(split(rows[i + 1])[0], std::to_string(i));
+  // Exactly what --runs k writes.
+  const auto ref =
+      runVoxfall(kExe, dir_, "ensemble scene.toml -q -o ref --runs " + std::to_string(k));
+  ASSERT_EQ(ref.code, 0) << ref.err;
+  const auto a = files("int"), b = files("ref");
+  for (const auto& [name, bytes] : b) {
+    if (name == "summary.json") continue;  // it names the runs asked for (100000 and k)
+    EXPECT_TRUE(a.count(name) && a.at(name) == bytes) << name;
+  }
+}
+
+TEST_F(EnsembleCommandTest, ExistingOutputsNeedMinusY) {
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+  ASSERT_EQ(runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o o").code, 0);
+  const auto again = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o o");
+  EXPECT_EQ(again.code, 1);
+  EXPECT_NE(again.err.find("already exists; use -y"), std::string::npos) << again.err;
+  EXPECT_EQ(runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o o -y").code, 0);
+}
+
+}  // namespace

@@ -1,0 +1,75 @@
+// A small synthetic terrain for ensemble tests: a straight chute inclined 35 degrees, falling
+// towards +x, written as a GeoTIFF with a CRS through GDAL, and a scene that releases rocks
+// at its top. Tests stay short: level 2 rock, a few seconds of simulated time.
+#pragma once
+
+#include <cpl_conv.h>
+#include <gdal.h>
+#include <ogr_srs_api.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace vf::test {
+
+struct ChuteDem {
+  int nx = 60, ny = 12;
+  double cell = 2.0;
+  double west = 1000.0, north = 5024.0;  // outer corner of the north-west pixel, file coords
+  double slopeDegrees = 35.0;
+  double top = 100.0;  // height of the western column, m
+};
+
+// Writes the chute as a Float64 GeoTIFF in EPSG:31287 (MGI / Austria Lambert); returns false
+// if GDAL cannot.
+inline bool writeChuteDem(const std::filesystem::path& path, const ChuteDem& c = {}) {
+  GDALAllRegister();
+  GDALDatasetH ds =
+      GDALCreate(GDALGetDriverByName("GTiff"), path.c_str(), c.nx, c.ny, 1, GDT_Float64, nullptr);
+  if (!ds) return false;
+  double gt[6] = {c.west, c.cell, 0, c.north, 0, -c.cell};
+  GDALSetGeoTransform(ds, gt);
+  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
+  OSRImportFromEPSG(srs, 31287);
+  char* wkt = nullptr;
+  OSRExportToWkt(srs, &wkt);
+  GDALSetProjection(ds, wkt);
+  CPLFree(wkt);
+  OSRDestroySpatialReference(srs);
+  std::vector<double> z(static_cast<std::size_t>(c.nx) * c.ny);
+  const double drop = std::tan(c.slopeDegrees * M_PI / 180.0) * c.cell;
+  for (int row = 0; row < c.ny; ++row)
+    for (int i = 0; i < c.nx; ++i) z[static_cast<std::size_t>(row) * c.nx + i] = c.top - drop * i;
+  const bool ok = GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Write, 0, 0, c.nx, c.ny, z.data(), c.nx,
+                               c.ny, GDT_Float64, 0, 0) == CE_None;
+  GDALClose(ds);
+  return ok;
+}
+
+// A scene on chute.tif in `dir` whose [ensemble] table is `ensemble` (TOML lines). World
+// coordinates are the DEM's minus (1000, 5000): the chute spans x 0 .. 120, y 0 .. 24.
+inline void writeChuteScene(const std::filesystem::path& dir, const std::string& ensemble,
+                            double duration = 3.0) {
+  std::ofstream f(dir / "scene.toml");
+  f << "[simulation]\nduration = " << duration
+    << "\nlevel = 2\nrotation = \"midpoint\"\n"
+       "[ground]\nheightfield = \"chute.tif\"\noffset = [-1000.0, -5000.0, 0.0]\n"
+       "material = \"glacial_deposits\"\n"
+       "[shapes.rock]\nmesh = \""
+    << VOXFALL_SOURCE_DIR
+    << "/scenes/meshes/rock.obj\"\nscale = 1.0\ndensity = 2600\n"
+       "[ensemble]\n"
+    << ensemble;
+}
+
+// The default release of the tests: a line across the chute's top, a push downhill.
+inline const char* kChuteEnsemble =
+    "shape = \"rock\"\n"
+    "release = { line = [[5.0, 6.3], [5.0, 17.7]] }\n"
+    "velocity = { min = [1.0, -0.5, 0.0], max = [3.0, 0.5, 0.0] }\n"
+    "restitution = [0.3, 0.4]\n";
+
+}  // namespace vf::test
