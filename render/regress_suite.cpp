@@ -9,6 +9,7 @@
 #include <set>
 
 #include "sim/core/error.h"
+#include "sim/scene/scene.h"
 
 namespace vf {
 namespace {
@@ -118,8 +119,8 @@ class SuiteReader {
         const toml::array* a = node.as_array();
         if (a == nullptr || a->size() != 2 || !a->is_homogeneous(toml::node_type::integer))
           fail(node.source(), "'size' must be [width, height] in pixels");
-        c.width = integer(*a->get(0), "size", 1, kMaxSide);
-        c.height = integer(*a->get(1), "size", 1, kMaxSide);
+        c.width = integer(*a->get(0), "size", 1, kMaxImageSide);
+        c.height = integer(*a->get(1), "size", 1, kMaxImageSide);
       } else if (k == "threshold") {
         c.tolerance.threshold = integer(node, k, 0, 255);
       } else if (k == "max_fraction") {
@@ -140,7 +141,6 @@ class SuiteReader {
     suite.cases.push_back(std::move(c));
   }
 
-  static constexpr int kMaxSide = 16384;  // pixels, as a scene's [output]
   std::string file_;
 };
 

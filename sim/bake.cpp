@@ -24,6 +24,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr char kSignature[] = "VOXFALL-BAKE 1\n";
+// 2: the header holds the scene's named cameras ([cameras.NAME]) as well; 1 is still read.
+constexpr int kVersion = 2;
 constexpr int kValuesPerBody = 14;  // active, x(3), q(w, x, y, z), P(3), L(3)
 static_assert(std::endian::native == std::endian::little, "bakes are little-endian float64");
 
@@ -72,6 +74,51 @@ Vec3 readVec(const json& j) {
 std::optional<Color> readColor(const json& j) {
   if (j.is_null()) return std::nullopt;
   return Color{j.at(0).get<float>(), j.at(1).get<float>(), j.at(2).get<float>()};
+}
+
+// A camera as the header stores it: every key of a [camera] or [cameras.NAME] table, resolved.
+json cameraJson(const CameraSpec& c) {
+  json path = json::array();
+  for (const CameraKey& k : c.path)
+    path.push_back({{"time", k.time},
+                    {"position", vec(k.position)},
+                    {"look_at", vec(k.lookAt)},
+                    {"fov", k.fovDegrees}});
+  return {{"name", c.name},
+          {"where", c.where},
+          {"given", c.given},
+          {"position", vec(c.position)},
+          {"look_at", vec(c.lookAt)},
+          {"up", vec(c.up)},
+          {"fov", c.fovDegrees},
+          {"follow", c.followBody ? json(*c.followBody) : json(nullptr)},
+          {"follow_group", c.followGroup},
+          {"smoothing", c.smoothing},
+          {"path", path},
+          {"min_pixels", c.minPixels},
+          {"trail", c.trailSeconds}};
+}
+
+// The inverse of cameraJson. `name` and `where` are absent in version 1 (its one camera was
+// the scene's [camera]).
+CameraSpec readCamera(const json& j) {
+  CameraSpec c;
+  c.name = j.value("name", c.name);
+  c.where = j.value("where", c.where);
+  c.given = j.at("given").get<bool>();
+  c.position = readVec(j.at("position"));
+  c.lookAt = readVec(j.at("look_at"));
+  c.up = readVec(j.at("up"));
+  c.fovDegrees = j.at("fov").get<double>();
+  if (!j.at("follow").is_null()) c.followBody = j.at("follow").get<int>();
+  c.followGroup = j.at("follow_group").get<std::vector<int>>();
+  c.smoothing = j.at("smoothing").get<double>();
+  for (const json& k : j.at("path"))
+    c.path.push_back(CameraKey{k.at("time").get<double>(), readVec(k.at("position")),
+                               readVec(k.at("look_at")), k.at("fov").get<double>()});
+  c.minPixels = j.at("min_pixels").get<double>();
+  c.trailSeconds = j.at("trail").get<double>();
+  return c;
 }
 
 RunSummary readSummary(const json& j) {
@@ -187,16 +234,11 @@ void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
                       {"inv_mass", b.invMass},
                       {"inertia_body_inv", inertia}});
   }
-  const CameraSpec& c = s.camera;
-  json cameraPath = json::array();
-  for (const CameraKey& k : c.path)
-    cameraPath.push_back({{"time", k.time},
-                          {"position", vec(k.position)},
-                          {"look_at", vec(k.lookAt)},
-                          {"fov", k.fovDegrees}});
+  json cameras = json::array();
+  for (const CameraSpec& c : s.cameras) cameras.push_back(cameraJson(c));
   const json header = {
       {"format", "voxfall-bake"},
-      {"version", 1},
+      {"version", kVersion},
       {"scene",
        {{"path", storedPath(s.path, bakePath)},
         {"name", s.name},
@@ -206,18 +248,8 @@ void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
         {"ground_plane", s.groundPlane ? json(*s.groundPlane) : json(nullptr)},
         {"terrain", storedPath(s.terrainPath, bakePath)},
         {"terrain_offset", vec(s.terrainShift)},
-        {"camera",
-         {{"given", c.given},
-          {"position", vec(c.position)},
-          {"look_at", vec(c.lookAt)},
-          {"up", vec(c.up)},
-          {"fov", c.fovDegrees},
-          {"follow", c.followBody ? json(*c.followBody) : json(nullptr)},
-          {"follow_group", c.followGroup},
-          {"smoothing", c.smoothing},
-          {"path", cameraPath},
-          {"min_pixels", c.minPixels},
-          {"trail", c.trailSeconds}}},
+        {"camera", cameraJson(s.camera)},
+        {"cameras", cameras},
         {"output",
          {{"width", s.output.width}, {"height", s.output.height}, {"crf", s.output.crf}}}}},
       {"shapes", shapes},
@@ -263,8 +295,13 @@ Bake readBake(const std::string& path) {
   try {
     const json h = json::parse(data.begin() + static_cast<std::ptrdiff_t>(sig),
                                data.begin() + static_cast<std::ptrdiff_t>(end));
-    if (h.at("format") != "voxfall-bake" || h.at("version") != 1)
-      throw InputError(path + ":2", "unsupported bake format or version");
+    if (h.at("format") != "voxfall-bake")
+      throw InputError(path + ":2", "not a voxfall bake header (format is not \"voxfall-bake\")");
+    const int version = h.at("version").get<int>();
+    if (version < 1 || version > kVersion)
+      throw InputError(path + ":2", "bake version " + std::to_string(version) +
+                                        " is not one this voxfall reads (1.." +
+                                        std::to_string(kVersion) + ")");
     const json& sc = h.at("scene");
     SceneSpec& s = bake.scene;
     s.path = resolvedPath(sc.at("path").get<std::string>(), path);
@@ -275,20 +312,10 @@ Bake readBake(const std::string& path) {
     if (!sc.at("ground_plane").is_null()) s.groundPlane = sc.at("ground_plane").get<double>();
     s.terrainPath = resolvedPath(sc.at("terrain").get<std::string>(), path);
     s.terrainShift = readVec(sc.at("terrain_offset"));
-    const json& c = sc.at("camera");
-    s.camera.given = c.at("given").get<bool>();
-    s.camera.position = readVec(c.at("position"));
-    s.camera.lookAt = readVec(c.at("look_at"));
-    s.camera.up = readVec(c.at("up"));
-    s.camera.fovDegrees = c.at("fov").get<double>();
-    if (!c.at("follow").is_null()) s.camera.followBody = c.at("follow").get<int>();
-    s.camera.followGroup = c.at("follow_group").get<std::vector<int>>();
-    s.camera.smoothing = c.at("smoothing").get<double>();
-    for (const json& k : c.at("path"))
-      s.camera.path.push_back(CameraKey{k.at("time").get<double>(), readVec(k.at("position")),
-                                        readVec(k.at("look_at")), k.at("fov").get<double>()});
-    s.camera.minPixels = c.at("min_pixels").get<double>();
-    s.camera.trailSeconds = c.at("trail").get<double>();
+    s.camera = readCamera(sc.at("camera"));
+    // Version 1 kept only the scene's [camera]: such a bake has no named cameras.
+    if (version >= 2)
+      for (const json& c : sc.at("cameras")) s.cameras.push_back(readCamera(c));
     const json& o = sc.at("output");
     s.output.width = o.at("width").get<int>();
     s.output.height = o.at("height").get<int>();

@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <charconv>
+#include <cstdint>
 
 #include "sim/scene/scene.h"
 #include "sim/shape/sphere_tree.h"
@@ -52,14 +53,13 @@ void addPhysicsOptions(CLI::App& command, SceneOverrides& o, const std::string& 
                        what);
 }
 
-std::optional<std::pair<int, int>> parseSize(const std::string& text) {
+std::optional<std::pair<std::int64_t, std::int64_t>> parseSize(const std::string& text) {
   const std::size_t x = text.find_first_of("xX");
   if (x == std::string::npos) return std::nullopt;
-  const auto side = [](const char* begin, const char* end) -> std::optional<int> {
-    int v = 0;
+  const auto side = [](const char* begin, const char* end) -> std::optional<std::int64_t> {
+    std::int64_t v = 0;
     const auto [ptr, ec] = std::from_chars(begin, end, v);
-    if (ec != std::errc() || ptr != end || begin == end || v < 1 || v > kMaxImageSide)
-      return std::nullopt;
+    if (ec != std::errc() || ptr != end || begin == end) return std::nullopt;
     return v;
   };
   const auto w = side(text.data(), text.data() + x);
@@ -73,12 +73,19 @@ void addSizeOption(CLI::App& command, std::optional<std::pair<int, int>>& size) 
       .add_option_function<std::string>(
           "--size",
           [&size](const std::string& text) {
-            size = parseSize(text);
-            if (!size)
-              throw CLI::ValidationError("--size", "'" + text +
-                                                       "' is not WxH, e.g. 1280x720, with "
-                                                       "each side 1.." +
-                                                       std::to_string(kMaxImageSide));
+            const auto parsed = parseSize(text);
+            if (!parsed)
+              throw CLI::ValidationError("--size",
+                                         "'" + text + "' is not WxH in pixels, e.g. 1280x720");
+            // The limit is the scene's [output] one, in the same words (frameSideProblem).
+            for (const auto& [name, pixels] :
+                 {std::pair<const char*, std::int64_t>{"width", parsed->first},
+                  {"height", parsed->second}}) {
+              const std::string problem = frameSideProblem(name, pixels);
+              if (!problem.empty()) throw CLI::ValidationError("--size", problem);
+            }
+            size =
+                std::make_pair(static_cast<int>(parsed->first), static_cast<int>(parsed->second));
           },
           "frame size in pixels, e.g. 1280x720 (default: the scene's [output] size)")
       ->type_name("WxH");

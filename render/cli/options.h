@@ -1,6 +1,7 @@
 // Options shared by the voxfall subcommands, parsed in one place each (issue 8, item 7).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -23,11 +24,12 @@ void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite)
 // ("" or e.g. " (scenes only)").
 void addPhysicsOptions(CLI::App& command, SceneOverrides& overrides, const std::string& what = "");
 
-// A frame size "WxH" (the x may be capital): width and height in pixels, each 1 ..
-// kMaxImageSide (sim/scene/scene.h, the limit of a scene's [output]); nothing for anything
-// else ("640x", "640x480x2", "640 x 480"). Evenness is the MP4 encoder's check alone.
-std::optional<std::pair<int, int>> parseSize(const std::string& text);
-// --size WxH, parsed once, here: a malformed size is a usage error (exit 2).
+// A frame size "WxH" (the x may be capital): width and height in pixels as written; nothing
+// for anything else ("640x", "640x480x2", "640 x 480"). The range is checked by addSizeOption.
+std::optional<std::pair<std::int64_t, std::int64_t>> parseSize(const std::string& text);
+// --size WxH, parsed once, here: a malformed size, or a side outside frameSideProblem's range
+// (sim/scene/scene.h, the rule of a scene's [output]), is a usage error (exit 2). Evenness is
+// the MP4 encoder's check alone.
 void addSizeOption(CLI::App& command, std::optional<std::pair<int, int>>& size);
 
 }  // namespace vf::cli

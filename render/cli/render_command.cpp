@@ -113,7 +113,15 @@ int runRender(const RenderOptions& o) {
   if (o.fps) spec.fps = *o.fps;
   if (o.size) std::tie(spec.output.width, spec.output.height) = *o.size;
   if (o.crf) spec.output.crf = *o.crf;
-  if (!o.camera.empty()) selectCamera(spec, o.camera);
+  if (!o.camera.empty()) {
+    try {
+      selectCamera(spec, o.camera);
+    } catch (const InputError& e) {
+      // A bake carries its scene's cameras: name the file the user gave, not the scene's.
+      if (!bake) throw;
+      throw InputError(o.scene, e.message());
+    }
+  }
   const int width = spec.output.width, height = spec.output.height;
   const int frameCount = Recorder::frameCountFor(spec.fps, spec.duration);
   const FrameRange range = parseFrames(o.frames, frameCount);

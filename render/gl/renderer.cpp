@@ -4,11 +4,13 @@
 #include <cmath>
 #include <numbers>
 #include <unordered_map>
+#include <utility>
 
 #include "render/gl/gl_api.h"
 #include "render/gl/gl_context.h"
 #include "render/gl/gpu_mesh.h"
 #include "render/gl/shader_program.h"
+#include "sim/scene/scene.h"
 
 namespace vf::gl {
 namespace {
@@ -313,10 +315,10 @@ void Renderer::Impl::presentPass(const DrawList& list) {
 
 Renderer::Renderer(Context& context, const RenderSettings& settings)
     : impl_(std::make_unique<Impl>(context, settings)) {
-  if (settings.width < 1 || settings.height < 1 || settings.width > 16384 ||
-      settings.height > 16384) {
-    throw GlError("frame size " + std::to_string(settings.width) + "x" +
-                  std::to_string(settings.height) + " is out of range (1..16384 per side)");
+  for (const auto& [side, pixels] :
+       {std::pair<const char*, int>{"width", settings.width}, {"height", settings.height}}) {
+    const std::string problem = frameSideProblem(side, pixels);
+    if (!problem.empty()) throw GlError(problem);
   }
   Impl& r = *impl_;
   const std::string& dir = settings.shaderDir;

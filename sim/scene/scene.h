@@ -183,8 +183,15 @@ struct SceneSpec {
 // mesh files throw InputError("file:line:column", "what is wrong; did you mean 'key'?").
 SceneSpec loadScene(const std::string& path);
 
-// Frame sizes in pixels per side: one limit for [output], --size and suite sizes.
+// Frame sizes in pixels per side: one limit for [output], --size, suite sizes and the renderer.
 inline constexpr int kMaxImageSide = 16384;
+
+// The one size rule of a frame side: "" when `pixels` is 1..kMaxImageSide, else the message,
+// naming the side as `side` ("width" or "height"). The scene's [output], --size, suite sizes
+// and the renderer all check with it. Evenness is not part of it: only an MP4 needs even sides,
+// and the MP4 encoder (render/output/video_encoder.cpp) checks that once, whichever of [output]
+// or --size gave the size; a PNG may be odd.
+std::string frameSideProblem(const std::string& side, std::int64_t pixels);
 
 // Overrides (the --level and --step options), shared so that `simulate` and `render` given the
 // same options build the same world and report the same checksum.

@@ -822,13 +822,13 @@ void readCameras(const Reader& r, const toml::table& t, SceneSpec& spec) {
 
 void readOutput(const Reader& r, const toml::table& t, SceneSpec& spec) {
   r.checkKeys(t, {"width", "height", "crf"}, "[output]");
-  // Even sizes: H.264 with 4:2:0 chroma needs them.
+  // The size limit is frameSideProblem's; evenness is the MP4 encoder's, so a scene with an odd
+  // size still renders PNGs, and an MP4 of it is refused with the message --size would get.
   auto side = [&](const char* key, int& out) {
     if (const auto* n = t.get(key)) {
       const std::int64_t v = r.integer(*n, key);
-      if (v <= 0 || v > kMaxImageSide || v % 2 != 0)
-        r.fail(*n, std::string("'") + key + "' must be a positive even number of pixels up to " +
-                       std::to_string(kMaxImageSide) + ", got " + std::to_string(v));
+      const std::string problem = frameSideProblem(key, v);
+      if (!problem.empty()) r.fail(*n, problem);
       out = static_cast<int>(v);
     }
   };
@@ -1063,6 +1063,12 @@ SceneSpec loadScene(const std::string& path) {
                          " frames; at most " + formatNumber(kMaxFrames) + " are supported");
   }
   return spec;
+}
+
+std::string frameSideProblem(const std::string& side, std::int64_t pixels) {
+  if (pixels >= 1 && pixels <= kMaxImageSide) return "";
+  return "the frame " + side + " must be 1.." + std::to_string(kMaxImageSide) + " pixels, got " +
+         std::to_string(pixels);
 }
 
 void selectCamera(SceneSpec& spec, const std::string& name) {

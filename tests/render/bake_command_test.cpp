@@ -90,6 +90,72 @@ TEST_F(BakeCommand, ABakeRendersAtAnotherFrameRateAsTheSceneDoes) {
   expectSameFrames("scene", "bake", 5);
 }
 
+TEST_F(BakeCommand, ABakeKeepsTheScenesNamedCameras) {
+  // Two named cameras unlike [camera] (cubes.toml has none: the automatic one): a chase camera
+  // with lag and a trail, and a keyframed path. Each draws other pixels than the default, so
+  // a bake that lost them, or rendered its default camera instead, fails the comparison.
+  std::ofstream(dir_.path() / "cubes.toml", std::ios::app)
+      << "\n[cameras.chase]\nfollow = [0, 1]\nsmoothing = 0.3\nposition = [1.5, -2.5, 1.0]\n"
+         "look_at = [0.2, 0.1, 0.15]\ntrail = 1.0\n"
+         "\n[cameras.path]\npath = [\n"
+         "  { time = 0.0, position = [3.0, -3.0, 2.0], look_at = [0.5, 0.0, 0.2], fov = 35 },\n"
+         "  { time = 2.0, position = [-2.0, -3.0, 1.5], look_at = [0.0, 0.1, 0.2], fov = 50 },\n"
+         "]\n";
+  ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
+  for (const std::string camera : {"chase", "path"}) {
+    ASSERT_EQ(run("render cubes.toml --camera " + camera +
+                  " --size 96x64 --frames 20:24 -o scene_" + camera + "/f_##.png"),
+              0)
+        << err_;
+    ASSERT_EQ(run("render run.bake --camera " + camera + " --size 96x64 --frames 20:24 -o bake_" +
+                  camera + "/f_##.png"),
+              0)
+        << err_;
+    expectSameFrames("scene_" + camera, "bake_" + camera, 5);
+  }
+  ASSERT_EQ(run("render cubes.toml --size 96x64 --frames 20:24 -o default/f_##.png"), 0) << err_;
+  EXPECT_FALSE(readFile(dir_.path() / "default/f_22.png") ==
+               readFile(dir_.path() / "bake_chase/f_22.png"))
+      << "the chase camera must show another picture than the default one";
+
+  EXPECT_EQ(run("render run.bake --camera drone -o x.mp4"), 1);
+  EXPECT_NE(err_.find("run.bake: no camera named 'drone'; the scene has: camera, chase, path"),
+            std::string::npos)
+      << err_;
+  EXPECT_FALSE(fs::exists(dir_.path() / "x.mp4"));
+}
+
+TEST_F(BakeCommand, AVersion1BakeStillRendersWithItsOneCamera) {
+  // Version 1 headers had `camera` only: rewrite this run's header as version 1 would have been
+  // written (no `cameras`, no camera `name` or `where`) and check it draws the same frames.
+  ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
+  std::string bytes = readFile(dir_.path() / "run.bake");
+  const std::size_t start = bytes.find('\n') + 1, end = bytes.find('\n', start);
+  std::string header = bytes.substr(start, end - start);
+  auto cut = [&header](const std::regex& what) { header = std::regex_replace(header, what, ""); };
+  cut(std::regex(R"re(,?"cameras":\[[^\]]*\])re"));
+  cut(std::regex(R"re("name":"camera",)re"));
+  cut(std::regex(R"re(,"where":"[^"]*")re"));  // the header's keys are sorted: last
+  header = std::regex_replace(header, std::regex(R"re("version":2)re"), R"re("version":1)re");
+  ASSERT_EQ(header.find("cameras"), std::string::npos) << header;
+  ASSERT_NE(header.find(R"re("version":1)re"), std::string::npos) << header;
+  std::ofstream(dir_.path() / "v1.bake", std::ios::binary)
+      << bytes.substr(0, start) << header << bytes.substr(end);
+  ASSERT_EQ(run("render run.bake --size 96x64 --frames 0:3 -o v2/f_##.png"), 0) << err_;
+  ASSERT_EQ(run("render v1.bake --size 96x64 --frames 0:3 -o v1/f_##.png"), 0) << err_;
+  expectSameFrames("v2", "v1", 4);
+  EXPECT_EQ(run("render v1.bake --camera chase -o x.mp4"), 1);
+  EXPECT_NE(err_.find("v1.bake: no camera named 'chase'; the scene has: camera"), std::string::npos)
+      << err_;
+  // A version from the future is refused by number, not misread.
+  header = std::regex_replace(header, std::regex(R"re("version":1)re"), R"re("version":3)re");
+  std::ofstream(dir_.path() / "v3.bake", std::ios::binary)
+      << bytes.substr(0, start) << header << bytes.substr(end);
+  EXPECT_EQ(run("render v3.bake -o x.mp4"), 1);
+  EXPECT_NE(err_.find("bake version 3 is not one this voxfall reads (1..2)"), std::string::npos)
+      << err_;
+}
+
 TEST_F(BakeCommand, PhysicsOptionsAndBrokenBakesAreRefused) {
   ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
   EXPECT_EQ(run("render run.bake --level 3 -o x.mp4"), 1);

@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -164,6 +165,39 @@ TEST_F(RenderCommand, ANamedChaseCameraWithTrailsDrawsFrameKAloneAsInTheFullRun)
   EXPECT_NE(err_.find("no camera named 'drone'; the scene has: camera, chase"), std::string::npos)
       << err_;
   EXPECT_FALSE(fs::exists(dir_.path() / "x.png"));
+}
+
+TEST_F(RenderCommand, ASizeFromTheSceneOrFromSizeMeetsOneRuleWithOneMessage) {
+  // The same odd size from [output] and from --size: one even-size check (the MP4 encoder's),
+  // so one message; a PNG of the odd size is fine either way.
+  fs::create_directories(dir_.path() / "meshes");
+  fs::copy_file(fs::path(VOXFALL_SOURCE_DIR) / "scenes/meshes/cube.obj",
+                dir_.path() / "meshes/cube.obj");
+  const std::string cubes = readFile(kCubes);
+  std::ofstream(dir_.path() / "odd.toml") << cubes << "\n[output]\nwidth = 101\nheight = 64\n";
+  std::ofstream(dir_.path() / "zero.toml") << cubes << "\n[output]\nwidth = 0\n";
+  const std::string odd =
+      "voxfall: error: x.mp4: MP4 frame size 101x64 must be even in both directions";
+  EXPECT_EQ(run("render odd.toml -o x.mp4 -q"), 1);
+  const std::string fromScene = err_;
+  EXPECT_EQ(fromScene.rfind(odd, 0), 0u) << fromScene;
+  EXPECT_EQ(run("render '" + kCubes + "' --size 101x64 -o x.mp4 -q"), 1);
+  EXPECT_EQ(err_, fromScene);
+  EXPECT_FALSE(fs::exists(dir_.path() / "x.mp4"));
+  EXPECT_EQ(run("render odd.toml --frames 3:3 -o odd.png -q"), 0) << err_;
+  EXPECT_EQ(run("render '" + kCubes + "' --frames 3:3 --size 101x64 -o odd_size.png -q"), 0)
+      << err_;
+  EXPECT_TRUE(readFile(dir_.path() / "odd.png") == readFile(dir_.path() / "odd_size.png"));
+  // The same size limit in the same words: at the key of [output], or as a usage error.
+  const std::string zero = "the frame width must be 1..16384 pixels, got 0";
+  EXPECT_EQ(run("render zero.toml -o x.mp4 -q"), 1);
+  EXPECT_NE(
+      err_.find("zero.toml:" + std::to_string(std::count(cubes.begin(), cubes.end(), '\n') + 3) +
+                ":9: " + zero),
+      std::string::npos)
+      << err_;
+  EXPECT_EQ(run("render '" + kCubes + "' --size 0x64 -o x.mp4 -q"), 2);
+  EXPECT_NE(err_.find("--size: " + zero), std::string::npos) << err_;
 }
 
 TEST_F(RenderCommand, BadOptionsFailBeforeAnyOutput) {

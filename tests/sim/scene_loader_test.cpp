@@ -219,8 +219,9 @@ TEST_F(SceneTest, ImpossibleValues) {
                   "[[emitters]]\nshape = \"cube\"\nposition = [0, 0, 1]\n"
                   "jitter = { direction = 200 }\n",
               "200", "'jitter.direction' must be between 0 and 180");
-  expectError("[output]\nwidth = 0\n", "0", "'width' must be a positive even number of pixels");
-  expectError("[output]\nheight = 481\n", "481", "'height' must be a positive even number");
+  expectError("[output]\nwidth = 0\n", "0", "the frame width must be 1..16384 pixels, got 0");
+  expectError("[output]\nheight = 16385\n", "16385",
+              "the frame height must be 1..16384 pixels, got 16385");
   expectError("[output]\ncrf = 52\n", "52", "'crf' must be an integer from 0 to 51, got 52");
   expectError("[camera]\nfov = 180\n", "180", "'fov' must be a vertical field of view");
 }
