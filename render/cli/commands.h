@@ -2,6 +2,8 @@
 // process exit code through the callback's `exitCode`.
 #pragma once
 
+#include <string>
+
 namespace CLI {
 class App;
 }
@@ -26,5 +28,11 @@ void addFilmstripCommand(CLI::App& app, int& exitCode);
 void addPlotCommand(CLI::App& app, int& exitCode);
 // voxfall ensemble SCENE --runs N [--seed S] [--jobs J] [--only i] [-o DIR] [--converge]
 void addEnsembleCommand(CLI::App& app, int& exitCode);
+
+// Renders a scene or bake to `output` (an MP4, or PNGs) exactly as `voxfall render INPUT -o
+// OUTPUT [-y|-n] [--quiet]` does; returns that command's exit code (errors are thrown as
+// there). For commands that make a bake and want its video too (ensemble --video-runs).
+int renderToFile(const std::string& input, const std::string& output, bool overwrite,
+                 bool neverOverwrite, bool quiet);
 
 }  // namespace vf::cli

@@ -90,7 +90,11 @@ Outputs openOutputs(const EnsembleOptions& o, const OutputRules& rules, bool has
   out.summary = open("summary.json");
   if (o.converge) out.converge = open("converge.csv");
   if (o.paths) out.paths = open("paths.csv");
-  if (o.videoRuns > 0) out.bake = open("ensemble_subset.bake");
+  if (o.videoRuns > 0) {
+    out.bake = open("ensemble_subset.bake");
+    // Rendered from the bake once it is written (renderToFile opens it then).
+    checkOutputPath((dir / "trajectories.mp4").string(), rules);
+  }
   if (o.maps) {
     // The maps are written by render/maps (each through its own OutputFile); -y/-n and the
     // inputs are checked here, before any realisation runs.
@@ -224,6 +228,7 @@ int runEnsemble(const EnsembleOptions& o) {
     commit(*outputs->paths);
   }
 
+  int videoCode = 0;  // the video's render: 130/143 when it was interrupted
   if (outputs->bake) {
     // The first --video-runs complete realisations (or the --only one), stepped again frame by
     // frame for `voxfall render ensemble_subset.bake`.
@@ -233,6 +238,14 @@ int runEnsemble(const EnsembleOptions& o) {
     const Bake bake = ensembleBake(ens, seed, chosen);
     writeBake(outputs->bake->stream(), outputs->bake->path(), bake);
     commit(*outputs->bake);
+    // ... and their video over the terrain, as `voxfall render` draws the bake (not after an
+    // interrupt: the realisations' files come first).
+    if (!stop) {
+      const std::string video = (fs::path(opts.outDir) / "trajectories.mp4").string();
+      videoCode =
+          renderToFile(outputs->bake->path(), video, o.overwrite, o.neverOverwrite, o.quiet);
+      if (videoCode == 0) written += ", trajectories.mp4";
+    }
   }
 
   std::vector<ConvergenceRow> conv;
@@ -286,7 +299,7 @@ int runEnsemble(const EnsembleOptions& o) {
                  all.size(), all.size() - 1, all.size());
     return 128 + stop;
   }
-  return 0;
+  return videoCode;
 }
 
 }  // namespace
@@ -323,8 +336,8 @@ void addEnsembleCommand(CLI::App& app, int& exitCode) {
   sub->add_flag("--paths", o->paths,
                 "write paths.csv: every realisation's centre of mass after every step");
   sub->add_option("--video-runs", o->videoRuns,
-                  "write ensemble_subset.bake with the first K realisations' trajectories, for "
-                  "`voxfall render DIR/ensemble_subset.bake -o trajectories.mp4`")
+                  "write the first K realisations' trajectories as ensemble_subset.bake and render "
+                  "it to trajectories.mp4 (the scene's [output] and [camera])")
       ->type_name("K")
       ->check(CLI::Range(1, 10000));
   sub->add_flag("--maps", o->maps,

@@ -233,6 +233,17 @@ int runRender(const RenderOptions& o) {
 
 }  // namespace
 
+int renderToFile(const std::string& input, const std::string& output, bool overwrite,
+                 bool neverOverwrite, bool quiet) {
+  RenderOptions o;
+  o.scene = input;
+  o.output = output;
+  o.overwrite = overwrite;
+  o.neverOverwrite = neverOverwrite;
+  o.quiet = quiet;
+  return runRender(o);
+}
+
 void addRenderCommand(CLI::App& app, int& exitCode) {
   // Owned by the callback: CLI11 fills it during parse, after this function has returned.
   auto o = std::make_shared<RenderOptions>();

@@ -234,10 +234,19 @@ TEST_F(EnsembleCommandTest, MalformedEnsembleKeysAreClearErrors) {
   }
 }
 
-TEST_F(EnsembleCommandTest, SubsetBakeRendersWithTheRenderCommand) {
-  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+TEST_F(EnsembleCommandTest, SubsetVideoIsTheRenderOfItsBake) {
+  // --video-runs writes the subset's bake and renders it: trajectories.mp4 must be the very
+  // MP4 that `voxfall render` makes of that bake (the encoder is deterministic for a setting).
+  vf::test::writeChuteScene(
+      dir_, std::string(vf::test::kChuteEnsemble) + "[output]\nwidth = 160\nheight = 120\n");
   const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 4 --video-runs 3 -q -o v");
   ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(dir_ / "v" / "trajectories.mp4"));
+  const auto again = runVoxfall(kExe, dir_, "render v/ensemble_subset.bake -o again.mp4 -q");
+  ASSERT_EQ(again.code, 0) << again.err;
+  const std::string video = readFile(dir_ / "v" / "trajectories.mp4");
+  EXPECT_GT(video.size(), 1000u);
+  EXPECT_TRUE(video == readFile(dir_ / "again.mp4"));
   const auto frame = runVoxfall(
       kExe, dir_, "render v/ensemble_subset.bake --frames 30:30 --size 160x120 -o f.png -q");
   ASSERT_EQ(frame.code, 0) << frame.err;
