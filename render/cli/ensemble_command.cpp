@@ -262,8 +262,13 @@ int runEnsemble(const EnsembleOptions& o) {
       areas.emplace_back();
       for (const Point2& p : area) areas.back().emplace_back(p[0], p[1]);
     }
+    // A cell no realisation reached has no value on a map (the rasters say 0 passages there):
+    // it shows the hillshade, so the reached area stands out.
+    const std::vector<double>& passages = layers[0].values;
     for (std::size_t k = 0; k < layers.size(); ++k) {
-      const MapLayer layer{layers[k].name, layers[k].title, layers[k].units, layers[k].values};
+      MapLayer layer{layers[k].name, layers[k].title, layers[k].units, layers[k].values};
+      for (std::size_t c = 0; c < passages.size(); ++c)
+        if (passages[c] == 0) layer.values[c] = NAN;
       writeHazardMap(dem, layer, areas, outputs->maps[k].string(), rules);
       written += ", " + outputs->maps[k].filename().string();
     }

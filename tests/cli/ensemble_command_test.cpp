@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "render/output/png_writer.h"
 #include "tests/support/chute_dem.h"
 #include "tests/support/segment_square.h"
 #include "tests/support/voxfall_command.h"
@@ -84,6 +85,16 @@ TEST_F(EnsembleCommandTest, OutputsAreTheSameBytesForOneAndTwoThreads) {
   // paths.csv, runout.png.
   EXPECT_EQ(a.size(), 9u * 4 + 5);
   EXPECT_TRUE(a.count("reach_probability.png") && a.count("runout.png"));
+  // Cells no realisation reached show the grey hillshade, not the colour map's low end: on the
+  // chute most of the map is unreached, so mid-grey pixels (R = G = B, 60..240, which viridis
+  // never gives) must cover a large share of the image (axes and text are a few per cent).
+  const vf::Image map = vf::readPng((dir_ / "j1" / "reach_probability.png").string());
+  std::size_t grey = 0;
+  for (std::size_t p = 0; p + 2 < map.rgb.size(); p += 3)
+    if (map.rgb[p] == map.rgb[p + 1] && map.rgb[p + 1] == map.rgb[p + 2] && map.rgb[p] >= 60 &&
+        map.rgb[p] <= 240)
+      ++grey;
+  EXPECT_GT(grey, map.rgb.size() / 3 / 5) << "under a fifth of the map shows the hillshade";
   ASSERT_EQ(a.size(), b.size());
   for (const auto& [name, bytes] : a) {
     ASSERT_TRUE(b.count(name)) << name;
