@@ -309,6 +309,17 @@ TEST_F(CliTest, ARunawayStopsWithExit1AndKeepsTheFramesSoFar) {
     EXPECT_EQ(std::count(rows[i].begin(), rows[i].end(), ','), 15) << rows[i];
   }
   EXPECT_FALSE(fs::exists(summary)) << "no summary of a run that did not finish";
+  // A bake of the same run keeps the complete frames 0..15 (t <= 0.5 s) and renders the last.
+  const std::string bake = (dir_ / "out" / "drop.bake").string();
+  EXPECT_EQ(run("simulate " + quote(scene) + " --quiet --bake " + quote(bake)), 1);
+  ASSERT_TRUE(fs::exists(bake)) << err_;
+  const std::string png = (dir_ / "out" / "last.png").string();
+  EXPECT_EQ(run("render " + quote(bake) + " --quiet --frames 15:15 --size 64x48 -o " + quote(png)),
+            0)
+      << err_;
+  EXPECT_TRUE(fs::exists(png));
+  EXPECT_EQ(run("render " + quote(bake) + " --quiet --frames 16:16 --size 64x48 -o x.png"), 1)
+      << "frame 16 lies after the runaway: not in the bake";
   // The same scene with the bound raised on the command line runs to the end.
   EXPECT_EQ(run("simulate " + quote(scene) + " --quiet --max-speed 100"), 0) << err_;
 }
