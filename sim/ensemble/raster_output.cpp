@@ -12,41 +12,18 @@
 #include <mutex>
 
 #include "sim/core/error.h"
+#include "sim/shape/gdal_support.h"
 
 namespace vf {
-namespace {
-
-struct Dataset {
-  GDALDatasetH h = nullptr;
-  ~Dataset() {
-    if (h) GDALClose(h);
-  }
-};
-
-// Collects GDAL's last message instead of printing it (as dem_import.cpp does).
-class QuietGdalErrors {
- public:
-  QuietGdalErrors() {
-    CPLErrorReset();
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-  }
-  ~QuietGdalErrors() { CPLPopErrorHandler(); }
-  std::string last() const {
-    const char* m = CPLGetLastErrorMsg();
-    return m && *m ? std::string(m) : std::string("GDAL gave no reason");
-  }
-};
-
-}  // namespace
 
 void writeRaster(const std::string& path, RasterFormat format, const std::vector<double>& values,
                  int nx, int ny, const std::string& demPath) {
   static std::once_flag registered;
   std::call_once(registered, [] { GDALAllRegister(); });
-  QuietGdalErrors errors;
+  gdal::QuietErrors errors;
   if (values.size() != static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny))
     throw InputError(path, "raster has the wrong number of values");
-  Dataset dem;
+  gdal::Dataset dem;
   dem.h = GDALOpen(demPath.c_str(), GA_ReadOnly);
   if (!dem.h) throw InputError(demPath, "cannot read the DEM's georeference: " + errors.last());
   if (GDALGetRasterXSize(dem.h) != nx || GDALGetRasterYSize(dem.h) != ny)
@@ -55,7 +32,7 @@ void writeRaster(const std::string& path, RasterFormat format, const std::vector
   if (GDALGetGeoTransform(dem.h, gt) != CE_None)
     throw InputError(demPath, "DEM has no geotransform");
 
-  Dataset mem;
+  gdal::Dataset mem;
   mem.h = GDALCreate(GDALGetDriverByName("MEM"), "", nx, ny, 1, GDT_Float64, nullptr);
   if (!mem.h) throw InputError(path, "cannot create the raster: " + errors.last());
   GDALSetGeoTransform(mem.h, gt);
@@ -81,7 +58,7 @@ void writeRaster(const std::string& path, RasterFormat format, const std::vector
   // GeoTIFF: compressed losslessly; ESRI ASCII: 10 significant digits.
   const char* tiffOptions[] = {"COMPRESS=DEFLATE", nullptr};
   const char* asciiOptions[] = {"SIGNIFICANT_DIGITS=10", nullptr};
-  Dataset out;
+  gdal::Dataset out;
   out.h = GDALCreateCopy(driver, path.c_str(), mem.h, FALSE,
                          const_cast<char**>(tiff ? tiffOptions : asciiOptions), nullptr, nullptr);
   if (!out.h) throw InputError(path, "cannot write the raster: " + errors.last());

@@ -1,6 +1,6 @@
-// DEM input through GDAL: the only file in voxfall that includes GDAL. Any raster GDAL reads
-// (GeoTIFF, ESRI ASCII grids with xllcorner or xllcenter, ...) becomes a Heightfield; the
-// hand-written ESRI reader this replaces handled one format and no CRS.
+// DEM input through GDAL (rasters are written by sim/ensemble/raster_output.cpp). Any raster
+// GDAL reads (GeoTIFF, ESRI ASCII grids with xllcorner or xllcenter, ...) becomes a Heightfield;
+// the hand-written ESRI reader this replaces handled one format and no CRS.
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <gdal.h>
@@ -16,32 +16,11 @@
 #include <string_view>
 
 #include "sim/core/error.h"
+#include "sim/shape/gdal_support.h"
 #include "sim/shape/heightfield.h"
 
 namespace vf {
 namespace {
-
-// GDAL reports problems through a per-thread error state and, by default, prints them to
-// stderr. Collect the last message instead, so the single InputError can carry it.
-class QuietGdalErrors {
- public:
-  QuietGdalErrors() {
-    CPLErrorReset();
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-  }
-  ~QuietGdalErrors() { CPLPopErrorHandler(); }
-  std::string last() const {
-    const char* m = CPLGetLastErrorMsg();
-    return m && *m ? std::string(m) : std::string("GDAL gave no reason");
-  }
-};
-
-struct Dataset {
-  GDALDatasetH h = nullptr;
-  ~Dataset() {
-    if (h) GDALClose(h);
-  }
-};
 
 // GDAL 3.6's ESRI ASCII driver is lenient where a scene must not be: it fills a short grid
 // with zeros, reads a non-number as 0 and skips an unknown header key (a typo `xlcorner`
@@ -106,8 +85,8 @@ void checkEsriAsciiGrid(const std::string& path) {
 Heightfield loadDem(const std::string& path) {
   static std::once_flag registered;
   std::call_once(registered, [] { GDALAllRegister(); });
-  QuietGdalErrors errors;
-  Dataset ds;
+  gdal::QuietErrors errors;
+  gdal::Dataset ds;
   // GDAL reads an ESRI ASCII grid with decimals as Float32 unless told otherwise: ask for
   // Float64 so heights keep every digit the file gives (the paper's cliff grid is exact to 1 mm
   // in double precision, and its trajectories are pinned bit for bit).

@@ -1,0 +1,42 @@
+// GDAL helpers shared by the two files that talk to GDAL (sim/shape/dem_import.cpp reads DEMs,
+// sim/ensemble/raster_output.cpp writes rasters). A private header: it includes GDAL, so no
+// voxfall header may include it; only those .cpp files do.
+#pragma once
+
+#include <cpl_error.h>
+#include <gdal.h>
+
+#include <string>
+
+namespace vf::gdal {
+
+// An open dataset, closed when it goes out of scope.
+struct Dataset {
+  GDALDatasetH h = nullptr;
+  Dataset() = default;
+  Dataset(const Dataset&) = delete;
+  Dataset& operator=(const Dataset&) = delete;
+  ~Dataset() {
+    if (h) GDALClose(h);
+  }
+};
+
+// GDAL reports problems through a per-thread error state and, by default, prints them to
+// stderr. While one of these lives, the messages are collected instead, so the one InputError
+// can carry the last of them.
+class QuietErrors {
+ public:
+  QuietErrors() {
+    CPLErrorReset();
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+  }
+  ~QuietErrors() { CPLPopErrorHandler(); }
+  QuietErrors(const QuietErrors&) = delete;
+  QuietErrors& operator=(const QuietErrors&) = delete;
+  std::string last() const {
+    const char* m = CPLGetLastErrorMsg();
+    return m && *m ? std::string(m) : std::string("GDAL gave no reason");
+  }
+};
+
+}  // namespace vf::gdal
