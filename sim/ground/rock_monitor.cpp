@@ -177,8 +177,8 @@ int RockMonitor::afterStep(double time, std::vector<BodyInfo>& bodies,
 
     // Maxima, path, rest.
     const double m = shape.mass;
-    const Vec3 v = y.P * b.invMass;
-    const Vec3 w = R * b.inertiaBodyInv * R.transpose() * y.L;
+    const Vec3 v = velocityOf(b, y);
+    const Vec3 w = angularVelocityOf(b, y);
     r.maxSpeed = std::max(r.maxSpeed, v.norm());
     r.maxTranslationalEnergy = std::max(r.maxTranslationalEnergy, 0.5 * m * v.squaredNorm());
     r.maxRotationalEnergy = std::max(r.maxRotationalEnergy, 0.5 * y.L.dot(w));

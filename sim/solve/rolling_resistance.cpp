@@ -43,6 +43,8 @@ int applyRollingResistance(const std::vector<Contact>& contacts,
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     if (!(limit[i] > 0) || !bodies[i].moves()) continue;
     BodyState& y = states[i];
+    // Written out rather than inverseInertiaWorld(): constructed, Eigen rounds this product
+    // differently, and the rock fall scenes' checksums and the README's maps were made so.
     const Mat3 R = y.q.toRotationMatrix();
     const Mat3 invI = R * bodies[i].inertiaBodyInv * R.transpose();
     const Vec3 nHat = normal[i].normalized();

@@ -6,7 +6,6 @@
 #include "sim/collide/contact.h"
 #include "sim/core/body.h"
 #include "sim/ground/ground_material.h"
-#include "sim/world.h"
 
 namespace vf {
 
