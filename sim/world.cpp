@@ -5,7 +5,7 @@
 //   narrow phase (fig. 3)     collide/narrow_phase.cpp (waking sleepers: solve/sleep.cpp)
 //   contact reduction         collide/contact_reduction.cpp (optional)
 //   impulses (eq. 15)         solve/impulse.cpp
-//   rolling resistance (opt-in, rock fall)   solve/rolling_resistance.cpp
+//   ground law (opt-in, rock fall: bounce, rolling)   solve/ground_law.cpp
 //   explicit Euler, renormalise q   solve/integrate.cpp
 //   sleeping islands          solve/sleep.cpp (optional)
 //   releases (emitters)       World::releaseBodies below
@@ -21,9 +21,9 @@
 #include "sim/collide/narrow_phase.h"
 #include "sim/core/error.h"
 #include "sim/core/hash.h"
+#include "sim/solve/ground_law.h"
 #include "sim/solve/impulse.h"
 #include "sim/solve/integrate.h"
-#include "sim/solve/rolling_resistance.h"
 #include "sim/solve/sleep.h"
 #include "sim/solve/time_step.h"
 
@@ -200,9 +200,11 @@ void World::stepToward(double target) {
   solver.dt = s.dt;
   solver.ground = def_.ground.get();
   solver.normalImpulses = def_.ground ? &normalImpulses_ : nullptr;
+  if (def_.ground) groundLaw_.beforeSolve(bodies_, states_);
   solveContacts(contacts_, bodies_, states_, solver, contactCache_);
   if (def_.ground)
-    applyRollingResistance(contacts_, normalImpulses_, bodies_, states_, *def_.ground);
+    groundLaw_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground, def_.gravity,
+                          s.dt, def_.terrain.get(), def_.groundHeight);
   s.secondsSolve = secondsSince(clock);
 
   // Runaway check (run_guard.cpp) on the momenta of this step, before anything moves.

@@ -18,6 +18,7 @@
 #include "sim/run_guard.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
+#include "sim/solve/ground_law.h"
 #include "sim/solve/rotation_update.h"
 #include "sim/solve/sleep.h"
 
@@ -214,7 +215,8 @@ class World {
   std::vector<Contact> contacts_;       // scratch, reused every step
   ContactCache contactCache_;           // last step's contact impulses (warm starting)
   std::uint64_t stepsHash_;             // see stepsHash()
-  std::vector<double> normalImpulses_;  // scratch: per contact, for rolling resistance
+  std::vector<double> normalImpulses_;  // scratch: per contact, for the ground law
+  GroundLaw groundLaw_;                 // rock fall: flight, bounce, rolling (per body)
   RockMonitor monitor_;                 // terrain edges, push-out, rest, outcomes
   RunGuard guard_;                      // runaway checks (run_guard.h)
   std::optional<Runaway> runaway_;      // see runaway()

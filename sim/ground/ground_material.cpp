@@ -11,8 +11,8 @@
 // Values: the r.stone manual (OSGeo grass-addons src/raster/r.stone/r.stone.md, commit
 // 20493ad28ded), "extracted from" Guzzetti, Crosta, Detti & Agliardi 2002, STONE,
 // Computers & Geosciences 28(9):1079-1093: rolling friction (tan of the rolling friction
-// angle) and normal restitution Rn (percent, here as a fraction). STONE's tangential
-// restitution Rt is not modelled here (voxfall's tangential response is Coulomb friction).
+// angle), normal restitution Rn and tangential restitution Rt (percent, here as fractions);
+// how a rigid body uses them: sim/solve/ground_law.cpp.
 // STONE is a lumped-mass model: its rolling friction decelerates a point at mu g cos(theta);
 // here it is a torque on a rigid body (Azzoni et al. 1995's form), which for a sphere gives
 // 5/7 of that deceleration and the same critical slope atan(mu_r).
@@ -27,6 +27,7 @@ struct Preset {
   const char* name;
   double rolling;      // STONE rolling friction coefficient
   double restitution;  // STONE Rn / 100
+  double tangential;   // STONE Rt / 100
   const char* stoneClass;
 };
 
@@ -36,19 +37,19 @@ constexpr const char* kStone =
 // A subset of the STONE classes with names a scene writer reaches for; every number is the
 // table's (rockfall-models.md section 4).
 constexpr Preset kPresets[] = {
-    {"colluvial", 0.80, 0.15, "Alluvial, lacustrine, marine, eluvial and colluvial deposits"},
-    {"glacial_deposits", 0.65, 0.35, "Glacial deposits"},
-    {"landslide_deposits", 0.65, 0.35, "Landslides"},
-    {"anthropic_deposits", 0.65, 0.35, "Anthropic deposits"},
-    {"loose_clastic", 0.35, 0.45, "Loosely packed clastic deposits"},
-    {"consolidated_clastic", 0.40, 0.55, "Consolidated clastic deposits"},
-    {"marl", 0.40, 0.55, "Marl"},
-    {"flysch", 0.40, 0.55, "Flysch"},
-    {"schists", 0.35, 0.60, "Schists"},
-    {"carbonate_rock", 0.30, 0.65, "Carbonate rocks"},
-    {"igneous_rock", 0.30, 0.65, "Intrusive igneous rocks"},
-    {"bedrock", 0.30, 0.65, "Non-schists"},
-    {"lakes_glaciers", 0.95, 0.10, "Lakes, glaciers"},
+    {"colluvial", 0.80, 0.15, 0.40, "Alluvial, lacustrine, marine, eluvial and colluvial deposits"},
+    {"glacial_deposits", 0.65, 0.35, 0.55, "Glacial deposits"},
+    {"landslide_deposits", 0.65, 0.35, 0.55, "Landslides"},
+    {"anthropic_deposits", 0.65, 0.35, 0.55, "Anthropic deposits"},
+    {"loose_clastic", 0.35, 0.45, 0.55, "Loosely packed clastic deposits"},
+    {"consolidated_clastic", 0.40, 0.55, 0.65, "Consolidated clastic deposits"},
+    {"marl", 0.40, 0.55, 0.65, "Marl"},
+    {"flysch", 0.40, 0.55, 0.65, "Flysch"},
+    {"schists", 0.35, 0.60, 0.70, "Schists"},
+    {"carbonate_rock", 0.30, 0.65, 0.75, "Carbonate rocks"},
+    {"igneous_rock", 0.30, 0.65, 0.75, "Intrusive igneous rocks"},
+    {"bedrock", 0.30, 0.65, 0.75, "Non-schists"},
+    {"lakes_glaciers", 0.95, 0.10, 0.10, "Lakes, glaciers"},
 };
 
 }  // namespace
@@ -61,6 +62,7 @@ std::optional<GroundMaterial> groundPreset(const std::string& name, double frict
       m.restitution = p.restitution;
       m.friction = friction;
       m.rollingResistance = p.rolling;
+      m.tangentialRestitution = p.tangential;
       m.source = std::string(kStone) + ", class \"" + p.stoneClass + "\"";
       return m;
     }

@@ -20,6 +20,9 @@ struct GroundMaterial {
   // opposing rolling of at most mu_r h N (h: centre-of-mass height above the contact, N the
   // normal force). 0: none (the paper's model).
   double rollingResistance = 0;
+  // Tangential restitution Rt (STONE): a bounce keeps at most Rt of the incoming tangential
+  // velocity of the centre of mass (sim/solve/ground_law.cpp). 1: no loss beyond friction's.
+  double tangentialRestitution = 1;
   std::string source;  // where the numbers come from (presets)
 };
 

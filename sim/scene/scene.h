@@ -101,7 +101,7 @@ struct CameraSpec {
 // body_ground restitution and friction, and no rolling resistance.
 struct GroundMaterialSpec {
   std::string name;
-  std::optional<double> restitution, friction, rollingResistance;
+  std::optional<double> restitution, friction, rollingResistance, tangentialRestitution;
   std::string where;
 };
 

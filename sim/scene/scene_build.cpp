@@ -127,6 +127,7 @@ GroundMaterial groundMaterial(const SceneSpec& spec, const std::string& name) {
       m.restitution = g.restitution.value_or(spec.contact.restitutionBodyGround);
       m.friction = g.friction.value_or(spec.contact.frictionBodyGround);
       m.rollingResistance = g.rollingResistance.value_or(0.0);
+      m.tangentialRestitution = g.tangentialRestitution.value_or(1.0);
       m.source = "scene " + g.where;
       return m;
     }

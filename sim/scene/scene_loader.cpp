@@ -431,7 +431,8 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
       const std::string name(k.str());
       const std::string label = "[ground.materials." + name + "]";
       const toml::table& m = r.table(v, "ground.materials." + name);
-      r.checkKeys(m, {"restitution", "friction", "rolling_resistance"}, label);
+      r.checkKeys(m, {"restitution", "friction", "rolling_resistance", "tangential_restitution"},
+                  label);
       GroundMaterialSpec g;
       g.name = name;
       g.where = r.where(m);
@@ -441,6 +442,8 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
       if (const auto* x = m.get("rolling_resistance"))
         g.rollingResistance =
             r.nonNegative(*x, "rolling_resistance", " (tan of the rolling friction angle)");
+      if (const auto* x = m.get("tangential_restitution"))
+        g.tangentialRestitution = r.inRange(*x, "tangential_restitution", 0, 1);
       spec.groundMaterials.push_back(g);
     }
   }

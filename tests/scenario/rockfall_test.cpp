@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "sim/ground/ground_material.h"
+#include "sim/solve/ground_law.h"
 #include "sim/world.h"
 #include "tests/sim/test_meshes.h"
 #include "tests/support/test_world.h"
@@ -14,13 +15,15 @@ namespace {
 
 constexpr double kG = 9.81;
 
-std::shared_ptr<const GroundMap> oneMaterial(double restitution, double friction, double rolling) {
+std::shared_ptr<const GroundMap> oneMaterial(double restitution, double friction, double rolling,
+                                             double tangential = 1.0) {
   auto g = std::make_shared<GroundMap>();
   GroundMaterial m;
   m.name = "test";
   m.restitution = restitution;
   m.friction = friction;
   m.rollingResistance = rolling;
+  m.tangentialRestitution = tangential;
   g->materials.push_back(m);
   return g;
 }
@@ -90,6 +93,90 @@ TEST(Rockfall, RollingSphereStopsAtTheRollingResistanceDistance) {
   free.advanceTo(tStop + 1.0);
   EXPECT_GT(free.velocity(0).x(), 0.99 * v0);
   EXPECT_GT(free.state(0).x.x(), 3 * d);
+}
+
+// STONE's modes (sim/solve/ground_law.cpp). A ball rolling without slip at v0 = 2 m/s drops
+// h = 0.5 m onto level ground (restitution 0, Rt = 0.5): the landing is 0.8 m from the release
+// at 3.7 m/s, under STONE's 3 m and 5 m/s, so it is no bounce but the start of rolling. Its
+// contact point does not slip, so friction takes nothing, and it rolls the Azzoni distance
+// from where it landed. Were the landing a bounce, Rt would halve its speed (a quarter of the
+// distance); were the landing's impulse (m sqrt(2 g h), 300 times a step's weight) fed to the
+// rolling brake, its spin would end there and friction would take 2/7 of its speed.
+TEST(Rockfall, AShortSlowLandingRollsOnWithNoBounceLoss) {
+  const double r = 0.25, v0 = 2.0, muR = 0.3, h = 0.5;
+  const double tFall = std::sqrt(2 * h / kG);
+  const double d = v0 * tFall + 7 * v0 * v0 / (10 * muR * kG);
+  WorldDef def;
+  def.groundHeight = 0.0;
+  def.ground = oneMaterial(0.0, 0.8, muR, 0.5);
+  World world(def);
+  BodyDef b;
+  b.shape = smoothBall(r, 100);
+  b.position = Vec3(0, 0, r + h);
+  b.velocity = Vec3(v0, 0, 0);
+  b.angularVelocity = Vec3(0, v0 / r, 0);
+  world.addBody(b);
+  world.advanceTo(tFall + v0 / (5.0 / 7.0 * muR * kG) + 1.0);
+  const double dt = world.totals().dtMax;
+  // Tolerance: the rolling test's 2 v0 dt, plus v0 dt for the landing, which happens within
+  // one step of the closed-form time.
+  EXPECT_NEAR(world.state(0).x.x(), d, 3 * v0 * dt);
+  EXPECT_LT(world.velocity(0).norm(), kG * dt) << "at rest: below what gravity adds in a step";
+}
+
+// A landing faster than 5 m/s is a bounce: a ball without spin moving at 8 m/s lands from 2 m
+// (10.2 m/s). The reference is the same landing with Rt = 1 (eq. 15 and Coulomb friction only,
+// which leave it with v_ref < v0 and spin w_ref). With Rt = 0.5 the bounce keeps 0.5 v0 of the
+// tangential velocity, and the spin is scaled by the same factor 0.5 v0 / v_ref; with Rt = 0.9
+// (0.9 v0 > v_ref) friction has already taken more, and nothing changes: not a bit.
+TEST(Rockfall, AFastLandingBouncesKeepingAtMostRtOfTheTangentialVelocity) {
+  const double r = 0.25, v0 = 8.0, h = 2.0, rn = 0.3;
+  struct Landing {
+    Vec3 v, w;
+  };
+  auto land = [&](double rt) {
+    WorldDef def;
+    def.groundHeight = 0.0;
+    def.ground = oneMaterial(rn, 0.8, 0.0, rt);
+    World world(def);
+    BodyDef b;
+    b.shape = smoothBall(r, 100);
+    b.position = Vec3(0, 0, r + h);
+    b.velocity = Vec3(v0, 0, 0);
+    world.addBody(b);
+    world.stepNext();  // starts falling
+    while (world.velocity(0).z() < 0 && world.time() < 2.0) world.stepNext();
+    return Landing{world.velocity(0), world.angularVelocity(0)};
+  };
+  const Landing ref = land(1.0), half = land(0.5), most = land(0.9);
+  ASSERT_GT(ref.v.z(), 0) << "it bounced";
+  ASSERT_LT(ref.v.x(), 0.9 * v0);
+  ASSERT_GT(ref.v.x(), 0.5 * v0);
+  // The cap scales the tangential velocity and the spin: exact to rounding.
+  EXPECT_NEAR(half.v.x(), 0.5 * v0, 1e-12 * v0);
+  EXPECT_NEAR(half.w.y(), ref.w.y() * 0.5 * v0 / ref.v.x(), 1e-12 * v0 / r);
+  EXPECT_EQ(half.v.z(), ref.v.z()) << "the normal velocity is eq. 15's";
+  EXPECT_EQ(most.v, ref.v);
+  EXPECT_EQ(most.w, ref.w);
+}
+
+// The lift-off test of the rolling mode: the clearance of a body's sphere tree above the floor
+// plane and above terrain (here level at z = 0.5) is its lowest leaf's height less the radius.
+TEST(Rockfall, GroundClearanceIsTheLowestLeafsGap) {
+  BodyInfo b;
+  b.shape = smoothBall(0.25, 100);
+  BodyState y;
+  y.x = Vec3(3.2, 4.1, 1.0);
+  EXPECT_NEAR(groundClearance(b, y, nullptr, 0.0), 0.75, 1e-12);
+  auto terrain = std::make_shared<Heightfield>();
+  terrain->nx = terrain->ny = 10;
+  terrain->cell = 1.0;
+  terrain->z.assign(100, 0.5);
+  terrain->zMin = terrain->zMax = 0.5;
+  EXPECT_NEAR(groundClearance(b, y, terrain.get(), std::nullopt), 0.25, 1e-12);
+  EXPECT_NEAR(groundClearance(b, y, terrain.get(), 0.0), 0.25, 1e-12) << "the nearer of both";
+  y.x = Vec3(30, 4.1, 1.0);  // off the grid, no floor: nothing below
+  EXPECT_TRUE(std::isinf(groundClearance(b, y, terrain.get(), std::nullopt)));
 }
 
 // Flat terrain at z = 0: nx x ny samples of 1 m from (0, 0); NaN samples are NODATA.

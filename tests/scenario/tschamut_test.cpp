@@ -49,14 +49,12 @@ double median(std::vector<double> v) {
 // The first `count` runs of the data set (release_points.csv order), each simulated alone.
 //
 // DISABLED because it FAILS today, and the parameters must not be tuned to make it pass. With
-// the literature parameters above (measured 2026-11-29, 10 runs): 9 of 10 rocks stop (v006
-// still creeps at about 0.1 m/s after 60 s), and the median runout is 54.3 m against the
-// observed 106.1 m (-49 %): STONE's rolling friction for glacial deposits (0.65) with
-// rolling resistance as a torque stops these 40-79 kg blocks about half way. Counting only
-// the sustained normal force (no rolling brake from impacts, STONE's mode split) instead runs
-// them a median 181 m, 9 of 10 off the grid: the two readings bracket the observation, and
-// neither was chosen for its result (README "Validation: Tschamut 2014"). Run it with
-// --gtest_also_run_disabled_tests; README "Rock fall on real terrain" lists every run.
+// the literature parameters above and STONE's modes (sim/solve/ground_law.cpp; measured
+// 2026-11-29, 10 runs): every rock stops, and the median runout is 68.4 m against the observed
+// 106.1 m (-36 %): the blocks stop 67-71 m down, where the proxy's slope falls below
+// atan(0.65). Feeding impacts to the rolling brake gave 54.3 m; the sustained force without
+// STONE's Rt, 181 m (9 of 10 off the grid); README "Validation: Tschamut 2014" lists every run
+// and why the committed law was chosen. Run it with --gtest_also_run_disabled_tests.
 TEST(Tschamut2014, DISABLED_EveryRockStopsOnTheTerrainAndTheMedianRunoutIsWithin25Percent) {
   const SceneSpec all = loadScene(test::sourcePath("scenes/tschamut2014/tschamut2014.toml"));
   const std::vector<ObservedRun> runs = observed();

@@ -528,22 +528,29 @@ TEST_F(SceneTest, GroundMaterialsByNameOrByClassRaster) {
           "[contact]\nfriction = { body_ground = 0.7 }\n"
           "[ground]\nheightfield = \"dem.asc\"\nmaterial = \"bedrock\"\n"
           "classes = \"classes.asc\"\nclass_materials = { 1 = \"meadow\", 2 = \"colluvial\" }\n"
-          "[ground.materials.meadow]\nrolling_resistance = 0.9\nrestitution = 0.1\n");
+          "[ground.materials.meadow]\nrolling_resistance = 0.9\nrestitution = 0.1\n"
+          "tangential_restitution = 0.45\n");
   const BuiltScene built = buildScene(loadScene(path));
   const GroundMap& g = *built.world->def().ground;
-  // STONE table (Guzzetti et al. 2002): non-schist bedrock 0.30 / Rn 65 %, colluvial 0.80 / 15 %.
+  // STONE table (Guzzetti et al. 2002): non-schist bedrock 0.30 / Rn 65 % / Rt 75 %, colluvial
+  // 0.80 / 15 % / 40 %.
   EXPECT_EQ(g.at(4, 4).name, "meadow");
   EXPECT_EQ(g.at(4, 4).rollingResistance, 0.9);
   EXPECT_EQ(g.at(4, 4).friction, 0.7);  // unset: [contact] body_ground
+  EXPECT_EQ(g.at(4, 4).tangentialRestitution, 0.45);
   EXPECT_EQ(g.at(26, 4).name, "colluvial");
   EXPECT_EQ(g.at(26, 4).rollingResistance, 0.80);
   EXPECT_EQ(g.at(26, 4).restitution, 0.15);
+  EXPECT_EQ(g.at(26, 4).tangentialRestitution, 0.40);
   EXPECT_EQ(g.at(10, 0).name, "bedrock");  // the NODATA class sample
   EXPECT_EQ(g.at(10, 0).rollingResistance, 0.30);
   EXPECT_EQ(g.at(10, 0).restitution, 0.65);
+  EXPECT_EQ(g.at(10, 0).tangentialRestitution, 0.75);
   // Without `material` the paper's model stands: no ground map at all.
   const std::string plain = write("plain.toml", kShape + "[ground]\nheightfield = \"dem.asc\"\n");
   EXPECT_EQ(buildScene(loadScene(plain)).world->def().ground, nullptr);
+  expectError(kShape + "[ground.materials.scree]\ntangential_restitution = 1.5\n", "1.5",
+              "'tangential_restitution' must be between 0 and 1, got 1.5");
   expectError(kShape + "[ground]\nplane = 0\nmaterial = \"bedrok\"\n", "\"bedrok\"",
               "unknown ground material 'bedrok'; did you mean 'bedrock'?");
   // A class raster on another grid is refused.

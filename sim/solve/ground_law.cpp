@@ -1,0 +1,148 @@
+// STONE's ground-contact law on a rigid body: flight, bounce and rolling.
+//
+// STONE (Guzzetti, Crosta, Detti & Agliardi 2002, Computers & Geosciences 28(9):1079-1093),
+// whose per-lithology coefficients the presets are (ground_material.cpp), moves a rock in three
+// modes, as its GRASS implementation r.stone does it (points.c, fixed_parameters.c):
+//  - flight: a parabola until the rock meets the ground;
+//  - bounce: in the plane of the ground, the normal velocity becomes -Rn v_n and the tangential
+//    velocity Rt v_t; but a bounce shorter than 3 m (from the previous bounce, or the release)
+//    at a speed under 5 m/s instead starts rolling;
+//  - rolling: the rock decelerates by its rolling friction tan(phi_r) on every triangle of the
+//    ground until a new triangle lies more than 1 cm below it, when it flies again.
+// Here a rigid body meets a voxelised surface instead of a point meeting a plane, so:
+//  - Rn is eq. 15's restitution of the ground contacts (the solver, unchanged);
+//  - a landing is the first step in ground contact after a flight, and a flight begins when the
+//    body's sphere tree is 1 cm clear of the ground (groundClearance): a rock rolling over
+//    voxel bumps or onto a new DEM facet keeps rolling, as STONE's does;
+//  - a bounce keeps at most Rt of the incoming tangential velocity of the centre of mass (the
+//    solver's Coulomb friction may already have taken more: never restored), and the spin is
+//    scaled with it, so a rock that lands rolling leaves rolling; kinetic energy only falls;
+//  - while rolling, the friction is a torque (rolling resistance, below), as in Azzoni et al.
+//    1995, whose tan(phi_r) is mu_r here.
+//
+// Rolling resistance, constant-torque type (Project Chrono's NSC rolling friction, LIGGGHTS
+// "cdt"). Why a separate pass after the impulse solve rather than a row of the solver: friction
+// has by then matched the contact point's velocity (rolling without slip where the Coulomb cone
+// allows), so the rolling spin is known, and the torque only needs the normal force. Removing
+// spin leaves the contact point slipping; the next step's friction takes it back out of the
+// linear velocity, so for a rolling body the angular momentum about the contact point,
+// (m h + I/h) v, falls by mu_r h N dt per step: for a sphere on level ground a = 5/7 mu_r g and
+// the stopping distance is d = 7 v0^2 / (10 mu_r g) (Azzoni et al. 1995;
+// tests/scenario/rockfall_test.cpp checks it). N is the sustained normal force: a body's summed
+// normal impulse counts up to its weight's share, m |g.n| dt. An impact's impulse (a 60 kg
+// block landing at 8 m/s: about 500 N s, against 0.6 N s of weight in a millisecond step) is
+// not rolling: fed to mu_r h N it ended all spin at every landing (the first version here did
+// that, and stopped the Tschamut blocks about half way; README "Validation: Tschamut 2014").
+//
+// Alternatives rejected: a rotational spring-dashpot (LIGGGHTS epsd, Rockable) needs a
+// stiffness nobody has published for rock on soil; velocity-dependent scarring friction
+// (RAMMS) does no work on a rock that rolls without slip (shared/rockfall-models.md).
+#include "sim/solve/ground_law.h"
+
+#include <cmath>
+#include <limits>
+
+namespace vf {
+
+void GroundLaw::beforeSolve(const std::vector<BodyInfo>& bodies,
+                            const std::vector<BodyState>& states) {
+  if (modes_.size() < bodies.size()) modes_.resize(bodies.size());
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (!bodies[i].moves()) continue;
+    modes_[i].incoming = velocityOf(bodies[i], states[i]);
+    modes_[i].incomingSpin = states[i].L;
+  }
+}
+
+GroundLawStats GroundLaw::afterSolve(const std::vector<Contact>& contacts,
+                                     const std::vector<double>& normalImpulses,
+                                     const std::vector<BodyInfo>& bodies,
+                                     std::vector<BodyState>& states, const GroundMap& ground,
+                                     const Vec3& gravity, double dt, const Heightfield* terrain,
+                                     std::optional<double> floor) {
+  GroundLawStats stats;
+  if (modes_.size() < bodies.size()) modes_.resize(bodies.size());
+  const std::size_t nb = bodies.size();
+  // Per body, summed over its ground contacts in contact order (deterministic): the rolling
+  // limit sum mu_r,k h_k jn_k, the normal impulse, the impulse-weighted normal and Rt.
+  std::vector<double> limit(nb, 0.0), impulse(nb, 0.0), rt(nb, 0.0);
+  std::vector<Vec3> normal(nb, Vec3::Zero());
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const Contact& c = contacts[k];
+    const double jn = normalImpulses[k];
+    if (c.b != kGround || !(jn > 0)) continue;
+    const GroundMaterial& m = ground.at(c.point.x(), c.point.y());
+    const double lever = -(c.point - states[c.a].x).dot(c.normal);
+    if (m.rollingResistance > 0 && lever > 0) limit[c.a] += m.rollingResistance * lever * jn;
+    impulse[c.a] += jn;
+    rt[c.a] += m.tangentialRestitution * jn;
+    normal[c.a] += jn * c.normal;
+  }
+  for (std::size_t i = 0; i < nb; ++i) {
+    const BodyInfo& b = bodies[i];
+    if (!b.moves()) continue;
+    BodyState& y = states[i];
+    Mode& mode = modes_[i];
+    if (!mode.seen) mode.seen = true, mode.lastBounce = y.x;  // STONE: the release point
+    if (!(impulse[i] > 0)) {  // no ground contact: flying once 1 cm clear
+      if (!mode.airborne && groundClearance(b, y, terrain, floor) > kStoneLiftOff)
+        mode.airborne = true;
+      continue;
+    }
+    const Vec3 nHat = normal[i].normalized();
+    if (mode.airborne) {  // a landing
+      mode.airborne = false;
+      const bool shortAndSlow = (y.x - mode.lastBounce).norm() < kStoneShortBounce &&
+                                mode.incoming.norm() < kStoneRollSpeed;
+      if (shortAndSlow) {
+        ++stats.rolls;
+      } else {
+        ++stats.bounces;
+        mode.lastBounce = y.x;
+        const Vec3 vIn = mode.incoming - mode.incoming.dot(nHat) * nHat;
+        const Vec3 v = velocityOf(b, y);
+        const Vec3 vn = v.dot(nHat) * nHat, vt = v - vn;
+        const double keep = rt[i] / impulse[i] * vIn.norm();
+        if (vt.norm() > keep) {
+          const double s = keep / vt.norm();
+          y.P = (vn + s * vt) / b.invMass;
+          y.L *= s;
+        }
+        continue;  // a bounce is not rolling: no rolling resistance this step
+      }
+    }
+    if (!(limit[i] > 0)) continue;
+    // Rolling resistance with the sustained normal force (see the top of this file).
+    const double sustained = std::abs(gravity.dot(nHat)) * dt / b.invMass;
+    const double brake = limit[i] * std::min(1.0, sustained / impulse[i]);
+    const Mat3 invI = inverseInertiaWorld(b, y);
+    const Vec3 w = invI * y.L;
+    const Vec3 wt = w - w.dot(nHat) * nHat;
+    const double spin = wt.norm();
+    if (spin == 0.0) continue;
+    const Vec3 t = wt / spin;
+    const double stopAll = spin / t.dot(invI * t);  // the angular impulse that ends the rolling
+    y.L -= std::min(stopAll, brake) * t;
+    ++stats.braked;
+  }
+  return stats;
+}
+
+double groundClearance(const BodyInfo& b, const BodyState& y, const Heightfield* terrain,
+                       std::optional<double> floor) {
+  const SphereTreeLevel& leaves = b.shape->tree->leaves();
+  const Mat3 R = y.q.toRotationMatrix();
+  double gap = std::numeric_limits<double>::infinity();
+  for (const Vec3& c0 : leaves.centers) {
+    const Vec3 c = y.x + R * c0;
+    if (floor) gap = std::min(gap, c.z() - *floor - leaves.radius);
+    if (!terrain) continue;
+    const double h = terrain->heightAt(c.x(), c.y());
+    if (std::isnan(h)) continue;
+    // Height above the facet under the centre, measured along its normal.
+    gap = std::min(gap, (c.z() - h) * terrain->normalAt(c.x(), c.y()).z() - leaves.radius);
+  }
+  return gap;
+}
+
+}  // namespace vf
