@@ -139,7 +139,9 @@ int RockMonitor::afterStep(double time, std::vector<BodyInfo>& bodies,
   const int n = static_cast<int>(bodies.size());
   for (int i = 0; i < n; ++i) {
     BodyInfo& b = bodies[static_cast<std::size_t>(i)];
-    if (!b.moves() || i >= static_cast<int>(rocks_.size()) || !rocks_[i].released) continue;
+    // Sleeping rocks too (solve/sleep.h): frozen at rest, they must still come to count as
+    // stopped, or a run with sleep on would never end on "all_at_rest".
+    if (!b.dynamic() || i >= static_cast<int>(rocks_.size()) || !rocks_[i].released) continue;
     BodyState& y = states[static_cast<std::size_t>(i)];
     RockOutcome& r = rocks_[static_cast<std::size_t>(i)];
     const Shape& shape = *b.shape;

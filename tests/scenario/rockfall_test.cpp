@@ -227,6 +227,24 @@ TEST(Rockfall, ARockRolledOffTheGridEdgeIsRemovedAndRecorded) {
   EXPECT_GT(world.lastStep().dt, 1e-3);
 }
 
+// With sleeping on, a rock at rest falls asleep (0.5 s under 0.05 m/s) before the rest
+// criterion's 1 s under 0.1 m/s has passed; asleep, it must still be reported stopped, so a run
+// that stops on "all at rest" ends.
+TEST(Rockfall, ASleepingRockCountsAsStopped) {
+  WorldDef def;
+  def.terrain = flatTerrain(11, 11);
+  def.sleep = true;
+  World world(def);
+  BodyDef b;
+  b.shape = smoothBall(0.25, 100);
+  b.position = Vec3(5, 5, 0.25);
+  world.addBody(b);
+  world.advanceTo(2.0);
+  ASSERT_TRUE(world.isSleeping(0));
+  EXPECT_EQ(world.outcomes()[0].state, RockState::kStopped);
+  EXPECT_TRUE(world.allSettled());
+}
+
 TEST(Rockfall, EdgePoliciesStopTheRunOrWallTheRockIn) {
   World stop = rollTowardsEdge(TerrainEdge::kStop);
   stop.advanceTo(5.0);
