@@ -2,7 +2,8 @@
 //
 // STONE (Guzzetti, Crosta, Detti & Agliardi 2002, Computers & Geosciences 28(9):1079-1093),
 // whose per-lithology coefficients the presets are (ground_material.cpp), moves a rock in three
-// modes, as its GRASS implementation r.stone does it (points.c, fixed_parameters.c):
+// modes, as its GRASS implementation r.stone does it (OSGeo grass-addons src/raster/r.stone,
+// points.c and fixed_parameters.c at commit c6085084c93b):
 //  - flight: a parabola until the rock meets the ground;
 //  - bounce: in the plane of the ground, the normal velocity becomes -Rn v_n and the tangential
 //    velocity Rt v_t; but a bounce shorter than 3 m (from the previous bounce, or the release)
