@@ -202,9 +202,12 @@ void World::stepToward(double target) {
   solver.normalImpulses = def_.ground ? &normalImpulses_ : nullptr;
   if (def_.ground) groundLaw_.beforeSolve(bodies_, states_);
   solveContacts(contacts_, bodies_, states_, solver, contactCache_);
-  if (def_.ground)
-    groundLaw_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground, def_.gravity,
-                          s.dt, def_.terrain.get(), def_.groundHeight);
+  if (def_.ground) {
+    const GroundLawStats law =
+        groundLaw_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground,
+                              def_.gravity, s.dt, def_.terrain.get(), def_.groundHeight);
+    for (int id : law.bounced) monitor_.countBounce(id);
+  }
   s.secondsSolve = secondsSince(clock);
 
   // Runaway check (run_guard.cpp) on the momenta of this step, before anything moves.

@@ -18,17 +18,17 @@ void writeOutcomesCsv(std::FILE* out, const World& world) {
   std::fprintf(out,
                "body,state,release_time_s,release_x,release_y,release_z,end_time_s,end_x,end_y,"
                "end_z,runout_m,reach_angle_deg,max_speed_mps,max_translational_energy_j,"
-               "max_rotational_energy_j,max_jump_height_m\n");
+               "max_rotational_energy_j,max_jump_height_m,bounces\n");
   const auto& rocks = world.outcomes();
   for (std::size_t i = 0; i < rocks.size(); ++i) {
     const RockOutcome& r = rocks[i];
     if (!r.released) continue;
     const Vec3 a = toDem(world, r.release), b = toDem(world, r.end);
-    std::fprintf(out,
-                 "%zu,%s,%.6f,%.4f,%.4f,%.4f,%.6f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.6g,%.6g,%.4f\n",
-                 i, rockStateName(r.state), r.releaseTime, a.x(), a.y(), a.z(), r.endTime, b.x(),
-                 b.y(), b.z(), r.runout(), r.reachAngleDegrees(), r.maxSpeed,
-                 r.maxTranslationalEnergy, r.maxRotationalEnergy, r.maxJumpHeight);
+    std::fprintf(
+        out, "%zu,%s,%.6f,%.4f,%.4f,%.4f,%.6f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.6g,%.6g,%.4f,%d\n", i,
+        rockStateName(r.state), r.releaseTime, a.x(), a.y(), a.z(), r.endTime, b.x(), b.y(), b.z(),
+        r.runout(), r.reachAngleDegrees(), r.maxSpeed, r.maxTranslationalEnergy,
+        r.maxRotationalEnergy, r.maxJumpHeight, r.bounces);
   }
 }
 
@@ -60,6 +60,7 @@ void writeOutcomesGeoJson(std::FILE* out, const World& world) {
                           {"max_translational_energy_j", r.maxTranslationalEnergy},
                           {"max_rotational_energy_j", r.maxRotationalEnergy},
                           {"max_jump_height_m", r.maxJumpHeight},
+                          {"bounces", r.bounces},
                           {"message", r.message}}}});
   }
   json doc = {{"type", "FeatureCollection"}, {"features", features}};

@@ -211,6 +211,11 @@ int RockMonitor::afterStep(double time, std::vector<BodyInfo>& bodies,
   return finished;
 }
 
+void RockMonitor::countBounce(int id) {
+  if (id >= 0 && id < static_cast<int>(rocks_.size()))
+    ++rocks_[static_cast<std::size_t>(id)].bounces;
+}
+
 bool RockMonitor::allSettled(const std::vector<BodyInfo>& bodies) const {
   bool any = false;
   for (std::size_t i = 0; i < bodies.size(); ++i) {

@@ -48,9 +48,10 @@ struct RockOutcome {
   double maxTranslationalEnergy = 0;  // J
   double maxRotationalEnergy = 0;     // J
   double maxJumpHeight = 0;           // m, lowest point of the body above the ground under it
-  double restSince = -1;              // s, start of the current slow spell; < 0: none
-  std::vector<Vec3> path;             // centre of mass, world, every RockMonitor::kPathInterval
-  std::string message;                // why it left or was stopped (edge, hole, below the surface)
+  int bounces = 0;         // landings that bounced (STONE's Rt applied: sim/solve/ground_law.cpp)
+  double restSince = -1;   // s, start of the current slow spell; < 0: none
+  std::vector<Vec3> path;  // centre of mass, world, every RockMonitor::kPathInterval
+  std::string message;     // why it left or was stopped (edge, hole, below the surface)
   double runout() const { return (end - release).head<2>().norm(); }  // horizontal, m
   // Reach angle (Fahrboeschung): atan of drop height over runout, degrees.
   double reachAngleDegrees() const;
@@ -60,6 +61,8 @@ class RockMonitor {
  public:
   static constexpr double kPathInterval = 0.1;  // s between path points
 
+  // Body `id` bounced off the ground in this step (the ground law's count).
+  void countBounce(int id);
   void configure(TerrainEdge edge, RestCriterion rest, const Heightfield* terrain,
                  std::optional<double> plane, const Vec3& gravity);
   // A body joins the world (at t = 0 or at its release time); one released below the terrain

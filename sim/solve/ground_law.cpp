@@ -99,6 +99,7 @@ GroundLawStats GroundLaw::afterSolve(const std::vector<Contact>& contacts,
         ++stats.rolls;
       } else {
         ++stats.bounces;
+        stats.bounced.push_back(static_cast<int>(i));
         mode.lastBounce = y.x;
         const Vec3 vIn = mode.incoming - mode.incoming.dot(nHat) * nHat;
         const Vec3 v = velocityOf(b, y);

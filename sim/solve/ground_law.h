@@ -20,9 +20,10 @@ constexpr double kStoneLiftOff = 0.01;     // m: a rolling rock this high above 
 
 // What the law did in one step (counts of bodies).
 struct GroundLawStats {
-  int bounces = 0;  // landings that bounced (tangential restitution applied)
-  int rolls = 0;    // landings that started rolling (short and slow)
-  int braked = 0;   // bodies whose rolling spin the rolling resistance reduced
+  int bounces = 0;           // landings that bounced (tangential restitution applied)
+  int rolls = 0;             // landings that started rolling (short and slow)
+  int braked = 0;            // bodies whose rolling spin the rolling resistance reduced
+  std::vector<int> bounced;  // the bodies that bounced, in body order
 };
 
 // Per-body mode, kept across steps. Call beforeSolve() just before solveContacts and

@@ -207,8 +207,11 @@ TEST_F(CliTest, RockfallOutcomesCsvAndGeoJsonAndStopWhenSettled) {
   const auto rows = lines(readFile(csv));
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[0].rfind("body,state,release_time_s,release_x,", 0), 0u) << rows[0];
+  EXPECT_TRUE(rows[0].ends_with(",max_jump_height_m,bounces")) << rows[0];
   EXPECT_EQ(rows[1].rfind("0,left,", 0), 0u) << rows[1];
   EXPECT_EQ(rows[2].rfind("1,stopped,", 0), 0u) << rows[2];
+  // The cube set down at rest never left the ground: no bounce (ground_law.cpp).
+  EXPECT_TRUE(rows[2].ends_with(",0")) << rows[2];
   // DEM coordinates: the release of body 0 at world x = 15 is x = 115 in the file's frame.
   EXPECT_EQ(rows[1].find(",115.0"), std::string("0,left,0.000000").size()) << rows[1];
   ASSERT_EQ(run("simulate " + quote(scene) + " -q --outcomes " + quote(geo.string())), 0) << err_;
@@ -216,6 +219,7 @@ TEST_F(CliTest, RockfallOutcomesCsvAndGeoJsonAndStopWhenSettled) {
   EXPECT_NE(g.find("\"FeatureCollection\""), std::string::npos);
   EXPECT_NE(g.find("\"LineString\""), std::string::npos);
   EXPECT_NE(g.find("\"state\": \"left\""), std::string::npos) << g.substr(0, 400);
+  EXPECT_NE(g.find("\"bounces\": 0"), std::string::npos) << g.substr(0, 400);
 }
 
 TEST_F(CliTest, OverridesChangeTheRunAndRunsRepeat) {

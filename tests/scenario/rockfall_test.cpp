@@ -227,6 +227,22 @@ TEST(Rockfall, ARockRolledOffTheGridEdgeIsRemovedAndRecorded) {
   EXPECT_GT(world.lastStep().dt, 1e-3);
 }
 
+// The outcome counts bounces. A ball dropped from 2 m onto level terrain (Rn = 0.3) lands at
+// sqrt(2 g 2) = 6.3 m/s, over STONE's 5 m/s: one bounce; it rises at 0.3 of that, 1.9 m/s, and
+// lands again within 3 m at under 5 m/s, which starts rolling: no second bounce.
+TEST(Rockfall, TheOutcomeCountsBounces) {
+  WorldDef def;
+  def.terrain = flatTerrain(11, 11);
+  def.ground = oneMaterial(0.3, 0.8, 0.3, 0.5);
+  World world(def);
+  BodyDef b;
+  b.shape = smoothBall(0.25, 100);
+  b.position = Vec3(5, 5, 2.25);
+  world.addBody(b);
+  world.advanceTo(3.0);
+  EXPECT_EQ(world.outcomes()[0].bounces, 1);
+}
+
 // With sleeping on, a rock at rest falls asleep (0.5 s under 0.05 m/s) before the rest
 // criterion's 1 s under 0.1 m/s has passed; asleep, it must still be reported stopped, so a run
 // that stops on "all at rest" ends.
