@@ -230,15 +230,22 @@ TEST(Rockfall, ARockRolledOffTheGridEdgeIsRemovedAndRecorded) {
 // The outcome counts bounces. A ball dropped from 2 m onto level terrain (Rn = 0.3) lands at
 // sqrt(2 g 2) = 6.3 m/s, over STONE's 5 m/s: one bounce; it rises at 0.3 of that, 1.9 m/s, and
 // lands again within 3 m at under 5 m/s, which starts rolling: no second bounce.
-TEST(Rockfall, TheOutcomeCountsBounces) {
-  WorldDef def;
+// A world of flat terrain (11 x 11 samples of 1 m at z = 0) holding a 0.25 m smooth ball whose
+// bottom is `height` above the middle of it.
+World ballOverFlatTerrain(WorldDef def, double height) {
   def.terrain = flatTerrain(11, 11);
-  def.ground = oneMaterial(0.3, 0.8, 0.3, 0.5);
   World world(def);
   BodyDef b;
   b.shape = smoothBall(0.25, 100);
-  b.position = Vec3(5, 5, 2.25);
+  b.position = Vec3(5, 5, 0.25 + height);
   world.addBody(b);
+  return world;
+}
+
+TEST(Rockfall, TheOutcomeCountsBounces) {
+  WorldDef def;
+  def.ground = oneMaterial(0.3, 0.8, 0.3, 0.5);
+  World world = ballOverFlatTerrain(def, 2.0);
   world.advanceTo(3.0);
   EXPECT_EQ(world.outcomes()[0].bounces, 1);
 }
@@ -248,13 +255,8 @@ TEST(Rockfall, TheOutcomeCountsBounces) {
 // that stops on "all at rest" ends.
 TEST(Rockfall, ASleepingRockCountsAsStopped) {
   WorldDef def;
-  def.terrain = flatTerrain(11, 11);
   def.sleep = true;
-  World world(def);
-  BodyDef b;
-  b.shape = smoothBall(0.25, 100);
-  b.position = Vec3(5, 5, 0.25);
-  world.addBody(b);
+  World world = ballOverFlatTerrain(def, 0.0);
   world.advanceTo(2.0);
   ASSERT_TRUE(world.isSleeping(0));
   EXPECT_EQ(world.outcomes()[0].state, RockState::kStopped);
