@@ -182,9 +182,19 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector
 // surface or the nearest surface triangle is closer than its radius; its contact point is that
 // nearest surface point, its normal points from there to the centre (the surface normal when
 // the centre is below the surface).
+//
+// The terrain is solid below its surface, so where the grid ends its border is a vertical wall
+// from the border's surface line down (the paper has no terrain edges; voxfall's decision). A
+// leaf sphere whose centre lies outside the grid, lower than the surface at the nearest border
+// point, and closer to that point than its radius touches the wall there, with a horizontal
+// normal. Without the wall, a rock that left a raised grid onto the floor plane of the paper's
+// cliff scene (or was pushed off it by a pile) met no terrain at the border and slid under the
+// surface: 2-9 m deep by the true-mesh check, until the rock monitor buried it.
 std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
                                      std::vector<Contact>& out) {
   const Heightfield& field = *t.terrain;
+  const double xEnd = field.x0 + (field.nx - 1) * field.cell;
+  const double yEnd = field.y0 + (field.ny - 1) * field.cell;
   auto mayTouch = [&](const Vec3& c, double r) {
     return c.z() - r < field.maxHeightNear(c.x(), c.y(), r);
   };
@@ -198,6 +208,20 @@ std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
       k.depth = r + (h - c.z()) * k.normal.z();
       out.push_back(k);
       return;
+    }
+    const Vec3 border(std::clamp(c.x(), field.x0, xEnd), std::clamp(c.y(), field.y0, yEnd), c.z());
+    if (border.x() != c.x() || border.y() != c.y()) {  // centre outside the grid
+      const double hb = field.heightAt(border.x(), border.y());
+      const double d = (c - border).norm();  // horizontal: same z
+      if (!std::isnan(hb) && c.z() < hb) {   // beside the wall, below its top
+        if (d < r) {
+          k.normal = (c - border) / d;
+          k.point = border;
+          k.depth = r - d;
+          out.push_back(k);
+        }
+        return;  // the wall is nearer than the surface above it
+      }
     }
     int i0, i1, j0, j1;
     field.cellRange(c.x(), c.y(), r, i0, i1, j0, j1);
