@@ -239,6 +239,37 @@ TEST(Heightfield, BesideTheGridItsBorderIsAVerticalWall) {
   EXPECT_GT(withContacts, 10);
 }
 
+// surfaceBoundNear (the terrain narrow phase's pruning bound). Oracles: on the planar grid
+// z = 0.3x - 0.2y + 1 it is the plane's maximum over the square, at its corner (x + r, y - r),
+// up to its 1e-9 m margin and rounding; on a rough grid it is never below the surface at any
+// point of the square (dense sampling) and never above maxHeightNear.
+TEST(Heightfield, SurfaceBoundIsThePlanesMaximumAndNeverBelowARoughSurface) {
+  const Heightfield tilt =
+      loadDem(writeGrid("tilt_bound.asc", planeGrid(30, 30, 0.25, -3.75, -3.75, true)));
+  Prng rng(17);
+  for (int k = 0; k < 200; ++k) {
+    const double x = rng.uniform(-3, 3), y = rng.uniform(-3, 3), r = rng.uniform(0.01, 0.6);
+    EXPECT_NEAR(tilt.surfaceBoundNear(x, y, r), 0.3 * (x + r) - 0.2 * (y - r) + 1, 2e-9);
+  }
+  Heightfield rough;
+  rough.nx = rough.ny = 12;
+  rough.cell = 0.5;
+  for (int s = 0; s < 144; ++s) rough.z.push_back(rng.uniform(0, 2));
+  rough.z[40] = NAN;  // a hole: its four cells have no surface
+  for (int k = 0; k < 200; ++k) {
+    const double x = rng.uniform(-0.5, 6), y = rng.uniform(-0.5, 6), r = rng.uniform(0.01, 0.6);
+    const double bound = rough.surfaceBoundNear(x, y, r);
+    EXPECT_LE(bound, rough.maxHeightNear(x, y, r) + 1e-9);
+    for (int a = 0; a <= 20; ++a)
+      for (int b = 0; b <= 20; ++b) {
+        const double h = rough.heightAt(x - r + 0.1 * a * r, y - r + 0.1 * b * r);
+        if (!std::isnan(h)) {
+          EXPECT_LE(h, bound) << x << " " << y << " " << r;
+        }
+      }
+  }
+}
+
 TEST(Heightfield, ClosestPointOnTriangleAgreesWithDenseSampling) {
   Prng rng(2);
   const Vec3 a(0, 0, 0), b(1, 0, 0.2), c(0.3, 0.8, -0.1);
