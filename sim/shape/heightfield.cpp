@@ -64,6 +64,32 @@ double Heightfield::maxHeightNear(double x, double y, double r) const {
   return top;
 }
 
+double Heightfield::surfaceBoundNear(double x, double y, double r) const {
+  int i0, i1, j0, j1;
+  cellRange(x, y, r, i0, i1, j0, j1);
+  double top = -INFINITY;
+  // The square in cell units, relative to the grid origin.
+  const double gx0 = (x - r - x0) / cell, gx1 = (x + r - x0) / cell;
+  const double gy0 = (y - r - y0) / cell, gy1 = (y + r - y0) / cell;
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      if (!hasCell(i, j)) continue;
+      const double z00 = at(i, j), z10 = at(i + 1, j), z01 = at(i, j + 1), z11 = at(i + 1, j + 1);
+      // Planes of the triangles (p00, p10, p11) and (p00, p11, p01) in cell coordinates u, v.
+      const double a1 = z10 - z00, b1 = z11 - z10, a2 = z11 - z01, b2 = z01 - z00;
+      const double u0 = std::clamp(gx0 - i, 0.0, 1.0), u1 = std::clamp(gx1 - i, 0.0, 1.0);
+      const double v0 = std::clamp(gy0 - j, 0.0, 1.0), v1 = std::clamp(gy1 - j, 0.0, 1.0);
+      const double u = a1 > 0 ? u1 : u0, v = b1 > 0 ? v1 : v0;  // each plane's highest corner
+      const double uu = a2 > 0 ? u1 : u0, vv = b2 > 0 ? v1 : v0;
+      // An extended plane can rise above the cell's samples where the other triangle lies;
+      // the surface over the cell never does.
+      const double samples = std::max(std::max(z00, z10), std::max(z01, z11));
+      top = std::max(top,
+                     std::min(samples, std::max(z00 + u * a1 + v * b1, z00 + vv * b2 + uu * a2)));
+    }
+  return top + 1e-9;
+}
+
 double Heightfield::surfaceUnder(const std::vector<Vec3>& pts, double bottom) const {
   double gap = INFINITY;
   for (const Vec3& p : pts) {

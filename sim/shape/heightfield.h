@@ -38,6 +38,12 @@ struct Heightfield {
   // The highest sample of the cells that meet [x - r, x + r] x [y - r, y + r] (the surface
   // there is no higher); -infinity when the square misses the grid or has no data.
   double maxHeightNear(double x, double y, double r) const;
+  // An upper bound of the triangulated surface over [x - r, x + r] x [y - r, y + r], m, much
+  // tighter than maxHeightNear on slopes: per cell with data, the larger of its two triangles'
+  // planes at the corners of the part of the square over that cell (a linear function's
+  // maximum over a rectangle is at a corner), capped by the cell's highest sample, plus 1e-9 m
+  // against rounding; -infinity when the square meets no cell with data.
+  double surfaceBoundNear(double x, double y, double r) const;
   // The surface height that a body whose lowest point is at `bottom` rests on when its points
   // `pts` (world) are lowered straight down until the first touches the surface:
   // bottom - min over pts of (p.z - heightAt(p.x, p.y)). Points over no data are skipped;

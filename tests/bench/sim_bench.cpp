@@ -10,8 +10,12 @@
 //     (pct_*); steps, sphere tests, leaf contacts and contacts after reduction per step, mean
 //     bodies asleep per step; the label carries the trajectory checksum, so every benchmark run
 //     is also a determinism check (it must not change with the thread count).
-//   Rockfall/<n>: n rocks released together over the cliff terrain (scenes/cliff.toml's
-//     shapes and ground) at level 3 with reduction and sleeping, 4 simulated seconds.
+//   Rockfall/<n>/<threads>: n rocks released together over the cliff terrain
+//     (scenes/cliff.toml's shapes and ground) at level 3 with reduction and sleeping, 4
+//     simulated seconds. Adds cpu_per_sim_s (CPU seconds of the whole process, every thread,
+//     per simulated second, scene building excluded: the figure to read on a shared machine),
+//     cpu_us_per_rock_step (the same per rock and step: flat if the cost is linear in the
+//     rocks at a given step) and pairs_per_step. Run with --benchmark_repetitions=3 for medians.
 //   TreeBuild/<level>: voxel sphere tree of a 100k-triangle closed mesh (a bumpy sphere);
 //   TreeBuild1M/7: of a 1M-triangle one at level 7, with the tree's memory.
 //   LoadDem/<file>: loading a DEM through GDAL: the 520 x 387 Tyrol grid as the repository's
@@ -22,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <ctime>
 #include <string>
 #include <utility>
 
@@ -41,18 +46,28 @@ double stepSeconds(const vf::RunStats& t) {
          t.secondsIntegrate + t.secondsSleep + t.secondsRelease;
 }
 
+// CPU time of the whole process (all threads), s.
+double processCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 // Runs `spec` through all its frames (as `voxfall simulate` does) and reports the counters.
-void runSpec(benchmark::State& state, const vf::SceneSpec& spec) {
+// Returns the process CPU seconds of the (last) run.
+double runSpec(benchmark::State& state, const vf::SceneSpec& spec) {
   vf::RunSummary summary;
-  double wall = 0;
+  double wall = 0, cpu = 0;
   for (auto _ : state) {
     state.PauseTiming();
     vf::BuiltScene built = vf::buildScene(spec);  // shape building is not the step's cost
     state.ResumeTiming();
+    const double cpu0 = processCpuSeconds();
     vf::Recorder recorder(*built.world, spec.fps, spec.duration);
     for (int k = 0; k < recorder.frameCount(); ++k) recorder.advanceToFrame(k);
     summary = recorder.summary();
     wall = summary.wallSeconds;
+    cpu = processCpuSeconds() - cpu0;
   }
   const vf::RunStats& t = summary.totals;
   const double step = stepSeconds(t);
@@ -71,6 +86,8 @@ void runSpec(benchmark::State& state, const vf::SceneSpec& spec) {
   for (const auto& [name, seconds] : stages)
     state.counters[name] = step > 0 ? 100 * seconds / step : 0;
   state.counters["steps"] = steps;
+  state.counters["pairs_per_step"] = static_cast<double>(t.pairs) / steps;
+  state.counters["cpu_per_sim_s"] = cpu / spec.duration;
   state.counters["tests_per_step"] = static_cast<double>(t.sphereTests) / steps;
   state.counters["leaf_contacts_per_step"] = static_cast<double>(t.leafContacts) / steps;
   state.counters["contacts_per_step"] = static_cast<double>(t.contacts) / steps;
@@ -78,6 +95,7 @@ void runSpec(benchmark::State& state, const vf::SceneSpec& spec) {
   state.counters["max_pen_mm"] =
       1e3 * std::max(summary.maxPenetrationBodyBody, summary.maxPenetrationBodyGround);
   state.SetLabel("checksum " + summary.checksumHex());
+  return cpu;
 }
 
 void runScene(benchmark::State& state, const std::string& name) {
@@ -89,8 +107,8 @@ void runScene(benchmark::State& state, const std::string& name) {
   runSpec(state, spec);
 }
 
-// n rocks released at t = 0 over the cliff terrain, one per 0.8 m grid cell and layer by
-// layer upwards, each dropped 0.3 m onto what lies below it (drop_height).
+// n rocks released at t = 0 over the cliff terrain, one per 0.8 m grid cell (48 x 29 cells)
+// and layer by layer upwards, each dropped 0.3 m onto what lies below it (drop_height).
 void rockfall(benchmark::State& state) {
   vf::SceneSpec spec = vf::loadScene(scenePath("cliff"));
   spec.level = 3;
@@ -107,8 +125,10 @@ void rockfall(benchmark::State& state) {
   e.dropHeight = 0.3;
   e.velocity = vf::Vec3(0.5, 0, 0);
   spec.camera.followBody.reset();
-  runSpec(state, spec);
+  spec.threads = static_cast<int>(state.range(1));
+  const double cpu = runSpec(state, spec);
   state.counters["rocks"] = static_cast<double>(e.count);
+  state.counters["cpu_us_per_rock_step"] = 1e6 * cpu / (state.counters["steps"] * e.count);
 }
 
 void loadDem(benchmark::State& state, const std::string& path) {
@@ -222,10 +242,12 @@ BENCHMARK_CAPTURE(runScene, crosses6, std::string("crosses"))
     ->UseRealTime();
 BENCHMARK(rockfall)
     ->Name("Rockfall")
-    ->Arg(100)
-    ->Arg(300)
-    ->Arg(1000)
-    ->Arg(3000)
+    ->Args({100, 1})
+    ->Args({300, 1})
+    ->Args({1000, 1})
+    ->Args({1000, 2})
+    ->Args({3000, 1})
+    ->Args({10000, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);

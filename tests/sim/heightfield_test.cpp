@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <string>
 
 #include "sim/collide/narrow_phase.h"
 #include "sim/core/error.h"
@@ -155,6 +156,24 @@ TEST(Heightfield, GeoTiffAndAsciiGiveTheSameGridAndTheTiffKeepsItsCrs) {
   EXPECT_EQ(t.crsName, "EPSG:31287");
 }
 
+// Collides `body` with the terrain and with `plane`: both must give the same leaf spheres, the
+// terrain's contacts with the plane's normal and a positive depth. Returns whether any touched.
+bool sameLeavesAsPlane(const Collider& body, const Heightfield& h, const Collider& plane,
+                       const std::string& trial) {
+  std::vector<Contact> viaTerrain, viaPlane;
+  collide(body, heightfieldCollider(h), viaTerrain);
+  collide(body, plane, viaPlane);
+  std::set<std::uint32_t> a, b;
+  for (const Contact& c : viaTerrain) {
+    a.insert(c.leafA);
+    EXPECT_NEAR(c.normal.dot(plane.normal), 1.0, 1e-9) << trial;
+    EXPECT_GT(c.depth, 0) << trial;
+  }
+  for (const Contact& c : viaPlane) b.insert(c.leafA);
+  EXPECT_EQ(a, b) << trial;
+  return !a.empty();
+}
+
 // Oracle: on a planar grid, the terrain collider must find exactly the leaf spheres that a
 // tilted infinite plane finds (for a body well inside the grid), with the plane's normal.
 TEST(Heightfield, ColliderMatchesATiltedPlaneOnAPlanarGrid) {
@@ -174,20 +193,81 @@ TEST(Heightfield, ColliderMatchesATiltedPlaneOnAPlanarGrid) {
             .normalized();
     const Vec3 pos(x.x(), x.y(), 0.3 * x.x() - 0.2 * x.y() + 1 + rng.uniform(-0.15, 0.3));
     const Collider body = sphereTreeCollider(0, *s->tree, pos, q);
-    std::vector<Contact> viaTerrain, viaPlane;
-    collide(body, heightfieldCollider(h), viaTerrain);
-    collide(body, plane, viaPlane);
-    std::set<std::uint32_t> a, b;
-    for (const Contact& c : viaTerrain) {
-      a.insert(c.leafA);
-      EXPECT_NEAR(c.normal.dot(n), 1.0, 1e-9);
-      EXPECT_GT(c.depth, 0);
-    }
-    for (const Contact& c : viaPlane) b.insert(c.leafA);
-    EXPECT_EQ(a, b) << "trial " << trial;
-    withContacts += !a.empty();
+    withContacts += sameLeavesAsPlane(body, h, plane, "trial " + std::to_string(trial));
   }
   EXPECT_GT(withContacts, 10);
+}
+
+// Oracle: the terrain is solid below its surface, so beside a flat grid 2 m high (4 x 4 m,
+// nothing around it) and below its top, each border is the vertical plane through it: the
+// collider must find exactly the leaf spheres that the plane collider finds, with the plane's
+// outward normal (no contacts at all before the border wall existed).
+TEST(Heightfield, BesideTheGridItsBorderIsAVerticalWall) {
+  Heightfield h;
+  h.nx = h.ny = 9;
+  h.cell = 0.5;
+  h.z.assign(81, 2.0);
+  h.zMin = h.zMax = 2.0;
+  auto s = test::boxShape(0.2, 0.15, 0.1, 800, 2);
+  const SphereTreeLevel& leaves = s->tree->leaves();
+  const Vec3 outward[4] = {-Vec3::UnitX(), Vec3::UnitX(), -Vec3::UnitY(), Vec3::UnitY()};
+  Prng rng(5);
+  int withContacts = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const Vec3& n = outward[trial % 4];
+    const Quat q =
+        Quat(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1))
+            .normalized();
+    // How far the box's leaf centres reach towards the grid from its centre.
+    double reach = 0;
+    for (const Vec3& c : leaves.centers) reach = std::max(reach, -n.dot(q * c));
+    // A point on the border (x or y is 0 or 4), then the box's centre outside it by `reach`
+    // plus up to one leaf radius, so every leaf centre is outside the grid and the nearest
+    // leaves may touch the wall, at 0.5-1.5 m, below the top.
+    const double along = rng.uniform(1, 3);
+    const Vec3 onBorder =
+        n.x() != 0 ? Vec3(n.x() < 0 ? 0 : 4, along, 0) : Vec3(along, n.y() < 0 ? 0 : 4, 0);
+    const Vec3 pos = onBorder + (reach + rng.uniform(1e-6, leaves.radius)) * n +
+                     Vec3(0, 0, rng.uniform(0.5, 1.5));
+    const Collider body = sphereTreeCollider(0, *s->tree, pos, q);
+    Collider wall;
+    wall.type = ColliderType::kPlane;
+    wall.normal = n;
+    wall.offset = n.dot(onBorder);
+    withContacts += sameLeavesAsPlane(body, h, wall, "trial " + std::to_string(trial));
+  }
+  EXPECT_GT(withContacts, 10);
+}
+
+// surfaceBoundNear (the terrain narrow phase's pruning bound). Oracles: on the planar grid
+// z = 0.3x - 0.2y + 1 it is the plane's maximum over the square, at its corner (x + r, y - r),
+// up to its 1e-9 m margin and rounding; on a rough grid it is never below the surface at any
+// point of the square (dense sampling) and never above maxHeightNear.
+TEST(Heightfield, SurfaceBoundIsThePlanesMaximumAndNeverBelowARoughSurface) {
+  const Heightfield tilt =
+      loadDem(writeGrid("tilt_bound.asc", planeGrid(30, 30, 0.25, -3.75, -3.75, true)));
+  Prng rng(17);
+  for (int k = 0; k < 200; ++k) {
+    const double x = rng.uniform(-3, 3), y = rng.uniform(-3, 3), r = rng.uniform(0.01, 0.6);
+    EXPECT_NEAR(tilt.surfaceBoundNear(x, y, r), 0.3 * (x + r) - 0.2 * (y - r) + 1, 2e-9);
+  }
+  Heightfield rough;
+  rough.nx = rough.ny = 12;
+  rough.cell = 0.5;
+  for (int s = 0; s < 144; ++s) rough.z.push_back(rng.uniform(0, 2));
+  rough.z[40] = NAN;  // a hole: its four cells have no surface
+  for (int k = 0; k < 200; ++k) {
+    const double x = rng.uniform(-0.5, 6), y = rng.uniform(-0.5, 6), r = rng.uniform(0.01, 0.6);
+    const double bound = rough.surfaceBoundNear(x, y, r);
+    EXPECT_LE(bound, rough.maxHeightNear(x, y, r) + 1e-9);
+    for (int a = 0; a <= 20; ++a)
+      for (int b = 0; b <= 20; ++b) {
+        const double h = rough.heightAt(x - r + 0.1 * a * r, y - r + 0.1 * b * r);
+        if (!std::isnan(h)) {
+          EXPECT_LE(h, bound) << x << " " << y << " " << r;
+        }
+      }
+  }
 }
 
 TEST(Heightfield, ClosestPointOnTriangleAgreesWithDenseSampling) {
