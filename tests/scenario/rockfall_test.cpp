@@ -168,11 +168,7 @@ TEST(Rockfall, GroundClearanceIsTheLowestLeafsGap) {
   BodyState y;
   y.x = Vec3(3.2, 4.1, 1.0);
   EXPECT_NEAR(groundClearance(b, y, nullptr, 0.0), 0.75, 1e-12);
-  auto terrain = std::make_shared<Heightfield>();
-  terrain->nx = terrain->ny = 10;
-  terrain->cell = 1.0;
-  terrain->z.assign(100, 0.5);
-  terrain->zMin = terrain->zMax = 0.5;
+  auto terrain = std::make_shared<Heightfield>(test::flatHeightfield(10, 10, 1.0, 0.5));
   EXPECT_NEAR(groundClearance(b, y, terrain.get(), std::nullopt), 0.25, 1e-12);
   EXPECT_NEAR(groundClearance(b, y, terrain.get(), 0.0), 0.25, 1e-12) << "the nearer of both";
   y.x = Vec3(30, 4.1, 1.0);  // off the grid, no floor: nothing below
@@ -182,13 +178,8 @@ TEST(Rockfall, GroundClearanceIsTheLowestLeafsGap) {
 // Flat terrain at z = 0: nx x ny samples of 1 m from (0, 0); NaN samples are NODATA.
 std::shared_ptr<const Heightfield> flatTerrain(int nx, int ny,
                                                std::vector<std::pair<int, int>> holes = {}) {
-  auto h = std::make_shared<Heightfield>();
-  h->nx = nx;
-  h->ny = ny;
-  h->cell = 1.0;
-  h->z.assign(static_cast<std::size_t>(nx) * ny, 0.0);
+  auto h = std::make_shared<Heightfield>(test::flatHeightfield(nx, ny, 1.0, 0.0));
   for (auto [i, j] : holes) h->z[static_cast<std::size_t>(j) * nx + i] = NAN;
-  h->zMin = h->zMax = 0;
   return h;
 }
 

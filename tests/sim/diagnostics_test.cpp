@@ -85,14 +85,8 @@ TEST(Diagnostics, BodyBelowTheFloor) {
 TEST(Diagnostics, BodyBelowTheTerrain) {
   // A flat grid at z = 0.5 over [-2, 2]^2: the cube's centre at z = 0.5 + 0.06 puts its bottom
   // 0.04 m under the surface.
-  auto terrain = std::make_shared<Heightfield>();
-  terrain->nx = terrain->ny = 5;
-  terrain->x0 = terrain->y0 = -2;
-  terrain->cell = 1;
-  terrain->z.assign(25, 0.5);
-  terrain->zMin = terrain->zMax = 0.5;
   WorldDef def;
-  def.terrain = terrain;
+  def.terrain = std::make_shared<Heightfield>(test::flatHeightfield(5, 5, 1, 0.5, -2, -2));
   World world(def);
   world.addBody(bodyAt(test::boxShape(0.2, 0.2, 0.2, 800, 3), Vec3(0.3, -0.4, 0.56)));
   Diagnostics d = world.measure();

@@ -22,22 +22,12 @@
 #include "sim/scene/scene.h"
 #include "tests/support/chute_dem.h"
 #include "tests/support/segment_square.h"
+#include "tests/support/test_world.h"
 
 namespace vf {
 namespace {
 
 namespace fs = std::filesystem;
-
-Heightfield flatGrid(int nx, int ny, double x0, double y0, double cell) {
-  Heightfield h;
-  h.nx = nx;
-  h.ny = ny;
-  h.x0 = x0;
-  h.y0 = y0;
-  h.cell = cell;
-  h.z.assign(static_cast<std::size_t>(nx) * ny, 0.0);
-  return h;
-}
 
 // Brute force: every cell whose closed square the segment meets (random segments pass exactly
 // through a cell border or corner with probability zero, so closed and half-open squares agree).
@@ -53,7 +43,7 @@ std::set<std::int32_t> cellsByClipping(const Heightfield& g, const Vec3& a, cons
 }
 
 TEST(EnsembleCells, SegmentWalkMeetsTheCellsBruteForceFinds) {
-  const Heightfield g = flatGrid(7, 5, 10.0, 20.0, 2.0);
+  const Heightfield g = test::flatHeightfield(7, 5, 2.0, 0.0, 10.0, 20.0);
   Prng rng(42);
   for (int t = 0; t < 200; ++t) {
     // Ends anywhere around the grid (some off it), and some short segments inside one cell.
@@ -86,7 +76,7 @@ TEST(EnsembleStats, NearestRankPercentileByHand) {
 }
 
 TEST(EnsembleStats, PerCellStatisticsByHand) {
-  const Heightfield g = flatGrid(3, 2, 0.0, 0.0, 1.0);
+  const Heightfield g = test::flatHeightfield(3, 2, 1.0, 0.0);
   // Three realisations; cell 1 is passed by all three, cell 4 by one; realisation 2 stopped in
   // cell 5 (sample (2, 1) at (2, 1)).
   std::vector<RealisationResult> runs(3);

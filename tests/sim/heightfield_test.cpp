@@ -203,11 +203,7 @@ TEST(Heightfield, ColliderMatchesATiltedPlaneOnAPlanarGrid) {
 // collider must find exactly the leaf spheres that the plane collider finds, with the plane's
 // outward normal (no contacts at all before the border wall existed).
 TEST(Heightfield, BesideTheGridItsBorderIsAVerticalWall) {
-  Heightfield h;
-  h.nx = h.ny = 9;
-  h.cell = 0.5;
-  h.z.assign(81, 2.0);
-  h.zMin = h.zMax = 2.0;
+  const Heightfield h = test::flatHeightfield(9, 9, 0.5, 2.0);
   auto s = test::boxShape(0.2, 0.15, 0.1, 800, 2);
   const SphereTreeLevel& leaves = s->tree->leaves();
   const Vec3 outward[4] = {-Vec3::UnitX(), Vec3::UnitX(), -Vec3::UnitY(), Vec3::UnitY()};

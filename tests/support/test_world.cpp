@@ -54,6 +54,18 @@ BodyDef bodyAt(std::shared_ptr<const Shape> s, const Vec3& x, double release) {
   return b;
 }
 
+Heightfield flatHeightfield(int nx, int ny, double cell, double z, double x0, double y0) {
+  Heightfield h;
+  h.nx = nx;
+  h.ny = ny;
+  h.cell = cell;
+  h.x0 = x0;
+  h.y0 = y0;
+  h.z.assign(static_cast<std::size_t>(nx) * ny, z);
+  h.zMin = h.zMax = z;
+  return h;
+}
+
 std::string sourcePath(const std::string& relative) {
   return std::string(VOXFALL_SOURCE_DIR) + "/" + relative;
 }

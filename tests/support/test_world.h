@@ -6,6 +6,7 @@
 #include <string>
 
 #include "sim/geometry/tri_mesh.h"
+#include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
 #include "sim/world.h"
 
@@ -32,6 +33,9 @@ struct Rebound {
   double apex = 0;                 // m above zTouch
 };
 Rebound dropAndWatchRebound(World& world, double zTouch, double dt, double until);
+
+// A level heightfield: nx x ny samples `cell` m apart from (x0, y0), all at height z (m).
+Heightfield flatHeightfield(int nx, int ny, double cell, double z, double x0 = 0, double y0 = 0);
 
 // Path of a file in the source tree.
 std::string sourcePath(const std::string& relative);
