@@ -139,11 +139,16 @@ int RockMonitor::afterStep(double time, std::vector<BodyInfo>& bodies,
   const int n = static_cast<int>(bodies.size());
   for (int i = 0; i < n; ++i) {
     BodyInfo& b = bodies[static_cast<std::size_t>(i)];
-    // Sleeping rocks too (solve/sleep.h): frozen at rest, they must still come to count as
-    // stopped, or a run with sleep on would never end on "all_at_rest".
     if (!b.dynamic() || i >= static_cast<int>(rocks_.size()) || !rocks_[i].released) continue;
     BodyState& y = states[static_cast<std::size_t>(i)];
     RockOutcome& r = rocks_[static_cast<std::size_t>(i)];
+    // A sleeping rock (solve/sleep.h) is frozen at rest: nothing to check or record but its
+    // rest time, so that it comes to count as stopped (else a run with sleep on would never
+    // end on "all_at_rest"), and it costs next to nothing.
+    if (b.sleeping) {
+      updateRest(r, true, y.x, time);
+      continue;
+    }
     const Shape& shape = *b.shape;
     const Mat3 R = y.q.toRotationMatrix();
 
@@ -194,21 +199,25 @@ int RockMonitor::afterStep(double time, std::vector<BodyInfo>& bodies,
       r.path.push_back(y.x);
       nextPathTime_[static_cast<std::size_t>(i)] += kPathInterval;
     }
-    const bool slow = v.norm() < rest_.speed && w.norm() * 0.5 * shape.diameter < rest_.speed;
-    if (!slow) {
-      r.restSince = -1;
-      if (r.state == RockState::kStopped) r.state = RockState::kMoving;  // knocked on
-    } else if (r.restSince < 0) {
-      r.restSince = time;
-    } else if (r.state == RockState::kMoving && time - r.restSince >= rest_.time - 1e-9) {
-      r.state = RockState::kStopped;
-    }
-    if (r.state == RockState::kMoving || r.state == RockState::kStopped) {
-      r.end = y.x;
-      r.endTime = r.state == RockState::kStopped ? r.restSince : time;
-    }
+    updateRest(r, v.norm() < rest_.speed && w.norm() * 0.5 * shape.diameter < rest_.speed, y.x,
+               time);
   }
   return finished;
+}
+
+void RockMonitor::updateRest(RockOutcome& r, bool slow, const Vec3& x, double time) const {
+  if (!slow) {
+    r.restSince = -1;
+    if (r.state == RockState::kStopped) r.state = RockState::kMoving;  // knocked on
+  } else if (r.restSince < 0) {
+    r.restSince = time;
+  } else if (r.state == RockState::kMoving && time - r.restSince >= rest_.time - 1e-9) {
+    r.state = RockState::kStopped;
+  }
+  if (r.state == RockState::kMoving || r.state == RockState::kStopped) {
+    r.end = x;
+    r.endTime = r.state == RockState::kStopped ? r.restSince : time;
+  }
 }
 
 void RockMonitor::countBounce(int id) {

@@ -85,6 +85,9 @@ class RockMonitor {
   double groundAt(double x, double y) const;  // terrain, else plane, else NaN
   // Body i's centre below the terrain surface: pushed out along the normal when partly below,
   // stopped (buried) when wholly below; returns true when it was stopped.
+  // The rest criterion's clock for one rock after a step: `slow` this step (below the rest
+  // speed), at `x` (world) at `time` (s); moves it between moving and stopped, and its end point.
+  void updateRest(RockOutcome& r, bool slow, const Vec3& x, double time) const;
   bool resolveBelowSurface(int i, double time, std::vector<BodyInfo>& bodies,
                            std::vector<BodyState>& states);
   void finish(int id, RockState state, const Vec3& where, double time, const std::string& why,

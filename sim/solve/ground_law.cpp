@@ -66,18 +66,20 @@ GroundLawStats GroundLaw::afterSolve(const std::vector<Contact>& contacts,
   const std::size_t nb = bodies.size();
   // Per body, summed over its ground contacts in contact order (deterministic): the rolling
   // limit sum mu_r,k h_k jn_k, the normal impulse, the impulse-weighted normal and Rt.
-  std::vector<double> limit(nb, 0.0), impulse(nb, 0.0), rt(nb, 0.0);
-  std::vector<Vec3> normal(nb, Vec3::Zero());
+  limit_.assign(nb, 0.0);
+  impulse_.assign(nb, 0.0);
+  rt_.assign(nb, 0.0);
+  normal_.assign(nb, Vec3::Zero());
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const Contact& c = contacts[k];
     const double jn = normalImpulses[k];
     if (c.b != kGround || !(jn > 0)) continue;
     const GroundMaterial& m = ground.at(c.point.x(), c.point.y());
     const double lever = -(c.point - states[c.a].x).dot(c.normal);
-    if (m.rollingResistance > 0 && lever > 0) limit[c.a] += m.rollingResistance * lever * jn;
-    impulse[c.a] += jn;
-    rt[c.a] += m.tangentialRestitution * jn;
-    normal[c.a] += jn * c.normal;
+    if (m.rollingResistance > 0 && lever > 0) limit_[c.a] += m.rollingResistance * lever * jn;
+    impulse_[c.a] += jn;
+    rt_[c.a] += m.tangentialRestitution * jn;
+    normal_[c.a] += jn * c.normal;
   }
   for (std::size_t i = 0; i < nb; ++i) {
     const BodyInfo& b = bodies[i];
@@ -85,12 +87,12 @@ GroundLawStats GroundLaw::afterSolve(const std::vector<Contact>& contacts,
     BodyState& y = states[i];
     Mode& mode = modes_[i];
     if (!mode.seen) mode.seen = true, mode.lastBounce = y.x;  // STONE: the release point
-    if (!(impulse[i] > 0)) {  // no ground contact: flying once 1 cm clear
+    if (!(impulse_[i] > 0)) {  // no ground contact: flying once 1 cm clear
       if (!mode.airborne && groundClearance(b, y, terrain, floor) > kStoneLiftOff)
         mode.airborne = true;
       continue;
     }
-    const Vec3 nHat = normal[i].normalized();
+    const Vec3 nHat = normal_[i].normalized();
     if (mode.airborne) {  // a landing
       mode.airborne = false;
       const bool shortAndSlow = (y.x - mode.lastBounce).norm() < kStoneShortBounce &&
@@ -104,7 +106,7 @@ GroundLawStats GroundLaw::afterSolve(const std::vector<Contact>& contacts,
         const Vec3 vIn = mode.incoming - mode.incoming.dot(nHat) * nHat;
         const Vec3 v = velocityOf(b, y);
         const Vec3 vn = v.dot(nHat) * nHat, vt = v - vn;
-        const double keep = rt[i] / impulse[i] * vIn.norm();
+        const double keep = rt_[i] / impulse_[i] * vIn.norm();
         if (vt.norm() > keep) {
           const double s = keep / vt.norm();
           y.P = (vn + s * vt) / b.invMass;
@@ -113,10 +115,10 @@ GroundLawStats GroundLaw::afterSolve(const std::vector<Contact>& contacts,
         continue;  // a bounce is not rolling: no rolling resistance this step
       }
     }
-    if (!(limit[i] > 0)) continue;
+    if (!(limit_[i] > 0)) continue;
     // Rolling resistance with the sustained normal force (see the top of this file).
     const double sustained = std::abs(gravity.dot(nHat)) * dt / b.invMass;
-    const double brake = limit[i] * std::min(1.0, sustained / impulse[i]);
+    const double brake = limit_[i] * std::min(1.0, sustained / impulse_[i]);
     const Mat3 invI = inverseInertiaWorld(b, y);
     const Vec3 w = invI * y.L;
     const Vec3 wt = w - w.dot(nHat) * nHat;

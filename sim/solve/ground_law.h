@@ -55,6 +55,9 @@ class GroundLaw {
     Vec3 incomingSpin;     // angular momentum before this step's solve (kg m^2/s)
   };
   std::vector<Mode> modes_;
+  // Per-step scratch, per body (kept to spare the step four allocations).
+  std::vector<double> limit_, impulse_, rt_;
+  std::vector<Vec3> normal_;
 };
 
 // The least distance between the body's leaf spheres and the ground below them (m): each
