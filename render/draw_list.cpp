@@ -76,6 +76,13 @@ Mat4 bodyModelMatrix(const Vec3& x, const Quat& q) {
   return m;
 }
 
+GpuTransform gpuTransform(const Mat4& model) {
+  GpuTransform t;
+  t.model = model.cast<float>();
+  t.normal = model.block<3, 3>(0, 0).inverse().transpose().cast<float>();
+  return t;
+}
+
 std::vector<BodyView> bodyViews(const World& world, const std::vector<Color>& colors) {
   std::vector<BodyView> views(static_cast<std::size_t>(world.bodyCount()));
   for (int id = 0; id < world.bodyCount(); ++id) {
@@ -309,6 +316,10 @@ void DrawListBuilder::observe(std::span<const BodyView> bodies) {
   // The terrain is left out: a large one would shrink the bodies to specks; the bodies (and the
   // floor under them) are where the action is.
   for (const Sphere& s : bodySpheres(bodies, true)) framing_.add(s);
+  for (const Sphere& s : bodySpheres(bodies, false)) {
+    casterBox_.extend(s.centre - Vec3::Constant(s.radius));
+    casterBox_.extend(s.centre + Vec3::Constant(s.radius));
+  }
   FrameRecord record;
   record.centres.reserve(bodies.size());
   for (const BodyView& b : bodies) {
@@ -380,7 +391,8 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
   // on screen than min_pixels is drawn as a flat marker of that size: its own shape, scaled
   // up about its centre, unlit in its colour, casting no shadow.
   std::map<const void*, int> meshIndex;
-  for (const BodyView& b : bodies) {
+  for (std::size_t id = 0; id < bodies.size(); ++id) {
+    const BodyView& b = bodies[id];
     if (!b.active || !b.shape) continue;
     auto [it, added] = meshIndex.emplace(b.shape.get(), static_cast<int>(list.meshes.size()));
     if (added) {
@@ -391,6 +403,7 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
     inst.mesh = it->second;
     inst.model = bodyModelMatrix(b.x, b.q);
     inst.color = b.color;
+    inst.id = static_cast<int>(id);
     if (spec_.minPixels > 0) {
       const double pixels = projectedDiameter(cam, b.x, shapeRadius(b.shape), height_);
       if (pixels < spec_.minPixels) {
@@ -411,9 +424,13 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
     list.instances.push_back(inst);
   }
 
-  // Shadow casters: this frame's bodies on the stage (tight, for shadow-map resolution) and
+  // Shadow casters: every body on the stage in every observed frame (one map for the whole
+  // clip, so frames differ only where bodies moved: the renderer redraws just that part) and
   // the terrain.
-  std::vector<Sphere> casters = bodySpheres(bodies, false);
+  std::vector<Sphere> casters;
+  if (!casterBox_.isEmpty()) {
+    casters.push_back(Sphere{casterBox_.center(), 0.5 * casterBox_.diagonal().norm()});
+  }
   if (terrain_) casters.push_back(terrainSphere_);
   Sphere casterSphere = encloseAll(casters);
 

@@ -37,6 +37,9 @@ struct DrawInstance {
   Color color{0.8f, 0.8f, 0.8f};  // linear RGB albedo
   Surface surface = Surface::body;
   bool castsShadow = true;
+  // Identity across frames (the body id), so a frame can be compared with the last one when
+  // bodies appear or leave; -1 for the rest (terrain, trails), matched by their order.
+  int id = -1;
 };
 
 struct DrawList {
@@ -74,6 +77,17 @@ std::vector<Vec3> smoothVertexNormals(const TriMesh& mesh);
 
 // Model matrix of a body: rotation R(q) and translation x.
 Mat4 bodyModelMatrix(const Vec3& x, const Quat& q);
+
+// What the GPU receives of a model matrix: the matrix and the one for normals (the inverse
+// transpose of its linear part), both in single precision. Two model matrices with equal
+// GpuTransforms draw the same pixels, however their doubles differ (a body at rest creeping
+// by 1e-12 m).
+struct GpuTransform {
+  Eigen::Matrix4f model;
+  Eigen::Matrix3f normal;
+  bool operator==(const GpuTransform& o) const { return model == o.model && normal == o.normal; }
+};
+GpuTransform gpuTransform(const Mat4& model);
 
 // A bounding sphere.
 struct Sphere {
@@ -117,7 +131,8 @@ Sphere viewSlice(const CameraView& camera, double aspect, double depth);
 
 // Builds draw lists frame after frame for one run. Holds what persists between frames: the
 // camera settings, the terrain, the per-shape radii, the region the automatic camera has to
-// frame (every body position observe()d so far: the framing only grows), and per observed
+// frame and the one the shadow map covers (every body position observe()d so far: both only
+// grow), and per observed
 // frame the bodies' centres (trails) and the chase camera's smoothed target. `voxfall render`
 // observes every frame of the scene, in order from frame 0, before drawing any, and then calls
 // build(bodies, k): the automatic camera holds still for the whole clip, and frame k (its
@@ -181,6 +196,7 @@ class DrawListBuilder {
   double fps_ = 30;
   std::vector<FrameRecord> history_;
   AutoFraming framing_;
+  Eigen::AlignedBox3d casterBox_;  // around every on-stage body of every observed frame
   // Keyed by address; the shared_ptr keeps the shape alive so an address is never reused.
   std::map<const Shape*, std::pair<std::shared_ptr<const Shape>, double>> radii_;
   std::shared_ptr<const TriMesh> terrain_;

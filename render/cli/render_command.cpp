@@ -176,11 +176,13 @@ int runRender(const RenderOptions& o) {
   const auto drawStart = std::chrono::steady_clock::now();
   Image image;
   double renderSeconds = 0;
+  double redrawn = 0;  // sum over frames of the share of pixels drawn
   int lastDone = range.first - 1;
   try {
     for (int k = range.first; k <= range.last && !stopSignal(); ++k) {
       const auto start = std::chrono::steady_clock::now();
       renderer.render(playback.drawList(k), image);
+      redrawn += renderer.redrawnFraction();
       sink->write(k, image);
       renderSeconds +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -223,10 +225,12 @@ int runRender(const RenderOptions& o) {
   const int drawn = range.last - range.first + 1;
   printSummary(stdout, spec.name, playback.summary());
   if (bake) std::printf("  steps simulated: 0 (states from the bake %s)\n", o.scene.c_str());
-  std::printf("  rendered %s (%dx%d, %s, %s) in %.2f s: %.2f frames/s\n",
-              frameSpan(range.first, range.last).c_str(), width, height,
-              renderer.antialiasing().c_str(), gl::backendName(gl::parseBackend(o.gl)),
-              renderSeconds, renderSeconds > 0 ? drawn / renderSeconds : 0.0);
+  std::printf(
+      "  rendered %s (%dx%d, %s, %s) in %.2f s: %.2f frames/s, %.0f%% of the pixels "
+      "redrawn\n",
+      frameSpan(range.first, range.last).c_str(), width, height, renderer.antialiasing().c_str(),
+      gl::backendName(gl::parseBackend(o.gl)), renderSeconds,
+      renderSeconds > 0 ? drawn / renderSeconds : 0.0, 100 * redrawn / drawn);
   std::printf("  output %s\n", sink->path().c_str());
   return 0;
 }

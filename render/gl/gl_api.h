@@ -18,6 +18,7 @@ namespace vf::gl {
   X(PFNGLENABLEPROC, Enable)                                                 \
   X(PFNGLDISABLEPROC, Disable)                                               \
   X(PFNGLVIEWPORTPROC, Viewport)                                             \
+  X(PFNGLSCISSORPROC, Scissor)                                               \
   X(PFNGLCLEARPROC, Clear)                                                   \
   X(PFNGLCLEARCOLORPROC, ClearColor)                                         \
   X(PFNGLCLEARDEPTHPROC, ClearDepth)                                         \

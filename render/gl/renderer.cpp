@@ -10,6 +10,7 @@
 #include "render/gl/gl_context.h"
 #include "render/gl/gpu_mesh.h"
 #include "render/gl/shader_program.h"
+#include "render/redraw_region.h"
 #include "sim/scene/scene.h"
 
 namespace vf::gl {
@@ -20,9 +21,12 @@ void setMatrix(const Api& gl, int location, const Mat4& m) {
   gl.UniformMatrix4fv(location, 1, GL_FALSE, f.data());
 }
 
-void setMatrix3(const Api& gl, int location, const Mat3& m) {
-  const Eigen::Matrix3f f = m.cast<float>();
-  gl.UniformMatrix3fv(location, 1, GL_FALSE, f.data());
+void setMatrix(const Api& gl, int location, const Eigen::Matrix4f& m) {
+  gl.UniformMatrix4fv(location, 1, GL_FALSE, m.data());
+}
+
+void setMatrix3(const Api& gl, int location, const Eigen::Matrix3f& m) {
+  gl.UniformMatrix3fv(location, 1, GL_FALSE, m.data());
 }
 
 void setVec3(const Api& gl, int location, const Vec3& v) {
@@ -66,8 +70,8 @@ struct Renderer::Impl {
   // frame with the same ones reuses it (bodies at rest, a still terrain).
   struct Caster {
     const void* mesh;
-    Mat4 model;
-    bool operator==(const Caster&) const = default;
+    Eigen::Matrix4f model;  // as drawn (single precision)
+    bool operator==(const Caster& o) const { return mesh == o.mesh && model == o.model; }
   };
   bool shadowValid = false;
   Mat4 shadowViewProjection = Mat4::Zero();
@@ -85,13 +89,24 @@ struct Renderer::Impl {
   std::vector<std::unique_ptr<GpuMesh>> frameMeshes;  // transient ones, for the current frame
   std::vector<std::uint8_t> readback;
 
-  Impl(Context& c, const RenderSettings& s) : context(c), gl(c.api()), settings(s) {}
+  // Incremental frames: what changed since the last frame, and whether the targets (scene,
+  // output, read-back copy) hold that frame whole. A frame that failed part way leaves them
+  // invalid, and the next one is drawn whole.
+  RedrawTracker tracker;
+  bool targetsValid = false;
+  double redrawn = 1;
+
+  Impl(Context& c, const RenderSettings& s)
+      : context(c), gl(c.api()), settings(s), tracker(s.width, s.height) {}
   ~Impl();
   void createTargets();
   const GpuMesh& mesh(const DrawMesh& m);
   void shadowPass(const DrawList& list, const ShadowProjection& shadow);
-  void scenePass(const DrawList& list, const ShadowProjection& shadow);
+  // `region`: the output pixels to redraw; none for all.
+  void scenePass(const DrawList& list, const ShadowProjection& shadow,
+                 const std::optional<PixelRect>& region);
   void presentPass(const DrawList& list);
+  void scissor(const std::optional<PixelRect>& region, int scale);
 };
 
 Renderer::Impl::~Impl() {
@@ -195,13 +210,15 @@ void Renderer::Impl::shadowPass(const DrawList& list, const ShadowProjection& sh
   std::vector<Caster> casters;
   for (const DrawInstance& inst : list.instances) {
     if (!inst.castsShadow || inst.surface == Surface::unlit) continue;
-    casters.push_back(Caster{list.meshes[static_cast<std::size_t>(inst.mesh)].key, inst.model});
+    casters.push_back(
+        Caster{list.meshes[static_cast<std::size_t>(inst.mesh)].key, inst.model.cast<float>()});
   }
   if (shadowValid && shadow.viewProjection == shadowViewProjection && casters == shadowCasters) {
     return;  // the map already holds exactly this
   }
   gl.BindFramebuffer(GL_FRAMEBUFFER, shadowFbo);
   gl.Viewport(0, 0, settings.shadowMapSize, settings.shadowMapSize);
+  scissor(std::nullopt, 1);  // the map is always drawn whole
   gl.ClearDepth(1.0);
   gl.Clear(GL_DEPTH_BUFFER_BIT);
   gl.Enable(GL_DEPTH_TEST);
@@ -219,7 +236,20 @@ void Renderer::Impl::shadowPass(const DrawList& list, const ShadowProjection& sh
   shadowCasters = std::move(casters);
 }
 
-void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& shadow) {
+// Restricts drawing and clearing to `region` (output pixels) times `scale` scene pixels each;
+// none: everything.
+void Renderer::Impl::scissor(const std::optional<PixelRect>& region, int scale) {
+  if (!region) {
+    gl.Disable(GL_SCISSOR_TEST);
+    return;
+  }
+  gl.Enable(GL_SCISSOR_TEST);
+  gl.Scissor(region->x0 * scale, region->y0 * scale, (region->x1 - region->x0) * scale,
+             (region->y1 - region->y0) * scale);
+}
+
+void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& shadow,
+                               const std::optional<PixelRect>& region) {
   const double aspect = static_cast<double>(settings.width) / settings.height;
   const Mat4 view = list.camera.viewMatrix();
   const Mat4 projection = list.camera.projectionMatrix(aspect);
@@ -229,6 +259,7 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
 
   gl.BindFramebuffer(GL_FRAMEBUFFER, sceneFbo);
   gl.Viewport(0, 0, sceneWidth, sceneHeight);
+  scissor(region, supersample);
   gl.ClearColor(0, 0, 0, 0);
   gl.ClearDepth(1.0);
   gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -258,10 +289,12 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
 
   // Bodies and terrain first: the floor and the sky then only shade what is still visible.
   setCommon(*sceneProgram);
-  for (const DrawInstance& inst : list.instances) {
-    setMatrix(gl, sceneProgram->uniform("uModel"), inst.model);
-    const Mat3 normalMatrix = inst.model.block<3, 3>(0, 0).inverse().transpose();
-    setMatrix3(gl, sceneProgram->uniform("uNormalMatrix"), normalMatrix);
+  for (std::size_t i = 0; i < list.instances.size(); ++i) {
+    const DrawInstance& inst = list.instances[i];
+    if (region && !tracker.mayCover(i, *region)) continue;  // wholly outside the scissor
+    const GpuTransform transform = gpuTransform(inst.model);
+    setMatrix(gl, sceneProgram->uniform("uModel"), transform.model);
+    setMatrix3(gl, sceneProgram->uniform("uNormalMatrix"), transform.normal);
     gl.Uniform3f(sceneProgram->uniform("uColor"), inst.color[0], inst.color[1], inst.color[2]);
     gl.Uniform1i(sceneProgram->uniform("uSurface"), static_cast<int>(inst.surface));
     mesh(list.meshes[static_cast<std::size_t>(inst.mesh)]).draw();
@@ -305,7 +338,7 @@ void Renderer::Impl::presentPass(const DrawList& list) {
   Mat4 viewRotation = list.camera.viewMatrix();
   viewRotation.block<3, 1>(0, 3).setZero();
   setMatrix(gl, presentProgram->uniform("uInverseViewProjection"),
-            (projection * viewRotation).inverse());
+            Mat4((projection * viewRotation).inverse()));
   gl.Uniform2f(presentProgram->uniform("uSceneSize"), static_cast<float>(sceneWidth),
                static_cast<float>(sceneHeight));
   gl.Uniform1i(presentProgram->uniform("uDither"), settings.dither ? 1 : 0);
@@ -342,21 +375,54 @@ void Renderer::render(const DrawList& list, Image& out) {
       fitShadowProjection(list.sunDirection, list.casterCentre, list.casterRadius,
                           list.groundHeight.value_or(list.casterCentre.z() - list.casterRadius),
                           r.settings.shadowMapSize);
+  // Every frame updates the tracker; only an unbroken run of whole frames may use its answer.
+  // The reach of a shadow lookup from its surface point, in shadow-map texels (common.glsl):
+  // the normal offset (at most 4), the filter radius (1.6), the bilinear footprint (1), and a
+  // texel for rounding.
+  std::optional<std::vector<PixelRect>> regions =
+      r.tracker.update(list, shadow, 7.6 * shadow.texelSize);
+  const bool valid = r.targetsValid;
+  r.targetsValid = false;
+  const int w = r.settings.width, h = r.settings.height;
+  const double pixels = static_cast<double>(w) * h;
+  double area = 0;
+  if (regions) {
+    for (const PixelRect& rect : *regions) area += static_cast<double>(rect.area());
+  }
+  // Most of the picture: one whole pass costs less than several partial ones.
+  if (!r.settings.incremental || !valid || area > 0.7 * pixels) regions.reset();
+  r.redrawn = regions ? area / pixels : 1.0;
+
   r.frameMeshes.clear();  // last frame's trails
   r.shadowPass(list, shadow);
-  r.scenePass(list, shadow);
-  r.presentPass(list);
-
-  const int w = r.settings.width, h = r.settings.height;
   r.readback.resize(static_cast<std::size_t>(w) * h * 4);
-  gl.BindFramebuffer(GL_READ_FRAMEBUFFER, r.presentFbo);
-  gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
-  gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-  gl.ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, r.readback.data());
+  // Draw the regions (none: all), then read back the rows they span; the other rows keep the
+  // last frame's.
+  int y0 = h, y1 = 0;
+  auto draw = [&](const std::optional<PixelRect>& region) {
+    r.scenePass(list, shadow, region);
+    r.presentPass(list);  // under the same scissor
+    y0 = std::min(y0, region ? region->y0 : 0);
+    y1 = std::max(y1, region ? region->y1 : h);
+  };
+  if (!regions) {
+    draw(std::nullopt);
+  } else {
+    for (const PixelRect& rect : *regions) draw(rect);
+  }
+  r.scissor(std::nullopt, 1);
+  if (y0 < y1) {
+    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, r.presentFbo);
+    gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+    gl.ReadPixels(0, y0, w, y1 - y0, GL_RGBA, GL_UNSIGNED_BYTE,
+                  r.readback.data() + static_cast<std::size_t>(y0) * w * 4);
+  }
   const GLenum error = gl.GetError();
   if (error != GL_NO_ERROR) {
     throw GlError("OpenGL error " + std::to_string(error) + " while rendering a frame");
   }
+  r.targetsValid = true;
   // GL's rows run bottom to top; images run top to bottom.
   if (out.width != w || out.height != h) out = Image(w, h);
   for (int y = 0; y < h; ++y) {
@@ -383,5 +449,7 @@ std::string Renderer::antialiasing() const {
 }
 
 const RenderSettings& Renderer::settings() const { return impl_->settings; }
+
+double Renderer::redrawnFraction() const { return impl_->redrawn; }
 
 }  // namespace vf::gl

@@ -5,7 +5,8 @@
 // frame when the light and every caster are unchanged) -> scene into a multisampled
 // linear-light HDR target (bodies, floor with grid) -> present (sample average with the sky
 // where nothing was drawn, highlight shoulder, sRGB encoding, ordered dither) into 8 bits ->
-// read back top row first.
+// read back top row first. Scene and present are scissored to the part of the picture that
+// can have changed since the last frame; the rest of both targets is kept.
 #pragma once
 
 #include <memory>
@@ -28,6 +29,10 @@ struct RenderSettings {
   // Ordered (Bayer) dither of +-0.5 of an 8-bit step before quantising, against banding in the
   // sky gradient and soft shadows. Deterministic: a fixed pattern of the pixel position.
   bool dither = true;
+  // Redraw only the part of the frame that can differ from the last one drawn (bodies that
+  // moved and their shadows; render/redraw_region.h says why the result is exact). false:
+  // draw every frame whole.
+  bool incremental = true;
   std::string shaderDir;  // from findShaderDir()
 };
 
@@ -46,6 +51,9 @@ class Renderer {
 
   // "4x MSAA" or "2x2 supersampling": what anti-aliasing the context allowed.
   std::string antialiasing() const;
+  // The share of the last frame's pixels that were drawn (1: the whole frame; 0: none, since
+  // nothing changed).
+  double redrawnFraction() const;
   const RenderSettings& settings() const;
 
  private:

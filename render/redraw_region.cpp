@@ -1,0 +1,311 @@
+#include "render/redraw_region.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <utility>
+
+namespace vf {
+namespace {
+
+// Pixels added around every projected bound: a triangle covers a pixel when one of its sample
+// points (inside the pixel) is inside it, and the rounding of the projection differs in the last
+// bits between this double-precision bound and the rasteriser's float arithmetic.
+constexpr int kMarginPixels = 2;
+// Rectangles are aligned to llvmpipe's 4x4 pixel blocks and the 2x2 quads derivatives come
+// from (exactness does not depend on it; it keeps every quad whole).
+constexpr int kAlignPixels = 8;
+// Two rectangles are drawn as their bounding box when that adds at most this share of their
+// areas plus this many pixels: a pass has a fixed cost (on llvmpipe about that of 2,000 to
+// 4,000 pixels), and slivers cost more than they save.
+constexpr double kMergeSlack = 1.25;
+constexpr long long kMergePixels = 4096;
+// At most this many rectangles are drawn one by one (each is a scene and a present pass).
+constexpr std::size_t kMaxPieces = 48;
+// A sun lower than this (sine of its elevation) casts shadows too long to bound usefully.
+constexpr double kMinSunElevation = 0.02;
+
+bool sameCamera(const CameraView& a, const CameraView& b) {
+  return a.position == b.position && a.lookAt == b.lookAt && a.up == b.up &&
+         a.fovYDegrees == b.fovYDegrees && a.nearPlane == b.nearPlane && a.farPlane == b.farPlane;
+}
+
+// Whether two instances of the same mesh draw the same pixels: what the GPU receives of them
+// is equal (their model matrices may still differ in the digits single precision drops).
+bool sameInstance(const DrawInstance& a, const DrawInstance& b) {
+  return a.color == b.color && a.surface == b.surface && a.castsShadow == b.castsShadow &&
+         gpuTransform(a.model) == gpuTransform(b.model);
+}
+
+int alignDown(int v, int a) { return v >= 0 ? v / a * a : -((-v + a - 1) / a) * a; }
+int alignUp(int v, int a) { return -alignDown(-v, a); }
+
+}  // namespace
+
+void PixelRect::unite(const PixelRect& other) {
+  if (other.empty()) return;
+  if (empty()) {
+    *this = other;
+    return;
+  }
+  x0 = std::min(x0, other.x0);
+  y0 = std::min(y0, other.y0);
+  x1 = std::max(x1, other.x1);
+  y1 = std::max(y1, other.y1);
+}
+
+bool PixelRect::intersects(const PixelRect& other) const {
+  return !empty() && !other.empty() && x0 < other.x1 && other.x0 < x1 && y0 < other.y1 &&
+         other.y0 < y1;
+}
+
+std::optional<PixelRect> projectSphere(const Mat4& viewProjection, const Sphere& s, int width,
+                                       int height, int margin, int align) {
+  const Vec3 centre[1] = {s.centre};
+  return projectPoints(viewProjection, centre, s.radius, width, height, margin, align);
+}
+
+std::optional<PixelRect> projectPoints(const Mat4& viewProjection, std::span<const Vec3> points,
+                                       double grow, int width, int height, int margin, int align) {
+  // Each point's cube of half-side `grow` by its corners: the projections' box holds the
+  // projection of the points' convex hull widened by `grow`, since a perspective projection
+  // maps that hull (in front of the eye) to the convex region spanned by the projected corners.
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (const Vec3& point : points) {
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 p = point + grow * Vec3(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1);
+      const Vec4 c = viewProjection * Vec4(p.x(), p.y(), p.z(), 1);
+      if (!(c.w() > 1e-9)) return std::nullopt;
+      for (int a = 0; a < 2; ++a) {
+        const double ndc = c[a] / c.w();
+        lo[a] = std::min(lo[a], ndc);
+        hi[a] = std::max(hi[a], ndc);
+      }
+    }
+  }
+  if (points.empty()) return PixelRect{};
+  const double size[2] = {static_cast<double>(width), static_cast<double>(height)};
+  int px[2][2];
+  for (int a = 0; a < 2; ++a) {
+    // Clamp before converting so that far-off bounds do not overflow an int.
+    const double from = std::clamp((lo[a] * 0.5 + 0.5) * size[a], -1.0, size[a] + 1);
+    const double to = std::clamp((hi[a] * 0.5 + 0.5) * size[a], -1.0, size[a] + 1);
+    px[a][0] = alignDown(static_cast<int>(std::floor(from)) - margin, align);
+    px[a][1] = alignUp(static_cast<int>(std::ceil(to)) + margin, align);
+    px[a][0] = std::clamp(px[a][0], 0, static_cast<int>(size[a]));
+    px[a][1] = std::clamp(px[a][1], 0, static_cast<int>(size[a]));
+  }
+  return PixelRect{px[0][0], px[1][0], px[0][1], px[1][1]};
+}
+
+Eigen::AlignedBox3d RedrawTracker::meshBox(const DrawMesh& mesh) {
+  auto compute = [&mesh] {
+    Eigen::AlignedBox3d box;
+    for (const Vec3& v : mesh.mesh->vertices) box.extend(v);
+    return box;
+  };
+  if (mesh.transient || !mesh.key) return compute();
+  auto it = meshes_.find(mesh.key);
+  if (it == meshes_.end()) it = meshes_.emplace(mesh.key, MeshBounds{mesh.mesh, compute()}).first;
+  return it->second.box;
+}
+
+bool RedrawTracker::reach(const Frame& frame, std::size_t i, double shadowReach,
+                          std::vector<PixelRect>& rects) const {
+  const std::array<Vec3, 8>& corners = frame.corners[i];
+  const std::optional<PixelRect> body =
+      projectPoints(frame.viewProjection, corners, 0, width_, height_, kMarginPixels, kAlignPixels);
+  if (!body) return false;
+  rects.push_back(*body);
+  const DrawInstance& inst = frame.instances[i];
+  if (!inst.castsShadow || inst.surface == Surface::unlit) return true;
+  // The shadow: the box swept away from the sun, widened by shadowReach, where it meets a
+  // receiver (the floor, or any instance's box, this one included). Per receiver that is the
+  // part of the sweep within the receiver's height range: the hull of the box moved by the
+  // first and by the last distance at which it overlaps that range.
+  const Vec3 toSun = frame.sun.normalized();
+  if (toSun.z() < kMinSunElevation) return false;
+  const Eigen::AlignedBox3d& box = frame.boxes[i];
+  auto receive = [&](double z0, double z1, const Eigen::AlignedBox3d* receiver) {
+    z0 -= shadowReach;
+    z1 += shadowReach;
+    const double from = std::max(0.0, (box.min().z() - z1) / toSun.z());
+    const double to = (box.max().z() - z0) / toSun.z();
+    if (to < from) return true;
+    const Vec3 near = toSun * from, far = toSun * to;
+    if (receiver) {
+      Eigen::AlignedBox3d swept(box.min() - far, box.max() - near);
+      swept.extend(Vec3(box.min() - near)).extend(Vec3(box.max() - far));
+      const Vec3 grow = Vec3::Constant(shadowReach);
+      const Eigen::AlignedBox3d wide(receiver->min() - grow, receiver->max() + grow);
+      if (!swept.intersects(wide)) return true;
+    }
+    std::array<Vec3, 16> part;
+    for (std::size_t k = 0; k < 8; ++k) {
+      part[k] = corners[k] - near;
+      part[k + 8] = corners[k] - far;
+    }
+    const std::optional<PixelRect> r = projectPoints(frame.viewProjection, part, shadowReach,
+                                                     width_, height_, kMarginPixels, kAlignPixels);
+    if (!r) return false;
+    rects.push_back(*r);
+    return true;
+  };
+  if (frame.ground && !receive(*frame.ground, *frame.ground, nullptr)) return false;
+  for (const Eigen::AlignedBox3d& receiver : frame.boxes) {
+    if (!receive(receiver.min().z(), receiver.max().z(), &receiver)) return false;
+  }
+  return true;
+}
+
+std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list,
+                                                            const ShadowProjection& shadow,
+                                                            double shadowReach) {
+  Frame now;
+  now.camera = list.camera;
+  now.sun = list.sunDirection;
+  now.ground = list.groundHeight;
+  now.fadeStart = list.groundFadeStart;
+  now.fadeEnd = list.groundFadeEnd;
+  now.shadow = shadow.viewProjection;
+  now.instances = list.instances;
+  now.viewProjection = list.camera.projectionMatrix(static_cast<double>(width_) / height_) *
+                       list.camera.viewMatrix();
+  for (const DrawInstance& inst : list.instances) {
+    const DrawMesh& mesh = list.meshes[static_cast<std::size_t>(inst.mesh)];
+    const Eigen::AlignedBox3d box = meshBox(mesh);
+    std::array<Vec3, 8> corners;
+    Eigen::AlignedBox3d world;
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 c = box.isEmpty()
+                         ? Vec3::Zero()
+                         : Vec3(box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k)));
+      corners[static_cast<std::size_t>(k)] = (inst.model * Vec4(c.x(), c.y(), c.z(), 1)).head<3>();
+      world.extend(corners[static_cast<std::size_t>(k)]);
+    }
+    now.corners.push_back(corners);
+    now.boxes.push_back(world);
+    now.keys.push_back(mesh.transient ? nullptr : mesh.key);
+  }
+
+  std::optional<std::vector<PixelRect>> region;
+  if (last_ && sameCamera(last_->camera, now.camera) && last_->sun == now.sun &&
+      last_->ground == now.ground && last_->fadeStart == now.fadeStart &&
+      last_->fadeEnd == now.fadeEnd && last_->shadow == now.shadow) {
+    const Frame& before = *last_;
+    // Instances are matched by id (bodies appear and leave), those without one by order.
+    auto keys = [](const Frame& f) {
+      std::map<std::pair<int, int>, std::size_t> byKey;
+      int unnamed = 0;
+      for (std::size_t i = 0; i < f.instances.size(); ++i) {
+        const int id = f.instances[i].id;
+        byKey.emplace(std::make_pair(id, id < 0 ? unnamed++ : 0), i);
+      }
+      return byKey;
+    };
+    const auto was = keys(before), is = keys(now);
+    std::vector<PixelRect> rects;
+    bool bounded = true;
+    for (const auto& [key, i] : is) {
+      if (!bounded) break;
+      const auto old = was.find(key);
+      if (old != was.end()) {
+        const std::size_t j = old->second;
+        if (now.keys[i] && before.keys[j] == now.keys[i] &&
+            sameInstance(before.instances[j], now.instances[i])) {
+          continue;
+        }
+        // Where it and its shadow were (on that frame's receivers).
+        bounded = reach(before, j, shadowReach, rects);
+      }
+      // Where they are (on this frame's).
+      bounded = bounded && reach(now, i, shadowReach, rects);
+    }
+    for (const auto& [key, j] : was) {  // gone since
+      if (bounded && !is.contains(key)) bounded = reach(before, j, shadowReach, rects);
+    }
+    std::erase_if(rects, [](const PixelRect& r) { return r.empty(); });
+    if (bounded) {
+      // Disjoint pieces of the union, unless there are so many that the passes' fixed costs
+      // outweigh drawing the bounding boxes of overlapping groups.
+      std::vector<PixelRect> pieces = disjointCover(mergeCheap(std::move(rects)));
+      region = pieces.size() <= kMaxPieces ? std::move(pieces) : mergeOverlapping(std::move(rects));
+    }
+  }
+  last_ = std::move(now);
+  return region;
+}
+
+std::vector<PixelRect> mergeOverlapping(std::vector<PixelRect> rects) {
+  // Until no two overlap: a pixel is then drawn once, and the rectangles stay few.
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (std::size_t a = 0; a < rects.size() && !merged; ++a) {
+      for (std::size_t b = a + 1; b < rects.size(); ++b) {
+        if (!rects[a].intersects(rects[b])) continue;
+        rects[a].unite(rects[b]);
+        rects.erase(rects.begin() + static_cast<std::ptrdiff_t>(b));
+        merged = true;
+        break;
+      }
+    }
+  }
+  return rects;
+}
+
+std::vector<PixelRect> mergeCheap(std::vector<PixelRect> rects) {
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (std::size_t a = 0; a < rects.size() && !merged; ++a) {
+      for (std::size_t b = a + 1; b < rects.size(); ++b) {
+        PixelRect both = rects[a];
+        both.unite(rects[b]);
+        if (both.area() > kMergeSlack * (rects[a].area() + rects[b].area()) + kMergePixels) {
+          continue;
+        }
+        rects[a] = both;
+        rects.erase(rects.begin() + static_cast<std::ptrdiff_t>(b));
+        merged = true;
+        break;
+      }
+    }
+  }
+  return rects;
+}
+
+std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects) {
+  std::vector<PixelRect> out, pieces, rest;
+  for (const PixelRect& r : rects) {
+    if (r.empty()) continue;
+    // r minus every rectangle already taken: each cut leaves at most four bands.
+    pieces.assign(1, r);
+    for (const PixelRect& q : out) {
+      rest.clear();
+      for (const PixelRect& p : pieces) {
+        if (!p.intersects(q)) {
+          rest.push_back(p);
+          continue;
+        }
+        const int y0 = std::max(p.y0, q.y0), y1 = std::min(p.y1, q.y1);
+        if (p.y0 < y0) rest.push_back(PixelRect{p.x0, p.y0, p.x1, y0});  // below q
+        if (y1 < p.y1) rest.push_back(PixelRect{p.x0, y1, p.x1, p.y1});  // above q
+        if (p.x0 < q.x0) rest.push_back(PixelRect{p.x0, y0, q.x0, y1});  // left of q
+        if (q.x1 < p.x1) rest.push_back(PixelRect{q.x1, y0, p.x1, y1});  // right of q
+      }
+      pieces.swap(rest);
+      if (pieces.empty()) break;
+    }
+    out.insert(out.end(), pieces.begin(), pieces.end());
+  }
+  return out;
+}
+
+bool RedrawTracker::mayCover(std::size_t instance, const PixelRect& rect) const {
+  if (!last_ || instance >= last_->corners.size()) return true;
+  const std::optional<PixelRect> r = projectPoints(last_->viewProjection, last_->corners[instance],
+                                                   0, width_, height_, kMarginPixels, 1);
+  return !r || r->intersects(rect);
+}
+
+}  // namespace vf

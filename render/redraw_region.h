@@ -1,0 +1,110 @@
+// Which part of a frame can differ from the frame before it, so that the renderer redraws
+// only that part and keeps the rest of its targets from the last frame (GL-free, testable).
+//
+// Why that is exact: a pixel's value is a function of what is drawn over it (the geometry
+// covering its samples, the floor, the sky along its ray) and of the shadow-map texels its
+// shadow lookups read; nothing else (no screen-space effect reads a neighbour, and the
+// derivatives of the floor's grid come from the same 2x2 quad either way). When the camera, the
+// light, the floor and the shadow map's projection are the same, a pixel can only change where
+// an instance that changed (moved as the GPU sees it, i.e. in single precision; recoloured;
+// appeared; left; a trail) covered or now covers it, or where a receiver's shadow lookups reach
+// the shadow-map texels such an instance covered or covers. The first is inside the instance's
+// mesh box; the second inside that box swept away from the sun, widened by how far a lookup
+// reaches from its surface point, where the sweep crosses the height range of a receiver (the
+// floor, or an instance's box). Each part is projected to a screen rectangle; everything
+// outside them is provably unchanged. Whenever a premise fails (or a bound reaches behind the
+// camera) the whole frame is redrawn. tests/render/incremental_render_test.cpp compares scene
+// clips drawn both ways byte for byte.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "render/camera.h"
+#include "render/draw_list.h"
+
+namespace vf {
+
+// Pixels [x0, x1) x [y0, y1) of a frame, rows counted from the bottom as GL counts them.
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool empty() const { return x1 <= x0 || y1 <= y0; }
+  long long area() const { return empty() ? 0 : static_cast<long long>(x1 - x0) * (y1 - y0); }
+  // Grows this rectangle to hold `other` too (an empty one adds nothing).
+  void unite(const PixelRect& other);
+  bool intersects(const PixelRect& other) const;
+  bool operator==(const PixelRect&) const = default;
+};
+
+// The rectangle of a width x height frame that holds the projection of sphere `s` through
+// `viewProjection`, widened by `margin` pixels, aligned outwards to multiples of `align` and
+// clipped to the frame; none when part of the sphere's bounding cube lies at or behind the eye
+// (its projection is then unbounded).
+std::optional<PixelRect> projectSphere(const Mat4& viewProjection, const Sphere& s, int width,
+                                       int height, int margin, int align);
+// The same for the convex hull of `points`, each widened to a cube of half-side `grow` (m).
+std::optional<PixelRect> projectPoints(const Mat4& viewProjection, std::span<const Vec3> points,
+                                       double grow, int width, int height, int margin, int align);
+
+// Rectangles merged until no two overlap (each merged pair replaced by its bounding box).
+std::vector<PixelRect> mergeOverlapping(std::vector<PixelRect> rects);
+// Rectangles merged pairwise into their bounding box wherever that adds little area (a quarter
+// of theirs and a few thousand pixels): fewer, larger passes.
+std::vector<PixelRect> mergeCheap(std::vector<PixelRect> rects);
+// Rectangles that do not overlap and cover exactly the union of `rects`.
+std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects);
+
+class RedrawTracker {
+ public:
+  // For frames of width x height pixels.
+  RedrawTracker(int width, int height) : width_(width), height_(height) {}
+
+  // Takes `list` (whose shadow map is fitted as `shadow`) as the new current frame and returns
+  // the parts of the picture that can differ from the previous frame given, as rectangles
+  // that do not overlap (none: nothing changed); none at all for the whole picture (the first
+  // frame; a changed camera, light, floor, shadow projection or instance list; a bound that
+  // reaches behind the eye). `shadowReach` (m): how far from its surface point a receiver's
+  // shadow lookups can reach (normal offset plus filter footprint).
+  std::optional<std::vector<PixelRect>> update(const DrawList& list, const ShadowProjection& shadow,
+                                               double shadowReach);
+
+  // Whether instance i of the current frame can cover pixels of `rect`: false only when its
+  // bounding box provably projects outside it.
+  bool mayCover(std::size_t instance, const PixelRect& rect) const;
+
+ private:
+  struct Frame {
+    CameraView camera;
+    Vec3 sun = Vec3::Zero();
+    std::optional<double> ground;
+    double fadeStart = 0, fadeEnd = 0;
+    Mat4 shadow = Mat4::Zero();
+    Mat4 viewProjection = Mat4::Identity();
+    std::vector<DrawInstance> instances;
+    std::vector<const void*> keys;             // per instance; null for a transient mesh
+    std::vector<std::array<Vec3, 8>> corners;  // per instance: its mesh box, in the world
+    std::vector<Eigen::AlignedBox3d> boxes;    // per instance: the corners' bounding box
+  };
+  struct MeshBounds {
+    std::shared_ptr<const TriMesh> pin;  // keeps the key's owner alive: keys are not reused
+    Eigen::AlignedBox3d box;             // mesh frame
+  };
+
+  Eigen::AlignedBox3d meshBox(const DrawMesh& mesh);
+  // Adds to `rects` the screen rectangles instance i of `frame` covers and (if it casts a
+  // shadow) those where its shadow can fall on that frame's receivers; false when a bound
+  // reaches behind the eye or the sun is too low to bound the shadow.
+  bool reach(const Frame& frame, std::size_t i, double shadowReach,
+             std::vector<PixelRect>& rects) const;
+
+  int width_, height_;
+  std::optional<Frame> last_;
+  std::unordered_map<const void*, MeshBounds> meshes_;  // lookup only, never iterated
+};
+
+}  // namespace vf
