@@ -162,6 +162,7 @@ bool RedrawTracker::reach(const Frame& frame, std::size_t i, double shadowReach,
 std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list,
                                                             const ShadowProjection& shadow,
                                                             double shadowReach) {
+  shadowRegion_.clear();
   Frame now;
   now.camera = list.camera;
   now.sun = list.sunDirection;
@@ -205,7 +206,7 @@ std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list
       return byKey;
     };
     const auto was = keys(before), is = keys(now);
-    std::vector<PixelRect> rects;
+    std::vector<PixelRect> rects, casters;
     bool bounded = true;
     for (const auto& [key, i] : is) {
       if (!bounded) break;
@@ -218,12 +219,17 @@ std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list
         }
         // Where it and its shadow were (on that frame's receivers).
         bounded = reach(before, j, shadowReach, rects);
+        addCaster(before, j, casters);
       }
       // Where they are (on this frame's).
       bounded = bounded && reach(now, i, shadowReach, rects);
+      addCaster(now, i, casters);
     }
     for (const auto& [key, j] : was) {  // gone since
-      if (bounded && !is.contains(key)) bounded = reach(before, j, shadowReach, rects);
+      if (bounded && !is.contains(key)) {
+        bounded = reach(before, j, shadowReach, rects);
+        addCaster(before, j, casters);
+      }
     }
     std::erase_if(rects, [](const PixelRect& r) { return r.empty(); });
     if (bounded) {
@@ -231,6 +237,9 @@ std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list
       // outweigh drawing the bounding boxes of overlapping groups.
       std::vector<PixelRect> pieces = disjointCover(mergeCheap(std::move(rects)));
       region = pieces.size() <= kMaxPieces ? std::move(pieces) : mergeOverlapping(std::move(rects));
+      std::vector<PixelRect> texels = disjointCover(mergeCheap(std::move(casters)));
+      shadowRegion_ =
+          texels.size() <= kMaxPieces ? std::move(texels) : mergeOverlapping(std::move(texels));
     }
   }
   last_ = std::move(now);
@@ -299,6 +308,18 @@ std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects) {
     out.insert(out.end(), pieces.begin(), pieces.end());
   }
   return out;
+}
+
+void RedrawTracker::addCaster(const Frame& frame, std::size_t i,
+                              std::vector<PixelRect>& texels) const {
+  const DrawInstance& inst = frame.instances[i];
+  if (shadowMapSize_ <= 0 || !inst.castsShadow || inst.surface == Surface::unlit) return;
+  // The shadow map's clip space maps to its texels as the camera's does to pixels; the
+  // projection is orthographic (w = 1), so the bound always exists.
+  const std::optional<PixelRect> r =
+      projectPoints(frame.shadow, frame.corners[i], 0, shadowMapSize_, shadowMapSize_,
+                    kMarginPixels, kAlignPixels);
+  if (r && !r->empty()) texels.push_back(*r);
 }
 
 bool RedrawTracker::mayCover(std::size_t instance, const PixelRect& rect) const {

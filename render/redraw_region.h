@@ -61,8 +61,10 @@ std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects);
 
 class RedrawTracker {
  public:
-  // For frames of width x height pixels.
-  RedrawTracker(int width, int height) : width_(width), height_(height) {}
+  // For frames of width x height pixels and, when shadowMapSize > 0, a square shadow map of
+  // that many texels a side (see shadowMapRegion()).
+  RedrawTracker(int width, int height, int shadowMapSize = 0)
+      : width_(width), height_(height), shadowMapSize_(shadowMapSize) {}
 
   // Takes `list` (whose shadow map is fitted as `shadow`) as the new current frame and returns
   // the parts of the picture that can differ from the previous frame given, as rectangles
@@ -72,6 +74,11 @@ class RedrawTracker {
   // shadow lookups can reach (normal offset plus filter footprint).
   std::optional<std::vector<PixelRect>> update(const DrawList& list, const ShadowProjection& shadow,
                                                double shadowReach);
+
+  // After an update() that returned rectangles: the shadow-map texels that can differ from
+  // the last frame's map (where a caster that changed lay or lies), as rectangles that do not
+  // overlap, rows from the bottom (texel (0, 0) is the map's origin). Empty without a map size.
+  const std::vector<PixelRect>& shadowMapRegion() const { return shadowRegion_; }
 
   // Whether instance i of the current frame can cover pixels of `rect`: false only when its
   // bounding box provably projects outside it.
@@ -102,8 +109,12 @@ class RedrawTracker {
   bool reach(const Frame& frame, std::size_t i, double shadowReach,
              std::vector<PixelRect>& rects) const;
 
-  int width_, height_;
+  // Adds to `texels` the shadow-map rectangle instance i of `frame` covers, if it casts one.
+  void addCaster(const Frame& frame, std::size_t i, std::vector<PixelRect>& texels) const;
+
+  int width_, height_, shadowMapSize_;
   std::optional<Frame> last_;
+  std::vector<PixelRect> shadowRegion_;
   std::unordered_map<const void*, MeshBounds> meshes_;  // lookup only, never iterated
 };
 

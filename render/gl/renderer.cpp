@@ -97,11 +97,14 @@ struct Renderer::Impl {
   double redrawn = 1;
 
   Impl(Context& c, const RenderSettings& s)
-      : context(c), gl(c.api()), settings(s), tracker(s.width, s.height) {}
+      : context(c), gl(c.api()), settings(s), tracker(s.width, s.height, s.shadowMapSize) {}
   ~Impl();
   void createTargets();
   const GpuMesh& mesh(const DrawMesh& m);
-  void shadowPass(const DrawList& list, const ShadowProjection& shadow);
+  // `texels`: the parts of the map to redraw (the rest holds the last frame's casters, which
+  // is exact: see RedrawTracker::shadowMapRegion); null: decide by comparing all casters.
+  void shadowPass(const DrawList& list, const ShadowProjection& shadow,
+                  const std::vector<PixelRect>* texels);
   // `region`: the output pixels to redraw; none for all.
   void scenePass(const DrawList& list, const ShadowProjection& shadow,
                  const std::optional<PixelRect>& region);
@@ -206,31 +209,46 @@ const GpuMesh& Renderer::Impl::mesh(const DrawMesh& m) {
   return *it->second.mesh;
 }
 
-void Renderer::Impl::shadowPass(const DrawList& list, const ShadowProjection& shadow) {
+void Renderer::Impl::shadowPass(const DrawList& list, const ShadowProjection& shadow,
+                                const std::vector<PixelRect>* texels) {
   std::vector<Caster> casters;
   for (const DrawInstance& inst : list.instances) {
     if (!inst.castsShadow || inst.surface == Surface::unlit) continue;
     casters.push_back(
         Caster{list.meshes[static_cast<std::size_t>(inst.mesh)].key, inst.model.cast<float>()});
   }
-  if (shadowValid && shadow.viewProjection == shadowViewProjection && casters == shadowCasters) {
+  const bool same = shadowValid && shadow.viewProjection == shadowViewProjection;
+  if (same && (casters == shadowCasters || (texels && texels->empty()))) {
+    shadowCasters = std::move(casters);
     return;  // the map already holds exactly this
   }
+  // Redrawn whole, or only where casters changed (the same projection, and the last frame's
+  // casters in the rest of the map).
+  std::vector<std::optional<PixelRect>> parts;
+  if (same && texels) {
+    parts.assign(texels->begin(), texels->end());
+  } else {
+    parts.emplace_back(std::nullopt);
+  }
+  shadowValid = false;  // until drawn
   gl.BindFramebuffer(GL_FRAMEBUFFER, shadowFbo);
   gl.Viewport(0, 0, settings.shadowMapSize, settings.shadowMapSize);
-  scissor(std::nullopt, 1);  // the map is always drawn whole
   gl.ClearDepth(1.0);
-  gl.Clear(GL_DEPTH_BUFFER_BIT);
   gl.Enable(GL_DEPTH_TEST);
   gl.DepthFunc(GL_LESS);
   gl.DepthMask(GL_TRUE);
   shadowProgram->use();
   setMatrix(gl, shadowProgram->uniform("uLightViewProjection"), shadow.viewProjection);
-  for (const DrawInstance& inst : list.instances) {
-    if (!inst.castsShadow || inst.surface == Surface::unlit) continue;
-    setMatrix(gl, shadowProgram->uniform("uModel"), inst.model);
-    mesh(list.meshes[static_cast<std::size_t>(inst.mesh)]).draw();
+  for (const std::optional<PixelRect>& part : parts) {
+    scissor(part, 1);
+    gl.Clear(GL_DEPTH_BUFFER_BIT);
+    for (const DrawInstance& inst : list.instances) {
+      if (!inst.castsShadow || inst.surface == Surface::unlit) continue;
+      setMatrix(gl, shadowProgram->uniform("uModel"), inst.model);
+      mesh(list.meshes[static_cast<std::size_t>(inst.mesh)]).draw();
+    }
   }
+  scissor(std::nullopt, 1);
   shadowValid = true;
   shadowViewProjection = shadow.viewProjection;
   shadowCasters = std::move(casters);
@@ -394,7 +412,7 @@ void Renderer::render(const DrawList& list, Image& out) {
   r.redrawn = regions ? area / pixels : 1.0;
 
   r.frameMeshes.clear();  // last frame's trails
-  r.shadowPass(list, shadow);
+  r.shadowPass(list, shadow, regions ? &r.tracker.shadowMapRegion() : nullptr);
   r.readback.resize(static_cast<std::size_t>(w) * h * 4);
   // Draw the regions (none: all), then read back the rows they span; the other rows keep the
   // last frame's.

@@ -1,8 +1,8 @@
 // Draws a DrawList off-screen and reads the frame back. One Renderer per context and frame
 // size; it keeps the GPU copies of meshes (one per DrawMesh key) between frames.
 //
-// A frame: shadow map from the sun (orthographic, fitted to the casters; kept from the last
-// frame when the light and every caster are unchanged) -> scene into a multisampled
+// A frame: shadow map from the sun (orthographic, fitted to the casters; redrawn only where a
+// caster changed since the last frame) -> scene into a multisampled
 // linear-light HDR target (bodies, floor with grid) -> present (sample average with the sky
 // where nothing was drawn, highlight shoulder, sRGB encoding, ordered dither) into 8 bits ->
 // read back top row first. Scene and present are scissored to the part of the picture that

@@ -182,6 +182,31 @@ TEST(RedrawTracker, AMovedBodyRedrawsWhereItAndItsShadowWereAndAre) {
   }
 }
 
+TEST(RedrawTracker, AMovedCasterRedrawsItsShadowMapTexelsBeforeAndAfter) {
+  constexpr int kMap = 512;
+  RedrawTracker tracker(kWidth, kHeight, kMap);
+  const Vec3 from(0, 0, 1.5), to(0.6, 0.2, 1.2);
+  const DrawList before = boxOnFloor(from), after = boxOnFloor(to);
+  const ShadowProjection shadow = shadowOf(before);  // the same for both: fitted to casterRadius
+  tracker.update(before, shadow, 0.05);
+  ASSERT_TRUE(tracker.update(after, shadow, 0.05).has_value());
+  const std::vector<PixelRect>& texels = tracker.shadowMapRegion();
+  // The texel under each centre, computed from the projection directly.
+  for (const Vec3& p : {from, to}) {
+    const Vec4 c = shadow.viewProjection * Vec4(p.x(), p.y(), p.z(), 1);
+    const Eigen::Vector2d texel((c.x() * 0.5 + 0.5) * kMap, (c.y() * 0.5 + 0.5) * kMap);
+    bool inside = false;
+    for (const PixelRect& r : texels) inside = inside || contains(r, texel);
+    EXPECT_TRUE(inside) << "(" << p.transpose() << ") at texel " << texel.transpose();
+  }
+  long long area = 0;
+  for (const PixelRect& r : texels) area += r.area();
+  EXPECT_LT(area, kMap * kMap / 4) << "one box's footprint, not the whole map";
+  // Nothing moved: nothing to redraw in the map either.
+  ASSERT_TRUE(tracker.update(after, shadow, 0.05).has_value());
+  EXPECT_TRUE(tracker.shadowMapRegion().empty());
+}
+
 TEST(RedrawTracker, ABodyThatAppearsOrLeavesRedrawsOnlyItsPlace) {
   // Instances are matched by id, so a released body does not shift the others' comparison.
   DrawList one = boxOnFloor(Vec3(0, 0, 1.5));
