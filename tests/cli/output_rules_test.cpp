@@ -153,9 +153,10 @@ TEST_F(OutputRules, RenderStopsOnSigtermOrSigintWithAPlayableMp4) {
     fs::remove(dir_ / "cut.mp4");
     // The muxer keeps its data until the end, so the progress line (stderr, not a terminal:
     // a line after the first second of drawing, then every 5 s) tells when frames are drawn;
-    // drawing all 901 frames takes far longer.
+    // drawing and encoding all 901 frames takes far longer. (At 1280x720: once the cubes rest
+    // nothing is redrawn, and a smaller picture encodes in a second.)
     const int code = interrupt(
-        {"render", "minute.toml", "-o", "cut.mp4", "--size", "320x180"}, sig,
+        {"render", "minute.toml", "-o", "cut.mp4", "--size", "1280x720"}, sig,
         [&] { return readFile(dir_ / "stderr.txt").find("(drawing)") != std::string::npos; });
     EXPECT_EQ(code, 128 + sig) << err_;
     // ffprobe, the independent MP4 reader: the file plays and holds whole frames.
