@@ -98,6 +98,17 @@ TEST(IncrementalRender, CrossesReleasedOneByOneAreByteIdenticalToWholeFrames) {
   EXPECT_LT(c.meanRedrawn, 0.5);
 }
 
+TEST(IncrementalRender, ARockOnTerrainIsByteIdenticalToWholeFrames) {
+  // The cliff's heightfield (a terrain instance: slope colours, smooth normals) receives the
+  // rock's shadow, seen by the automatic camera of [cameras.overview]. (The scene's own chase
+  // camera moves, so every one of its frames is drawn whole.)
+  SceneSpec spec = loadScene(scenePath("cliff.toml"));
+  selectCamera(spec, "overview");
+  const ClipComparison c = compareClip(spec, 90);
+  EXPECT_EQ(c.differing, 0);
+  EXPECT_LT(c.meanRedrawn, 0.5);
+}
+
 TEST(IncrementalRender, ThrownBlocksWithTrailsAreByteIdenticalToWholeFrames) {
   // Ten blocks thrown across the view, drawn with trails (transient meshes, redrawn every
   // frame) and as markers while smaller than 12 pixels (unlit, no shadow).
