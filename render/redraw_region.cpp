@@ -16,11 +16,6 @@ constexpr int kMarginPixels = 2;
 // Rectangles are aligned to llvmpipe's 4x4 pixel blocks and the 2x2 quads derivatives come
 // from (exactness does not depend on it; it keeps every quad whole).
 constexpr int kAlignPixels = 8;
-// Two rectangles are drawn as their bounding box when that adds at most this share of their
-// areas plus this many pixels: a pass has a fixed cost (on llvmpipe about that of 2,000 to
-// 4,000 pixels), and slivers cost more than they save.
-constexpr double kMergeSlack = 1.25;
-constexpr long long kMergePixels = 4096;
 // At most this many rectangles are drawn one by one (each is a scene and a present pass).
 constexpr std::size_t kMaxPieces = 48;
 // A sun lower than this (sine of its elevation) casts shadows too long to bound usefully.
@@ -264,15 +259,17 @@ std::vector<PixelRect> mergeOverlapping(std::vector<PixelRect> rects) {
 }
 
 std::vector<PixelRect> mergeCheap(std::vector<PixelRect> rects) {
+  // Two rectangles are drawn as their bounding box when that is no larger than the two (they
+  // overlap or line up). Merging more loosely (up to 1.25 times their area plus 4,096 pixels)
+  // saved passes but drew more: on the whole crosses clip 29 % of the pixels instead of 23 %,
+  // and 19 instead of 20.6 frames/s (two interleaved runs each).
   for (bool merged = true; merged;) {
     merged = false;
     for (std::size_t a = 0; a < rects.size() && !merged; ++a) {
       for (std::size_t b = a + 1; b < rects.size(); ++b) {
         PixelRect both = rects[a];
         both.unite(rects[b]);
-        if (both.area() > kMergeSlack * (rects[a].area() + rects[b].area()) + kMergePixels) {
-          continue;
-        }
+        if (both.area() > rects[a].area() + rects[b].area()) continue;
         rects[a] = both;
         rects.erase(rects.begin() + static_cast<std::ptrdiff_t>(b));
         merged = true;

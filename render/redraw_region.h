@@ -53,8 +53,8 @@ std::optional<PixelRect> projectPoints(const Mat4& viewProjection, std::span<con
 
 // Rectangles merged until no two overlap (each merged pair replaced by its bounding box).
 std::vector<PixelRect> mergeOverlapping(std::vector<PixelRect> rects);
-// Rectangles merged pairwise into their bounding box wherever that adds little area (a quarter
-// of theirs and a few thousand pixels): fewer, larger passes.
+// Rectangles merged pairwise into their bounding box wherever that adds no area (they overlap
+// or line up): fewer passes for the same pixels.
 std::vector<PixelRect> mergeCheap(std::vector<PixelRect> rects);
 // Rectangles that do not overlap and cover exactly the union of `rects`.
 std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects);

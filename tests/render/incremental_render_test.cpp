@@ -295,12 +295,13 @@ TEST(RedrawTracker, DisjointCoverHoldsExactlyTheUnion) {
 
 TEST(RedrawTracker, CheapMergesJoinNeighboursAndKeepDistantRectanglesApart) {
   // Side by side (their box adds nothing): one pass. A 100x100 pair 1,000 pixels apart: the
-  // box would be 50 times their area, so two passes.
+  // box would be 50 times their area, so two passes; so would a pair one pixel apart.
   const std::vector<PixelRect> near =
       mergeCheap({PixelRect{0, 0, 100, 100}, PixelRect{100, 0, 200, 100}});
   ASSERT_EQ(near.size(), 1u);
   EXPECT_EQ(near[0], (PixelRect{0, 0, 200, 100}));
   EXPECT_EQ(mergeCheap({PixelRect{0, 0, 100, 100}, PixelRect{1100, 1100, 1200, 1200}}).size(), 2u);
+  EXPECT_EQ(mergeCheap({PixelRect{0, 0, 100, 100}, PixelRect{101, 0, 201, 100}}).size(), 2u);
 }
 
 TEST(RedrawTracker, SphereRectangleHoldsTheExactSilhouette) {
