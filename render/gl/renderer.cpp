@@ -419,7 +419,8 @@ void Renderer::render(const DrawList& list, Image& out) {
   int y0 = h, y1 = 0;
   auto draw = [&](const std::optional<PixelRect>& region) {
     r.scenePass(list, shadow, region);
-    r.presentPass(list);  // under the same scissor
+    r.scissor(region, 1);  // output pixels (the scene's are `supersample` times as many)
+    r.presentPass(list);
     y0 = std::min(y0, region ? region->y0 : 0);
     y1 = std::max(y1, region ? region->y1 : h);
   };

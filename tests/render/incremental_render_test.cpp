@@ -38,7 +38,7 @@ struct ClipComparison {
 
 // Draws frames 0 .. last of a scene with an incremental and a whole-frame renderer; `dither`
 // is the whole-frame renderer's (the control: a different picture must be caught).
-ClipComparison compareClip(SceneSpec spec, int last, bool dither = true) {
+ClipComparison compareClip(SceneSpec spec, int last, bool dither = true, int samples = 4) {
   spec.output.width = kWidth;
   spec.output.height = kHeight;
   auto context = gl::createContext(gl::Backend::osmesa);
@@ -47,6 +47,7 @@ ClipComparison compareClip(SceneSpec spec, int last, bool dither = true) {
   settings.width = kWidth;
   settings.height = kHeight;
   settings.shaderDir = gl::findShaderDir();
+  settings.samples = samples;
   gl::Renderer incremental(*context, settings);
   settings.incremental = false;
   settings.dither = dither;
@@ -88,6 +89,14 @@ TEST(IncrementalRender, CubesClipIsByteIdenticalToWholeFrames) {
   // region grew to most of the picture and the test no longer shows the skipping is exact.
   EXPECT_LT(c.meanRedrawn, 0.5);
   EXPECT_GT(c.untouched, 0) << "the cubes come to rest before frame 60";
+}
+
+TEST(IncrementalRender, SupersampledFramesAreByteIdenticalToWholeFrames) {
+  // 64 samples is more than llvmpipe offers: the renderer falls back to 2x2 supersampling, whose
+  // scene target has twice the output's pixels per axis (the scissor is scaled for it).
+  const ClipComparison c = compareClip(loadScene(scenePath("cubes.toml")), 30, true, 64);
+  EXPECT_EQ(c.differing, 0);
+  EXPECT_LT(c.meanRedrawn, 0.5);
 }
 
 TEST(IncrementalRender, CrossesReleasedOneByOneAreByteIdenticalToWholeFrames) {
