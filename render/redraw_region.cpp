@@ -228,17 +228,19 @@ std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list
     }
     std::erase_if(rects, [](const PixelRect& r) { return r.empty(); });
     if (bounded) {
-      // Disjoint pieces of the union, unless there are so many that the passes' fixed costs
-      // outweigh drawing the bounding boxes of overlapping groups.
-      std::vector<PixelRect> pieces = disjointCover(mergeCheap(std::move(rects)));
-      region = pieces.size() <= kMaxPieces ? std::move(pieces) : mergeOverlapping(std::move(rects));
-      std::vector<PixelRect> texels = disjointCover(mergeCheap(std::move(casters)));
-      shadowRegion_ =
-          texels.size() <= kMaxPieces ? std::move(texels) : mergeOverlapping(std::move(texels));
+      region = coverWithFewPieces(std::move(rects));
+      shadowRegion_ = coverWithFewPieces(std::move(casters));
     }
   }
   last_ = std::move(now);
   return region;
+}
+
+std::vector<PixelRect> coverWithFewPieces(std::vector<PixelRect> rects) {
+  std::vector<PixelRect> merged = mergeCheap(std::move(rects));
+  std::vector<PixelRect> pieces = disjointCover(merged);
+  if (pieces.size() <= kMaxPieces) return pieces;
+  return mergeOverlapping(std::move(merged));
 }
 
 std::vector<PixelRect> mergeOverlapping(std::vector<PixelRect> rects) {

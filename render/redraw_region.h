@@ -56,6 +56,10 @@ std::vector<PixelRect> mergeOverlapping(std::vector<PixelRect> rects);
 // Rectangles merged pairwise into their bounding box wherever that adds no area (they overlap
 // or line up): fewer passes for the same pixels.
 std::vector<PixelRect> mergeCheap(std::vector<PixelRect> rects);
+// Rectangles that do not overlap and cover the union of `rects`: the disjoint pieces of the
+// cheaply merged ones, or, when those would be more than kMaxPieces (48) passes, the bounding
+// boxes of overlapping groups (more pixels, fewer passes).
+std::vector<PixelRect> coverWithFewPieces(std::vector<PixelRect> rects);
 // Rectangles that do not overlap and cover exactly the union of `rects`.
 std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects);
 

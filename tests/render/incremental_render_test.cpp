@@ -313,6 +313,71 @@ TEST(RedrawTracker, CheapMergesJoinNeighboursAndKeepDistantRectanglesApart) {
   EXPECT_EQ(mergeCheap({PixelRect{0, 0, 100, 100}, PixelRect{101, 0, 201, 100}}).size(), 2u);
 }
 
+// Pixel by pixel over a w x h area: every pixel of `rects` is in exactly one of `cover`.
+void expectDisjointCover(const std::vector<PixelRect>& rects, const std::vector<PixelRect>& cover,
+                         int w, int h) {
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const Eigen::Vector2d p(x + 0.5, y + 0.5);
+      bool inInput = false;
+      int inCover = 0;
+      for (const PixelRect& r : rects) inInput = inInput || contains(r, p);
+      for (const PixelRect& r : cover) inCover += contains(r, p) ? 1 : 0;
+      if (inInput) EXPECT_EQ(inCover, 1) << "pixel " << x << ", " << y;
+      if (inInput && inCover != 1) return;
+    }
+  }
+}
+
+TEST(RedrawTracker, ManyOverlappingRectanglesStillCoverEverything) {
+  // A chain of 120 overlapping rectangles: their disjoint pieces would be more passes than the
+  // cap, so overlapping groups are drawn as bounding boxes; nothing may be left out.
+  std::vector<PixelRect> rects;
+  for (int k = 0; k < 120; ++k) rects.push_back(PixelRect{3 * k, k % 7, 3 * k + 5, k % 7 + 4});
+  ASSERT_GT(disjointCover(mergeCheap(rects)).size(), 48u) << "the fallback is what is tested";
+  const std::vector<PixelRect> cover = coverWithFewPieces(rects);
+  ASSERT_FALSE(cover.empty());
+  expectDisjointCover(rects, cover, 370, 12);
+  for (std::size_t a = 0; a < cover.size(); ++a) {
+    for (std::size_t b = a + 1; b < cover.size(); ++b) EXPECT_FALSE(cover[a].intersects(cover[b]));
+  }
+}
+
+TEST(RedrawTracker, SixtyMovedBodiesAreAllRedrawn) {
+  // Sixty small boxes in a slanting row, all moved: their rectangles overlap in a chain, and
+  // every body must be covered before and after.
+  static const auto shape = test::boxShape(Vec3(0.05, 0.05, 0.05));
+  DrawList before = boxOnFloor(Vec3(0, 0, 1.5));
+  before.instances.clear();
+  before.meshes.clear();
+  before.meshes.push_back(
+      DrawMesh{shape.get(), std::shared_ptr<const TriMesh>(shape, &shape->mesh)});
+  DrawList after = before;
+  std::vector<std::pair<Vec3, Vec3>> moves;
+  for (int k = 0; k < 60; ++k) {
+    const Vec3 from(-1.5 + 0.05 * k, 0.03 * (k % 5), 0.5 + 0.02 * k);
+    const Vec3 to = from + Vec3(0.03, 0, -0.02);
+    DrawInstance inst;
+    inst.id = k;
+    inst.model = bodyModelMatrix(from, Quat::Identity());
+    before.instances.push_back(inst);
+    inst.model = bodyModelMatrix(to, Quat::Identity());
+    after.instances.push_back(inst);
+    moves.emplace_back(from, to);
+  }
+  RedrawTracker tracker(kWidth, kHeight);
+  tracker.update(before, shadowOf(before), 0.05);
+  const std::optional<std::vector<PixelRect>> r = tracker.update(after, shadowOf(after), 0.05);
+  ASSERT_TRUE(r.has_value());
+  for (const auto& [from, to] : moves) {
+    for (const Vec3& p : {from, to}) {
+      bool inside = false;
+      for (const PixelRect& rect : *r) inside = inside || contains(rect, pixelOf(after, p));
+      EXPECT_TRUE(inside) << "(" << p.transpose() << ")";
+    }
+  }
+}
+
 TEST(RedrawTracker, SphereRectangleHoldsTheExactSilhouette) {
   // A sphere of radius r at distance d on the view axis subtends the half-angle asin(r / d):
   // its silhouette spans tan(asin(r / d)) / tan(fov / 2) of the half-height.
