@@ -132,12 +132,12 @@ Sphere viewSlice(const CameraView& camera, double aspect, double depth);
 // Builds draw lists frame after frame for one run. Holds what persists between frames: the
 // camera settings, the terrain, the per-shape radii, the region the automatic camera has to
 // frame and the one the shadow map covers (every body position observe()d so far: both only
-// grow), and per observed
-// frame the bodies' centres (trails) and the chase camera's smoothed target. `voxfall render`
-// observes every frame of the scene, in order from frame 0, before drawing any, and then calls
-// build(bodies, k): the automatic camera holds still for the whole clip, and frame k (its
-// trails and its chase camera, which depend on frames 0..k) looks the same whatever range is
-// rendered. A lone build(bodies) observes its bodies as the next frame and draws that.
+// grow), and per observed frame the bodies' centres (trails) and the chase camera's smoothed
+// target. `voxfall render` observes every frame of the scene, in order from frame 0, before
+// drawing any, and then calls build(bodies, k): the automatic camera and the shadow map hold
+// still for the whole clip, and frame k (its trails and its chase camera, which depend on
+// frames 0..k) looks the same whatever range is rendered. A lone build(bodies) observes its
+// bodies as the next frame and draws that.
 class DrawListBuilder {
  public:
   // For frames of width x height pixels at `fps` frames per second (frame k at t = k / fps).
