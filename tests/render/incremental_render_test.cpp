@@ -7,7 +7,9 @@
 //   - the region is checked against independent geometry: it holds where a moved body was and
 //     is, and where the floor receives its shadow before and after (the ray from its centre
 //     away from the sun meets the floor), and it is not the whole picture;
-//   - every premise that fails (camera, light, instance list, a bound behind the eye) redraws all.
+//   - bodies that appear or leave redraw only their place (matched by body id); every premise
+//     that fails (camera, light, floor fade, a bound behind the eye) redraws all;
+//   - the merging of rectangles covers every changed pixel exactly once, also past the cap.
 #include <gtest/gtest.h>
 
 #include <cmath>
