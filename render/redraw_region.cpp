@@ -28,9 +28,27 @@ bool sameCamera(const CameraView& a, const CameraView& b) {
 
 // Whether two instances of the same mesh draw the same pixels: what the GPU receives of them
 // is equal (their model matrices may still differ in the digits single precision drops).
-bool sameInstance(const DrawInstance& a, const DrawInstance& b) {
-  return a.color == b.color && a.surface == b.surface && a.castsShadow == b.castsShadow &&
-         gpuTransform(a.model) == gpuTransform(b.model);
+bool sameInstance(const DrawInstance& a, const GpuTransform& ta, const DrawInstance& b,
+                  const GpuTransform& tb) {
+  return a.color == b.color && a.surface == b.surface && a.castsShadow == b.castsShadow && ta == tb;
+}
+
+// Merges pairs for which merge(a, b) holds into their bounding box until no pair does.
+template <class Merge>
+std::vector<PixelRect> mergePairs(std::vector<PixelRect> rects, Merge merge) {
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (std::size_t a = 0; a < rects.size() && !merged; ++a) {
+      for (std::size_t b = a + 1; b < rects.size(); ++b) {
+        if (!merge(rects[a], rects[b])) continue;
+        rects[a].unite(rects[b]);
+        rects.erase(rects.begin() + static_cast<std::ptrdiff_t>(b));
+        merged = true;
+        break;
+      }
+    }
+  }
+  return rects;
 }
 
 int alignDown(int v, int a) { return v >= 0 ? v / a * a : -((-v + a - 1) / a) * a; }
@@ -53,12 +71,6 @@ void PixelRect::unite(const PixelRect& other) {
 bool PixelRect::intersects(const PixelRect& other) const {
   return !empty() && !other.empty() && x0 < other.x1 && other.x0 < x1 && y0 < other.y1 &&
          other.y0 < y1;
-}
-
-std::optional<PixelRect> projectSphere(const Mat4& viewProjection, const Sphere& s, int width,
-                                       int height, int margin, int align) {
-  const Vec3 centre[1] = {s.centre};
-  return projectPoints(viewProjection, centre, s.radius, width, height, margin, align);
 }
 
 std::optional<PixelRect> projectPoints(const Mat4& viewProjection, std::span<const Vec3> points,
@@ -169,6 +181,7 @@ std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list
   now.viewProjection = list.camera.projectionMatrix(static_cast<double>(width_) / height_) *
                        list.camera.viewMatrix();
   for (const DrawInstance& inst : list.instances) {
+    now.transforms.push_back(gpuTransform(inst.model));
     const DrawMesh& mesh = list.meshes[static_cast<std::size_t>(inst.mesh)];
     const Eigen::AlignedBox3d box = meshBox(mesh);
     std::array<Vec3, 8> corners;
@@ -209,7 +222,8 @@ std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list
       if (old != was.end()) {
         const std::size_t j = old->second;
         if (now.keys[i] && before.keys[j] == now.keys[i] &&
-            sameInstance(before.instances[j], now.instances[i])) {
+            sameInstance(before.instances[j], before.transforms[j], now.instances[i],
+                         now.transforms[i])) {
           continue;
         }
         // Where it and its shadow were (on that frame's receivers).
@@ -245,19 +259,8 @@ std::vector<PixelRect> coverWithFewPieces(std::vector<PixelRect> rects) {
 
 std::vector<PixelRect> mergeOverlapping(std::vector<PixelRect> rects) {
   // Until no two overlap: a pixel is then drawn once, and the rectangles stay few.
-  for (bool merged = true; merged;) {
-    merged = false;
-    for (std::size_t a = 0; a < rects.size() && !merged; ++a) {
-      for (std::size_t b = a + 1; b < rects.size(); ++b) {
-        if (!rects[a].intersects(rects[b])) continue;
-        rects[a].unite(rects[b]);
-        rects.erase(rects.begin() + static_cast<std::ptrdiff_t>(b));
-        merged = true;
-        break;
-      }
-    }
-  }
-  return rects;
+  return mergePairs(std::move(rects),
+                    [](const PixelRect& a, const PixelRect& b) { return a.intersects(b); });
 }
 
 std::vector<PixelRect> mergeCheap(std::vector<PixelRect> rects) {
@@ -265,21 +268,11 @@ std::vector<PixelRect> mergeCheap(std::vector<PixelRect> rects) {
   // overlap or line up). Merging more loosely (up to 1.25 times their area plus 4,096 pixels)
   // saved passes but drew more: on the whole crosses clip 29 % of the pixels instead of 23 %,
   // and 19 instead of 20.6 frames/s (two interleaved runs each).
-  for (bool merged = true; merged;) {
-    merged = false;
-    for (std::size_t a = 0; a < rects.size() && !merged; ++a) {
-      for (std::size_t b = a + 1; b < rects.size(); ++b) {
-        PixelRect both = rects[a];
-        both.unite(rects[b]);
-        if (both.area() > rects[a].area() + rects[b].area()) continue;
-        rects[a] = both;
-        rects.erase(rects.begin() + static_cast<std::ptrdiff_t>(b));
-        merged = true;
-        break;
-      }
-    }
-  }
-  return rects;
+  return mergePairs(std::move(rects), [](const PixelRect& a, const PixelRect& b) {
+    PixelRect both = a;
+    both.unite(b);
+    return both.area() <= a.area() + b.area();
+  });
 }
 
 std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects) {

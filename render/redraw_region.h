@@ -41,13 +41,11 @@ struct PixelRect {
   bool operator==(const PixelRect&) const = default;
 };
 
-// The rectangle of a width x height frame that holds the projection of sphere `s` through
-// `viewProjection`, widened by `margin` pixels, aligned outwards to multiples of `align` and
-// clipped to the frame; none when part of the sphere's bounding cube lies at or behind the eye
-// (its projection is then unbounded).
-std::optional<PixelRect> projectSphere(const Mat4& viewProjection, const Sphere& s, int width,
-                                       int height, int margin, int align);
-// The same for the convex hull of `points`, each widened to a cube of half-side `grow` (m).
+// The rectangle of a width x height frame that holds the projection through `viewProjection`
+// of the convex hull of `points`, each widened to a cube of half-side `grow` (m), itself
+// widened by `margin` pixels, aligned outwards to multiples of `align` and clipped to the frame;
+// none when a corner of those cubes lies at or behind the eye (the projection is then
+// unbounded).
 std::optional<PixelRect> projectPoints(const Mat4& viewProjection, std::span<const Vec3> points,
                                        double grow, int width, int height, int margin, int align);
 
@@ -97,6 +95,7 @@ class RedrawTracker {
     Mat4 shadow = Mat4::Zero();
     Mat4 viewProjection = Mat4::Identity();
     std::vector<DrawInstance> instances;
+    std::vector<GpuTransform> transforms;      // per instance, computed once
     std::vector<const void*> keys;             // per instance; null for a transient mesh
     std::vector<std::array<Vec3, 8>> corners;  // per instance: its mesh box, in the world
     std::vector<Eigen::AlignedBox3d> boxes;    // per instance: the corners' bounding box

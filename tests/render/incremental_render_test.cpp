@@ -381,16 +381,17 @@ TEST(RedrawTracker, SixtyMovedBodiesAreAllRedrawn) {
 }
 
 TEST(RedrawTracker, SphereRectangleHoldsTheExactSilhouette) {
-  // A sphere of radius r at distance d on the view axis subtends the half-angle asin(r / d):
-  // its silhouette spans tan(asin(r / d)) / tan(fov / 2) of the half-height.
+  // A point widened by r is the cube around the sphere of radius r there. A sphere of radius r
+  // at distance d on the view axis subtends the half-angle asin(r / d): its silhouette spans
+  // tan(asin(r / d)) / tan(fov / 2) of the half-height.
+  const Vec3 kOrigin[1] = {Vec3::Zero()};
   CameraView cam;
   cam.position = Vec3(0, -10, 0);
   cam.lookAt = Vec3::Zero();
   cam.fovYDegrees = 40;
   const Mat4 vp = cam.projectionMatrix(static_cast<double>(kWidth) / kHeight) * cam.viewMatrix();
   const double r = 1;
-  const std::optional<PixelRect> rect =
-      projectSphere(vp, Sphere{Vec3::Zero(), r}, kWidth, kHeight, 0, 1);
+  const std::optional<PixelRect> rect = projectPoints(vp, kOrigin, r, kWidth, kHeight, 0, 1);
   ASSERT_TRUE(rect.has_value());
   const double half =
       std::tan(std::asin(r / 10)) / std::tan(20 * std::numbers::pi / 180) * kHeight / 2;
@@ -404,15 +405,14 @@ TEST(RedrawTracker, SphereRectangleHoldsTheExactSilhouette) {
   EXPECT_GE(rect->y0, kHeight / 2 - loose);
   EXPECT_LE(rect->y1, kHeight / 2 + loose);
   // Margin and alignment widen it outwards, clipped to the frame.
-  const std::optional<PixelRect> wide =
-      projectSphere(vp, Sphere{Vec3::Zero(), r}, kWidth, kHeight, 2, 8);
+  const std::optional<PixelRect> wide = projectPoints(vp, kOrigin, r, kWidth, kHeight, 2, 8);
   ASSERT_TRUE(wide.has_value());
   EXPECT_EQ(wide->x0 % 8, 0);
   EXPECT_EQ(wide->y1 % 8, 0);
   EXPECT_LE(wide->x0, rect->x0 - 2);
   cam.position = Vec3(0, -0.5, 0);  // the eye inside the sphere's cube
   const Mat4 inside = cam.projectionMatrix(1.0) * cam.viewMatrix();
-  EXPECT_FALSE(projectSphere(inside, Sphere{Vec3::Zero(), r}, kWidth, kHeight, 0, 1));
+  EXPECT_FALSE(projectPoints(inside, kOrigin, r, kWidth, kHeight, 0, 1));
 }
 
 }  // namespace
