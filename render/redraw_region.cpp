@@ -73,6 +73,11 @@ bool PixelRect::intersects(const PixelRect& other) const {
          other.y0 < y1;
 }
 
+PixelRect PixelRect::intersection(const PixelRect& other) const {
+  return PixelRect{std::max(x0, other.x0), std::max(y0, other.y0), std::min(x1, other.x1),
+                   std::min(y1, other.y1)};
+}
+
 std::optional<PixelRect> projectPoints(const Mat4& viewProjection, std::span<const Vec3> points,
                                        double grow, int width, int height, int margin, int align) {
   // Each point's cube of half-side `grow` by its corners: the projections' box holds the
@@ -106,6 +111,33 @@ std::optional<PixelRect> projectPoints(const Mat4& viewProjection, std::span<con
   return PixelRect{px[0][0], px[1][0], px[0][1], px[1][1]};
 }
 
+bool floorCovers(const CameraView& camera, int width, int height, double floorHeight,
+                 const Eigen::Vector2d& centre, double half, const PixelRect& rect) {
+  if (rect.empty() || !(camera.position.z() > floorHeight)) return false;
+  const Mat4 view = camera.viewMatrix();
+  const Mat4 inverse =
+      (camera.projectionMatrix(static_cast<double>(width) / height) * view).inverse();
+  const double inner = half * (1 - 1e-6);  // rounding of the square's corners
+  for (const int x : {rect.x0 - 1, rect.x1 + 1}) {
+    for (const int y : {rect.y0 - 1, rect.y1 + 1}) {
+      const double nx = 2.0 * x / width - 1, ny = 2.0 * y / height - 1;
+      const Vec4 a = inverse * Vec4(nx, ny, -1, 1), b = inverse * Vec4(nx, ny, 1, 1);
+      const Vec3 from = a.head<3>() / a.w(), to = b.head<3>() / b.w();
+      const Vec3 ray = to - from;
+      if (!(ray.z() < 0)) return false;  // at or above the horizon
+      const Vec3 hit = from + ray * ((floorHeight - from.z()) / ray.z());
+      if (!(std::abs(hit.x() - centre.x()) < inner && std::abs(hit.y() - centre.y()) < inner)) {
+        return false;
+      }
+      // In front of the near plane and short of the far one, with room for the floor's
+      // polygon offset (which pushes it back in depth).
+      const double depth = -(view * Vec4(hit.x(), hit.y(), hit.z(), 1)).z();
+      if (!(depth > 1.01 * camera.nearPlane && depth < 0.9 * camera.farPlane)) return false;
+    }
+  }
+  return true;
+}
+
 Eigen::AlignedBox3d RedrawTracker::meshBox(const DrawMesh& mesh) {
   auto compute = [&mesh] {
     Eigen::AlignedBox3d box;
@@ -120,13 +152,27 @@ Eigen::AlignedBox3d RedrawTracker::meshBox(const DrawMesh& mesh) {
 
 bool RedrawTracker::reach(const Frame& frame, std::size_t i, double shadowReach,
                           std::vector<PixelRect>& rects) const {
-  const std::array<Vec3, 8>& corners = frame.corners[i];
-  const std::optional<PixelRect> body =
-      projectPoints(frame.viewProjection, corners, 0, width_, height_, kMarginPixels, kAlignPixels);
+  const std::optional<PixelRect>& body = frame.screen[i];
   if (!body) return false;
   rects.push_back(*body);
   const DrawInstance& inst = frame.instances[i];
   if (!inst.castsShadow || inst.surface == Surface::unlit) return true;
+  if (frame.ground &&
+      !shadowOn(frame, i, shadowReach, *frame.ground, *frame.ground, std::nullopt, rects)) {
+    return false;
+  }
+  for (std::size_t j = 0; j < frame.boxes.size(); ++j) {
+    const Eigen::AlignedBox3d& receiver = frame.boxes[j];
+    if (!shadowOn(frame, i, shadowReach, receiver.min().z(), receiver.max().z(), j, rects)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool RedrawTracker::shadowOn(const Frame& frame, std::size_t i, double shadowReach, double z0,
+                             double z1, std::optional<std::size_t> receiver,
+                             std::vector<PixelRect>& rects) const {
   // The shadow: the box swept away from the sun, widened by shadowReach, where it meets a
   // receiver (the floor, or any instance's box, this one included). Per receiver that is the
   // part of the sweep within the receiver's height range: the hull of the box moved by the
@@ -134,35 +180,32 @@ bool RedrawTracker::reach(const Frame& frame, std::size_t i, double shadowReach,
   const Vec3 toSun = frame.sun.normalized();
   if (toSun.z() < kMinSunElevation) return false;
   const Eigen::AlignedBox3d& box = frame.boxes[i];
-  auto receive = [&](double z0, double z1, const Eigen::AlignedBox3d* receiver) {
-    z0 -= shadowReach;
-    z1 += shadowReach;
-    const double from = std::max(0.0, (box.min().z() - z1) / toSun.z());
-    const double to = (box.max().z() - z0) / toSun.z();
-    if (to < from) return true;
-    const Vec3 near = toSun * from, far = toSun * to;
-    if (receiver) {
-      Eigen::AlignedBox3d swept(box.min() - far, box.max() - near);
-      swept.extend(Vec3(box.min() - near)).extend(Vec3(box.max() - far));
-      const Vec3 grow = Vec3::Constant(shadowReach);
-      const Eigen::AlignedBox3d wide(receiver->min() - grow, receiver->max() + grow);
-      if (!swept.intersects(wide)) return true;
-    }
-    std::array<Vec3, 16> part;
-    for (std::size_t k = 0; k < 8; ++k) {
-      part[k] = corners[k] - near;
-      part[k + 8] = corners[k] - far;
-    }
-    const std::optional<PixelRect> r = projectPoints(frame.viewProjection, part, shadowReach,
-                                                     width_, height_, kMarginPixels, kAlignPixels);
-    if (!r) return false;
-    rects.push_back(*r);
-    return true;
-  };
-  if (frame.ground && !receive(*frame.ground, *frame.ground, nullptr)) return false;
-  for (const Eigen::AlignedBox3d& receiver : frame.boxes) {
-    if (!receive(receiver.min().z(), receiver.max().z(), &receiver)) return false;
+  z0 -= shadowReach;
+  z1 += shadowReach;
+  const double from = std::max(0.0, (box.min().z() - z1) / toSun.z());
+  const double to = (box.max().z() - z0) / toSun.z();
+  if (to < from) return true;
+  const Vec3 near = toSun * from, far = toSun * to;
+  if (receiver) {
+    Eigen::AlignedBox3d swept(box.min() - far, box.max() - near);
+    swept.extend(Vec3(box.min() - near)).extend(Vec3(box.max() - far));
+    const Vec3 grow = Vec3::Constant(shadowReach);
+    const Eigen::AlignedBox3d& other = frame.boxes[*receiver];
+    const Eigen::AlignedBox3d wide(other.min() - grow, other.max() + grow);
+    if (!swept.intersects(wide)) return true;
   }
+  const std::array<Vec3, 8>& corners = frame.corners[i];
+  std::array<Vec3, 16> part;
+  for (std::size_t k = 0; k < 8; ++k) {
+    part[k] = corners[k] - near;
+    part[k + 8] = corners[k] - far;
+  }
+  std::optional<PixelRect> r = projectPoints(frame.viewProjection, part, shadowReach, width_,
+                                             height_, kMarginPixels, kAlignPixels);
+  if (!r) return false;
+  // A shadow on an instance shows only where that instance is drawn.
+  if (receiver && frame.screen[*receiver]) r = r->intersection(*frame.screen[*receiver]);
+  if (!r->empty()) rects.push_back(*r);
   return true;
 }
 
@@ -195,7 +238,22 @@ std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list
     }
     now.corners.push_back(corners);
     now.boxes.push_back(world);
+    now.screen.push_back(projectPoints(now.viewProjection, corners, 0, width_, height_,
+                                       kMarginPixels, kAlignPixels));
     now.keys.push_back(mesh.transient ? nullptr : mesh.key);
+  }
+
+  // Where any caster's shadow lookups can reach the floor, this frame.
+  floorShadows_.reset();
+  if (now.ground) {
+    std::vector<PixelRect> rects;
+    bool bounded = true;
+    for (std::size_t i = 0; i < now.instances.size() && bounded; ++i) {
+      const DrawInstance& inst = now.instances[i];
+      if (!inst.castsShadow || inst.surface == Surface::unlit) continue;
+      bounded = shadowOn(now, i, shadowReach, *now.ground, *now.ground, std::nullopt, rects);
+    }
+    if (bounded) floorShadows_ = coverWithFewPieces(std::move(rects));
   }
 
   std::optional<std::vector<PixelRect>> region;
@@ -275,31 +333,55 @@ std::vector<PixelRect> mergeCheap(std::vector<PixelRect> rects) {
   });
 }
 
-std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects) {
-  std::vector<PixelRect> out, pieces, rest;
-  for (const PixelRect& r : rects) {
-    if (r.empty()) continue;
-    // r minus every rectangle already taken: each cut leaves at most four bands.
-    pieces.assign(1, r);
-    for (const PixelRect& q : out) {
-      rest.clear();
-      for (const PixelRect& p : pieces) {
-        if (!p.intersects(q)) {
-          rest.push_back(p);
-          continue;
-        }
-        const int y0 = std::max(p.y0, q.y0), y1 = std::min(p.y1, q.y1);
-        if (p.y0 < y0) rest.push_back(PixelRect{p.x0, p.y0, p.x1, y0});  // below q
-        if (y1 < p.y1) rest.push_back(PixelRect{p.x0, y1, p.x1, p.y1});  // above q
-        if (p.x0 < q.x0) rest.push_back(PixelRect{p.x0, y0, q.x0, y1});  // left of q
-        if (q.x1 < p.x1) rest.push_back(PixelRect{q.x1, y0, p.x1, y1});  // right of q
+namespace {
+
+// Appends to `out` rectangles that do not overlap and cover r minus every rectangle of `taken`.
+void subtract(const PixelRect& r, std::span<const PixelRect> taken, std::vector<PixelRect>& out) {
+  if (r.empty()) return;
+  // Each cut leaves at most four bands.
+  std::vector<PixelRect> pieces(1, r), rest;
+  for (const PixelRect& q : taken) {
+    rest.clear();
+    for (const PixelRect& p : pieces) {
+      if (!p.intersects(q)) {
+        rest.push_back(p);
+        continue;
       }
-      pieces.swap(rest);
-      if (pieces.empty()) break;
+      const int y0 = std::max(p.y0, q.y0), y1 = std::min(p.y1, q.y1);
+      if (p.y0 < y0) rest.push_back(PixelRect{p.x0, p.y0, p.x1, y0});  // below q
+      if (y1 < p.y1) rest.push_back(PixelRect{p.x0, y1, p.x1, p.y1});  // above q
+      if (p.x0 < q.x0) rest.push_back(PixelRect{p.x0, y0, q.x0, y1});  // left of q
+      if (q.x1 < p.x1) rest.push_back(PixelRect{q.x1, y0, p.x1, y1});  // right of q
     }
+    pieces.swap(rest);
+    if (pieces.empty()) return;
+  }
+  out.insert(out.end(), pieces.begin(), pieces.end());
+}
+
+}  // namespace
+
+std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects) {
+  std::vector<PixelRect> out;
+  for (const PixelRect& r : rects) {
+    // r minus every rectangle already taken (the loop appends to `out` only after reading it).
+    std::vector<PixelRect> pieces;
+    subtract(r, out, pieces);
     out.insert(out.end(), pieces.begin(), pieces.end());
   }
   return out;
+}
+
+RectSplit splitRect(const PixelRect& r, std::span<const PixelRect> cover) {
+  RectSplit split;
+  std::vector<PixelRect> parts;
+  for (const PixelRect& c : cover) {
+    const PixelRect part = r.intersection(c);
+    if (!part.empty()) parts.push_back(part);
+  }
+  split.inside = disjointCover(parts);
+  subtract(r, split.inside, split.outside);
+  return split;
 }
 
 void RedrawTracker::addCaster(const Frame& frame, std::size_t i,

@@ -11,8 +11,9 @@
 // the shadow-map texels such an instance covered or covers. The first is inside the instance's
 // mesh box; the second inside that box swept away from the sun, widened by how far a lookup
 // reaches from its surface point, where the sweep crosses the height range of a receiver (the
-// floor, or an instance's box). Each part is projected to a screen rectangle; everything
-// outside them is provably unchanged. Whenever a premise fails (or a bound reaches behind the
+// floor, or an instance's box, and then only where that instance is drawn: inside its own mesh
+// box's rectangle). Each part is projected to a screen rectangle; everything outside them is
+// provably unchanged. Whenever a premise fails (or a bound reaches behind the
 // camera) the whole frame is redrawn. tests/render/incremental_render_test.cpp compares scene
 // clips drawn both ways byte for byte.
 #pragma once
@@ -38,6 +39,8 @@ struct PixelRect {
   // Grows this rectangle to hold `other` too (an empty one adds nothing).
   void unite(const PixelRect& other);
   bool intersects(const PixelRect& other) const;
+  // The pixels in both (possibly empty).
+  PixelRect intersection(const PixelRect& other) const;
   bool operator==(const PixelRect&) const = default;
 };
 
@@ -60,6 +63,20 @@ std::vector<PixelRect> mergeCheap(std::vector<PixelRect> rects);
 std::vector<PixelRect> coverWithFewPieces(std::vector<PixelRect> rects);
 // Rectangles that do not overlap and cover exactly the union of `rects`.
 std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects);
+// `r` cut along `cover`: `inside`, rectangles that do not overlap and cover exactly the part of
+// r in the union of `cover`, and `outside`, likewise the rest of r.
+struct RectSplit {
+  std::vector<PixelRect> inside, outside;
+};
+RectSplit splitRect(const PixelRect& r, std::span<const PixelRect> cover);
+
+// Whether the floor square (z = floorHeight, x and y within `half` of `centre`) covers every
+// sample of the pixels of `rect` seen by `camera` in a width x height frame, well inside the
+// near and far planes: then no sample there is left to the sky. The floor's part in front of
+// the eye projects to a convex region, so it covers the rectangle when it covers its corners
+// (taken a pixel further out).
+bool floorCovers(const CameraView& camera, int width, int height, double floorHeight,
+                 const Eigen::Vector2d& centre, double half, const PixelRect& rect);
 
 class RedrawTracker {
  public:
@@ -82,6 +99,12 @@ class RedrawTracker {
   // overlap, rows from the bottom (texel (0, 0) is the map's origin). Empty without a map size.
   const std::vector<PixelRect>& shadowMapRegion() const { return shadowRegion_; }
 
+  // After any update(): where on the floor of the current frame a shadow lookup can read a
+  // shadow-map texel that some caster covers, as rectangles that do not overlap; elsewhere
+  // every lookup reads the cleared map, i.e. the floor is fully lit. None: unknown (no floor,
+  // the sun too low, a bound behind the eye).
+  const std::optional<std::vector<PixelRect>>& floorShadows() const { return floorShadows_; }
+
   // Whether instance i of the current frame can cover pixels of `rect`: false only when its
   // bounding box provably projects outside it.
   bool mayCover(std::size_t instance, const PixelRect& rect) const;
@@ -95,10 +118,11 @@ class RedrawTracker {
     Mat4 shadow = Mat4::Zero();
     Mat4 viewProjection = Mat4::Identity();
     std::vector<DrawInstance> instances;
-    std::vector<GpuTransform> transforms;      // per instance, computed once
-    std::vector<const void*> keys;             // per instance; null for a transient mesh
-    std::vector<std::array<Vec3, 8>> corners;  // per instance: its mesh box, in the world
-    std::vector<Eigen::AlignedBox3d> boxes;    // per instance: the corners' bounding box
+    std::vector<GpuTransform> transforms;          // per instance, computed once
+    std::vector<const void*> keys;                 // per instance; null for a transient mesh
+    std::vector<std::array<Vec3, 8>> corners;      // per instance: its mesh box, in the world
+    std::vector<Eigen::AlignedBox3d> boxes;        // per instance: the corners' bounding box
+    std::vector<std::optional<PixelRect>> screen;  // per instance: where it can be drawn
   };
   struct MeshBounds {
     std::shared_ptr<const TriMesh> pin;  // keeps the key's owner alive: keys are not reused
@@ -112,12 +136,19 @@ class RedrawTracker {
   bool reach(const Frame& frame, std::size_t i, double shadowReach,
              std::vector<PixelRect>& rects) const;
 
+  // Adds to `rects` the screen rectangle where instance i's shadow lookups can reach receivers
+  // in heights [z0, z1]: instance `receiver`'s box (then only where it is drawn), or the floor
+  // (none). False when a bound reaches behind the eye or the sun is too low.
+  bool shadowOn(const Frame& frame, std::size_t i, double shadowReach, double z0, double z1,
+                std::optional<std::size_t> receiver, std::vector<PixelRect>& rects) const;
+
   // Adds to `texels` the shadow-map rectangle instance i of `frame` covers, if it casts one.
   void addCaster(const Frame& frame, std::size_t i, std::vector<PixelRect>& texels) const;
 
   int width_, height_, shadowMapSize_;
   std::optional<Frame> last_;
   std::vector<PixelRect> shadowRegion_;
+  std::optional<std::vector<PixelRect>> floorShadows_;
   std::unordered_map<const void*, MeshBounds> meshes_;  // lookup only, never iterated
 };
 

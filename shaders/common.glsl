@@ -52,6 +52,13 @@ const vec2 kPoisson[12] = vec2[](
 
 // Fraction of the sun visible from surface point p with unit normal n (cosine = n . sun > 0).
 float sunVisibility(vec3 p, vec3 n, float cosine) {
+#ifdef VF_UNSHADOWED
+  // The variant the renderer draws only where none of the lookups below can read a texel that
+  // a caster covers (RedrawTracker::floorShadows): there each reads the cleared map, passes,
+  // and the sum is exactly 12 / 12 = 1.0. llvmpipe runs both sides of a branch, so a runtime
+  // test would save nothing; a separate program does.
+  return 1.0;
+#else
   // Normal offset instead of a large depth bias: the lookup point moves off the surface by
   // about a texel, more at grazing angles where one texel spans a long stretch of surface.
   // That removes acne without pushing shadows away from where bodies touch the floor
@@ -65,6 +72,7 @@ float sunVisibility(vec3 p, vec3 n, float cosine) {
     lit += texture(uShadowMap, vec3(s.xy + kPoisson[i] * uShadowFilter, s.z - uShadowBias));
   }
   return lit / 12.0;
+#endif
 }
 
 // Lit colour of a surface with linear albedo at p, unit normal n: sun (shadowed), sky

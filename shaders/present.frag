@@ -2,6 +2,9 @@
 // Scene target -> 8-bit output, in one pass: average the pixel's samples (MSAA) or sub-pixels
 // (supersampling), filling every one the geometry left empty (alpha 0) with the sky along its
 // view ray; roll highlights off above 0.8 instead of clipping them; encode sRGB; dither.
+// The variant VF_NO_SKY is drawn where the floor covers every sample (floorCovers() in
+// render/redraw_region.h): the same pixels without working out the sky. (llvmpipe runs both
+// sides of a branch, so only a separate program saves that work.)
 // The sky is drawn here rather than as a full-screen pass into the multisampled target: on
 // llvmpipe that pass cost a quarter of a frame, all of it spent writing 4 identical samples
 // per pixel, and the resolve blit another fifth. Restated in tests/render/readback_test.cpp:
@@ -60,10 +63,16 @@ void main() {
   if (uSamples > 1) {
     // Every sample of a pixel sees the sky along the pixel centre's ray, as a full-screen
     // pass shaded once per pixel would have written it.
+#ifndef VF_NO_SKY
     vec3 sky = skyAt(gl_FragCoord.xy);
+#endif
     for (int i = 0; i < uSamples; ++i) {
       vec4 c = texelFetch(uScene, pixel, i);
+#ifdef VF_NO_SKY
+      sum += c.rgb;
+#else
       sum += c.a == 0.0 ? sky : c.rgb;
+#endif
     }
     sum = roundToHalf(sum / float(uSamples));
     count = 1.0;
@@ -72,7 +81,11 @@ void main() {
       for (int x = 0; x < uSupersample; ++x) {
         ivec2 at = pixel * uSupersample + ivec2(x, y);
         vec4 c = texelFetch(uImage, at, 0);
+#ifdef VF_NO_SKY
+        sum += c.rgb;
+#else
         sum += c.a == 0.0 ? skyAt(vec2(at) + 0.5) : c.rgb;
+#endif
       }
     }
     count = float(uSupersample * uSupersample);

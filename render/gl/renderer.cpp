@@ -53,6 +53,10 @@ Vec3 fillDirection(const Vec3& sun) {
   return (horizontal * std::cos(elevation) + Vec3::UnitZ() * std::sin(elevation)).normalized();
 }
 
+// Half the side of the floor square drawn around the camera: past the fade distance, where
+// the floor has faded into the sky colour, which present.frag continues seamlessly.
+double groundHalfSide(const DrawList& list) { return list.groundFadeEnd * 1.02; }
+
 }  // namespace
 
 struct Renderer::Impl {
@@ -64,6 +68,8 @@ struct Renderer::Impl {
   int sceneWidth = 0, sceneHeight = 0;
 
   std::unique_ptr<ShaderProgram> sceneProgram, groundProgram, shadowProgram, presentProgram;
+  std::unique_ptr<ShaderProgram> litGroundProgram;     // the floor without shadow lookups
+  std::unique_ptr<ShaderProgram> floorPresentProgram;  // present where no sample shows sky
   unsigned emptyVao = 0;  // core profile needs a bound VAO even for attribute-less draws
   unsigned shadowFbo = 0, shadowTexture = 0;
   // What the shadow map holds: the light's matrix and every caster (mesh, model matrix). A
@@ -95,6 +101,9 @@ struct Renderer::Impl {
   RedrawTracker tracker;
   bool targetsValid = false;
   double redrawn = 1;
+  // Of the last frame: pixels whose floor was shaded without shadow lookups, and pixels
+  // presented without working out the sky (skipHiddenWork).
+  long long unshadowedFloor = 0, skyFree = 0;
 
   Impl(Context& c, const RenderSettings& s)
       : context(c), gl(c.api()), settings(s), tracker(s.width, s.height, s.shadowMapSize) {}
@@ -108,7 +117,8 @@ struct Renderer::Impl {
   // `region`: the output pixels to redraw; none for all.
   void scenePass(const DrawList& list, const ShadowProjection& shadow,
                  const std::optional<PixelRect>& region);
-  void presentPass(const DrawList& list);
+  // `region`: as scenePass's (the scissor is set by the caller).
+  void presentPass(const DrawList& list, const std::optional<PixelRect>& region);
   void scissor(const std::optional<PixelRect>& region, int scale);
 };
 
@@ -320,46 +330,77 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
 
   gl.BindVertexArray(emptyVao);
   if (list.groundHeight) {
-    setCommon(*groundProgram);
-    // A square around the camera reaching past the fade distance: beyond it the floor has
-    // faded into the sky colour, which present.frag continues seamlessly.
-    const double half = list.groundFadeEnd * 1.02;
+    const double half = groundHalfSide(list);
     const Eigen::Vector2d c = list.camera.position.head<2>();
-    gl.Uniform1f(groundProgram->uniform("uGroundHeight"), static_cast<float>(*list.groundHeight));
-    gl.Uniform2f(groundProgram->uniform("uGroundMin"), static_cast<float>(c.x() - half),
-                 static_cast<float>(c.y() - half));
-    gl.Uniform2f(groundProgram->uniform("uGroundMax"), static_cast<float>(c.x() + half),
-                 static_cast<float>(c.y() + half));
+    auto useGround = [&](ShaderProgram& p) {
+      setCommon(p);
+      gl.Uniform1f(p.uniform("uGroundHeight"), static_cast<float>(*list.groundHeight));
+      gl.Uniform2f(p.uniform("uGroundMin"), static_cast<float>(c.x() - half),
+                   static_cast<float>(c.y() - half));
+      gl.Uniform2f(p.uniform("uGroundMax"), static_cast<float>(c.x() + half),
+                   static_cast<float>(c.y() + half));
+    };
     // Pushed back a little in depth: where a terrain lies exactly at the floor's level (a
     // valley floor), the terrain wins instead of the two z-fighting in stripes.
     gl.Enable(GL_POLYGON_OFFSET_FILL);
     gl.PolygonOffset(1.0f, 4.0f);
-    gl.DrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    const std::optional<std::vector<PixelRect>>& shadows = tracker.floorShadows();
+    if (settings.skipHiddenWork && shadows) {
+      // Where no shadow can fall, the program without lookups (shadow lookups were a third of
+      // a crosses frame's time on llvmpipe). The scissor does not change the grid's
+      // derivatives: they come from whole 2x2 quads either way.
+      const RectSplit split =
+          splitRect(region.value_or(PixelRect{0, 0, settings.width, settings.height}), *shadows);
+      for (const auto& [program, pieces] : {std::pair{groundProgram.get(), &split.inside},
+                                            std::pair{litGroundProgram.get(), &split.outside}}) {
+        if (pieces->empty()) continue;
+        useGround(*program);
+        for (const PixelRect& piece : *pieces) {
+          if (program == litGroundProgram.get()) unshadowedFloor += piece.area();
+          scissor(piece, supersample);
+          gl.DrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+        }
+      }
+      scissor(region, supersample);
+    } else {
+      useGround(*groundProgram);
+      gl.DrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    }
     gl.Disable(GL_POLYGON_OFFSET_FILL);
   }
 }
 
-void Renderer::Impl::presentPass(const DrawList& list) {
+void Renderer::Impl::presentPass(const DrawList& list, const std::optional<PixelRect>& region) {
   gl.BindFramebuffer(GL_FRAMEBUFFER, presentFbo);
   gl.Viewport(0, 0, settings.width, settings.height);
   gl.Disable(GL_DEPTH_TEST);
-  presentProgram->use();
+  // Where the floor covers every sample, the program that does not work out the sky.
+  const bool covered =
+      settings.skipHiddenWork && list.groundHeight &&
+      floorCovers(list.camera, settings.width, settings.height, *list.groundHeight,
+                  list.camera.position.head<2>(), groundHalfSide(list),
+                  region.value_or(PixelRect{0, 0, settings.width, settings.height}));
+  ShaderProgram& presentProgram = covered ? *floorPresentProgram : *this->presentProgram;
+  if (covered) {
+    skyFree += region ? region->area() : static_cast<long long>(settings.width) * settings.height;
+  }
+  presentProgram.use();
   gl.ActiveTexture(samples > 1 ? GL_TEXTURE0 : GL_TEXTURE1);
   gl.BindTexture(samples > 1 ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D, sceneColor);
-  gl.Uniform1i(presentProgram->uniform("uScene"), 0);
-  gl.Uniform1i(presentProgram->uniform("uImage"), 1);
-  gl.Uniform1i(presentProgram->uniform("uSamples"), samples);
-  gl.Uniform1i(presentProgram->uniform("uSupersample"), supersample);
+  gl.Uniform1i(presentProgram.uniform("uScene"), 0);
+  gl.Uniform1i(presentProgram.uniform("uImage"), 1);
+  gl.Uniform1i(presentProgram.uniform("uSamples"), samples);
+  gl.Uniform1i(presentProgram.uniform("uSupersample"), supersample);
   // The sky: view rays from the camera's rotation alone (the sky is infinitely far).
   const Mat4 projection =
       list.camera.projectionMatrix(static_cast<double>(settings.width) / settings.height);
   Mat4 viewRotation = list.camera.viewMatrix();
   viewRotation.block<3, 1>(0, 3).setZero();
-  setMatrix(gl, presentProgram->uniform("uInverseViewProjection"),
+  setMatrix(gl, presentProgram.uniform("uInverseViewProjection"),
             Mat4((projection * viewRotation).inverse()));
-  gl.Uniform2f(presentProgram->uniform("uSceneSize"), static_cast<float>(sceneWidth),
+  gl.Uniform2f(presentProgram.uniform("uSceneSize"), static_cast<float>(sceneWidth),
                static_cast<float>(sceneHeight));
-  gl.Uniform1i(presentProgram->uniform("uDither"), settings.dither ? 1 : 0);
+  gl.Uniform1i(presentProgram.uniform("uDither"), settings.dither ? 1 : 0);
   gl.BindVertexArray(emptyVao);
   gl.DrawArrays(GL_TRIANGLES, 0, 3);
 }
@@ -375,8 +416,12 @@ Renderer::Renderer(Context& context, const RenderSettings& settings)
   const std::string& dir = settings.shaderDir;
   r.sceneProgram = std::make_unique<ShaderProgram>(r.gl, dir, "scene.vert", "scene.frag");
   r.groundProgram = std::make_unique<ShaderProgram>(r.gl, dir, "ground.vert", "ground.frag");
+  r.litGroundProgram = std::make_unique<ShaderProgram>(r.gl, dir, "ground.vert", "ground.frag",
+                                                       std::vector<std::string>{"VF_UNSHADOWED"});
   r.shadowProgram = std::make_unique<ShaderProgram>(r.gl, dir, "shadow.vert", "shadow.frag");
   r.presentProgram = std::make_unique<ShaderProgram>(r.gl, dir, "fullscreen.vert", "present.frag");
+  r.floorPresentProgram = std::make_unique<ShaderProgram>(
+      r.gl, dir, "fullscreen.vert", "present.frag", std::vector<std::string>{"VF_NO_SKY"});
   r.createTargets();
   const GLenum error = r.gl.GetError();
   if (error != GL_NO_ERROR) {
@@ -410,6 +455,7 @@ void Renderer::render(const DrawList& list, Image& out) {
   // Most of the picture: one whole pass costs less than several partial ones.
   if (!r.settings.incremental || !valid || area > 0.7 * pixels) regions.reset();
   r.redrawn = regions ? area / pixels : 1.0;
+  r.unshadowedFloor = r.skyFree = 0;
 
   r.frameMeshes.clear();  // last frame's trails
   r.shadowPass(list, shadow, regions ? &r.tracker.shadowMapRegion() : nullptr);
@@ -420,7 +466,7 @@ void Renderer::render(const DrawList& list, Image& out) {
   auto draw = [&](const std::optional<PixelRect>& region) {
     r.scenePass(list, shadow, region);
     r.scissor(region, 1);  // output pixels (the scene's are `supersample` times as many)
-    r.presentPass(list);
+    r.presentPass(list, region);
     y0 = std::min(y0, region ? region->y0 : 0);
     y1 = std::max(y1, region ? region->y1 : h);
   };
@@ -470,5 +516,15 @@ std::string Renderer::antialiasing() const {
 const RenderSettings& Renderer::settings() const { return impl_->settings; }
 
 double Renderer::redrawnFraction() const { return impl_->redrawn; }
+
+double Renderer::unshadowedFloorFraction() const {
+  return static_cast<double>(impl_->unshadowedFloor) /
+         (static_cast<double>(impl_->settings.width) * impl_->settings.height);
+}
+
+double Renderer::skyFreeFraction() const {
+  return static_cast<double>(impl_->skyFree) /
+         (static_cast<double>(impl_->settings.width) * impl_->settings.height);
+}
 
 }  // namespace vf::gl

@@ -33,6 +33,10 @@ struct RenderSettings {
   // moved and their shadows; render/redraw_region.h says why the result is exact). false:
   // draw every frame whole.
   bool incremental = true;
+  // Skip work that provably changes no pixel: shadow lookups on the floor where no caster's
+  // shadow can reach it (RedrawTracker::floorShadows), and the sky where the floor covers
+  // every sample (floorCovers). false: do it everywhere (the same bytes; for tests).
+  bool skipHiddenWork = true;
   std::string shaderDir;  // from findShaderDir()
 };
 
@@ -54,6 +58,10 @@ class Renderer {
   // The share of the last frame's pixels that were drawn (1: the whole frame; 0: none, since
   // nothing changed).
   double redrawnFraction() const;
+  // Shares of the last frame's pixels whose floor was shaded without shadow lookups, and that
+  // were presented without working out the sky (RenderSettings::skipHiddenWork).
+  double unshadowedFloorFraction() const;
+  double skyFreeFraction() const;
   const RenderSettings& settings() const;
 
  private:

@@ -114,9 +114,17 @@ std::string mapShaderLog(const std::string& log, const std::vector<std::string>&
 
 namespace {
 
-unsigned compileShader(const Api& gl, GLenum stage, const std::string& dir,
-                       const std::string& file) {
-  const ShaderSource source = readShaderSource(dir, file);
+unsigned compileShader(const Api& gl, GLenum stage, const std::string& dir, const std::string& file,
+                       const std::vector<std::string>& defines = {}) {
+  ShaderSource source = readShaderSource(dir, file);
+  if (!defines.empty()) {
+    // After the #version line, which must come first; #line keeps the log's line numbers.
+    std::string head;
+    for (const std::string& d : defines) head += "#define " + d + "\n";
+    const std::size_t eol = source.text.find('\n');
+    const std::size_t at = eol == std::string::npos ? source.text.size() : eol + 1;
+    source.text.insert(at, head + "#line 2 0\n");
+  }
   const unsigned shader = gl.CreateShader(stage);
   const char* text = source.text.c_str();
   gl.ShaderSource(shader, 1, &text, nullptr);
@@ -139,12 +147,13 @@ unsigned compileShader(const Api& gl, GLenum stage, const std::string& dir,
 }  // namespace
 
 ShaderProgram::ShaderProgram(const Api& api, const std::string& dir, const std::string& vertexFile,
-                             const std::string& fragmentFile)
+                             const std::string& fragmentFile,
+                             const std::vector<std::string>& fragmentDefines)
     : api_(&api) {
   const unsigned vertex = compileShader(api, GL_VERTEX_SHADER, dir, vertexFile);
   unsigned fragment = 0;
   try {
-    fragment = compileShader(api, GL_FRAGMENT_SHADER, dir, fragmentFile);
+    fragment = compileShader(api, GL_FRAGMENT_SHADER, dir, fragmentFile, fragmentDefines);
   } catch (...) {
     api.DeleteShader(vertex);
     throw;

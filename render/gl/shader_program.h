@@ -33,11 +33,13 @@ std::string mapShaderLog(const std::string& log, const std::vector<std::string>&
 
 class ShaderProgram {
  public:
-  // Reads, compiles and links dir/vertexFile + dir/fragmentFile. The GL context must be
+  // Reads, compiles and links dir/vertexFile + dir/fragmentFile, the fragment shader with a
+  // `#define D` for each D of `fragmentDefines` (a variant of it). The GL context must be
   // current. Throws InputError("file:line", "GLSL compile error ...\n<log>") on a compile error,
   // InputError("vert + frag", "GLSL link error ...") on a link error.
   ShaderProgram(const Api& api, const std::string& dir, const std::string& vertexFile,
-                const std::string& fragmentFile);
+                const std::string& fragmentFile,
+                const std::vector<std::string>& fragmentDefines = {});
   ~ShaderProgram();
   ShaderProgram(const ShaderProgram&) = delete;
   ShaderProgram& operator=(const ShaderProgram&) = delete;
