@@ -20,6 +20,7 @@ struct RunSummary {
   int frames = 0;                       // output frames visited
   RunStats totals;                      // steps, dt range, sphere tests, contacts
   double wallSeconds = 0;               // time spent stepping and measuring
+  double diagnosticsSeconds = 0;        // of which measuring (World::measure at every frame)
   double maxPenetrationBodyBody = 0;    // m, max over frames
   double maxPenetrationBodyGround = 0;  // m, max over frames
   int tunnelled = 0;                    // max over frames

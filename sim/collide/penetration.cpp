@@ -11,17 +11,24 @@ namespace {
 Vec3 toBody(const Pose& p, const Vec3& world) { return p.q.conjugate() * (world - p.x); }
 }  // namespace
 
-double meshPenetration(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb) {
+double meshPenetration(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb,
+                       double atLeast) {
   const Eigen::AlignedBox3d boxB = b.mesh.bounds();
   // A -> B body frames in one rotation and one offset.
   const Mat3 R = (pb.q.conjugate() * pa.q).toRotationMatrix();
   const Vec3 t = pb.q.conjugate() * (pa.x - pb.x);
-  double deepest = 0;
+  double deepest = std::max(atLeast, 0.0);
   for (const Vec3& s : a.surfaceSamples) {
     const Vec3 inB = t + R * s;
     if (!boxB.contains(inB)) continue;  // outside B's bounds: outside B
-    const MeshBvh::Nearest n = b.bvh->nearest(inB);
-    if (n.inside) deepest = std::max(deepest, n.distance);
+    // Inside B, the way out to the nearest face of B's bounds crosses B's surface: a sample no
+    // farther than `deepest` from those faces cannot be deeper.
+    const double toFace = std::min((inB - boxB.min()).minCoeff(), (boxB.max() - inB).minCoeff());
+    if (toFace <= deepest) continue;
+    // Nor can a sample within `deepest` of B's surface: the search may stop there, and what it
+    // returns beyond that distance is the exact nearest point.
+    const MeshBvh::Nearest n = b.bvh->nearest(inB, deepest);
+    if (n.distance > deepest && n.inside) deepest = n.distance;
   }
   return deepest;
 }
@@ -84,8 +91,8 @@ Diagnostics measureDiagnostics(const std::vector<BodyInfo>& bodies,
     const double reach = 0.5 * (sa.diameter + sb.diameter);
     if ((states[a].x - states[b].x).squaredNorm() >= reach * reach) continue;
     const Pose pa{states[a].x, states[a].q}, pb{states[b].x, states[b].q};
-    d.maxPenetrationBodyBody = std::max({d.maxPenetrationBodyBody, meshPenetration(sa, pa, sb, pb),
-                                         meshPenetration(sb, pb, sa, pa)});
+    d.maxPenetrationBodyBody = meshPenetration(sa, pa, sb, pb, d.maxPenetrationBodyBody);
+    d.maxPenetrationBodyBody = meshPenetration(sb, pb, sa, pa, d.maxPenetrationBodyBody);
     // A centre of mass outside its own solid (a hollow body) says nothing about tunnelling.
     if (bodies[a].dynamic() && sa.centerInside && pointInsideBody(sb, pb, pa.x)) tunnelled[a] = 1;
     if (bodies[b].dynamic() && sb.centerInside && pointInsideBody(sa, pa, pb.x)) tunnelled[b] = 1;

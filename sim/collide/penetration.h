@@ -18,8 +18,11 @@ struct Pose {
 };
 
 // Deepest surface sample of A (vertices, edge midpoints, triangle centroids) inside B,
-// measured as its distance to B's surface, in m; 0 if no sample of A is inside B.
-double meshPenetration(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb);
+// measured as its distance to B's surface, in m; 0 if no sample of A is inside B. With
+// `atLeast`: the larger of that and atLeast, found faster (a sample that cannot be deeper than
+// the deepest so far is dropped as soon as a surface point that near is found).
+double meshPenetration(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb,
+                       double atLeast = 0);
 
 // How far the lowest vertex lies below the plane z = height, in m; 0 if none does.
 double groundPenetration(const Shape& s, const Pose& p, double height);

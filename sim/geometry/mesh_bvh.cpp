@@ -157,14 +157,15 @@ MeshBvh::MeshBvh(const TriMesh& mesh) {
   }
 }
 
-MeshBvh::Nearest MeshBvh::nearest(const Vec3& p) const {
+MeshBvh::Nearest MeshBvh::nearest(const Vec3& p, double enough) const {
+  const double enough2 = enough >= 0 ? enough * enough : -1;
   double best2 = std::numeric_limits<double>::infinity();
   Vec3 bestPoint = Vec3::Zero();
   Vec3 bestNormal = Vec3::Zero();
   std::uint32_t stack[64];
   int top = 0;
   stack[top++] = 0;
-  while (top > 0) {
+  while (top > 0 && best2 > enough2) {
     const Node& n = nodes_[stack[--top]];
     if (boxDistance2(p, n.lo, n.hi) >= best2) continue;
     if (n.count == 0) {

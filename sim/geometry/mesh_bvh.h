@@ -47,8 +47,12 @@ class MeshBvh {
     bool inside = false;  // p strictly inside the solid (decided by the pseudonormal)
     Vec3 point = Vec3::Zero();
   };
-  // Nearest surface point of p (mesh frame).
-  Nearest nearest(const Vec3& p) const;
+  // Nearest surface point of p (mesh frame). With `enough` >= 0 the search stops at the first
+  // surface point it finds within `enough` of p: such a result (distance <= enough) is a
+  // surface point, not necessarily the nearest, and its `inside` means nothing; a result with
+  // distance > enough is exactly what the full search gives (the search visits the same nodes
+  // in the same order up to the stop).
+  Nearest nearest(const Vec3& p, double enough = -1) const;
   // Bytes held by the hierarchy (nodes and per-triangle data).
   std::size_t memoryBytes() const;
 

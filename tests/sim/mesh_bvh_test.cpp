@@ -2,8 +2,9 @@
 // sim/geometry/mesh_query.h (all-triangle distance and generalised winding number):
 //   - nearest distance equals the all-triangle distance, inside equals the winding number,
 //     on random points around closed meshes of the paper's scenes (non-convex ones included);
+//   - nearest(p, enough), which may stop early, is exact beyond `enough`;
 //   - meshPenetration (BVH) equals a brute-force penetration written here, on random poses of
-//     two overlapping bodies.
+//     two overlapping bodies, also when given the deepest so far.
 #include "sim/geometry/mesh_bvh.h"
 
 #include <gtest/gtest.h>
@@ -76,6 +77,36 @@ TEST_P(MeshBvhOnSceneMeshes, FeaturePointsOffVerticesAndEdges) {
     }
 }
 
+// The early stop of nearest(p, enough): a result beyond `enough` is the full search's, bit
+// for bit; one within it is a surface point that near (so it may not be the nearest).
+TEST_P(MeshBvhOnSceneMeshes, SearchStoppedWithinEnoughIsExactBeyondIt) {
+  const TriMesh mesh = sceneMesh(GetParam());
+  const MeshBvh bvh(mesh);
+  const auto box = mesh.bounds();
+  const double size = box.sizes().maxCoeff();
+  Prng rng(17);
+  int stopped = 0, beyond = 0;
+  for (int i = 0; i < 2000; ++i) {
+    Vec3 p;
+    for (int k = 0; k < 3; ++k) p[k] = rng.uniform(box.min()[k], box.max()[k]);
+    const double enough = rng.uniform(0, 0.3 * size);
+    const MeshBvh::Nearest full = bvh.nearest(p), quick = bvh.nearest(p, enough);
+    if (quick.distance > enough) {
+      EXPECT_EQ(quick.distance, full.distance) << p.transpose();
+      EXPECT_EQ(quick.point, full.point) << p.transpose();
+      EXPECT_EQ(quick.inside, full.inside) << p.transpose();
+      ++beyond;
+    } else {
+      EXPECT_LE(full.distance, quick.distance);
+      EXPECT_NEAR((quick.point - p).norm(), quick.distance, kRoundOff);
+      EXPECT_LT(distanceToMesh(mesh, quick.point), kRoundOff) << "a point of the surface";
+      stopped += quick.distance > full.distance;  // stopped before the nearest
+    }
+  }
+  EXPECT_GT(beyond, 100) << "both outcomes are exercised";
+  EXPECT_GT(stopped, 10) << "the search really stops early";
+}
+
 INSTANTIATE_TEST_SUITE_P(Meshes, MeshBvhOnSceneMeshes,
                          ::testing::Values("cross.obj", "barrel.obj", "highpoly_block.obj",
                                            "rock.obj", "stack_block.obj"));
@@ -109,6 +140,10 @@ TEST(MeshPenetration, EqualsBruteForceOnRandomPoses) {
     EXPECT_NEAR(fast, bruteForcePenetration(a, pa, b, pb), kRoundOff) << "pose " << i;
     EXPECT_NEAR(meshPenetration(b, pb, a, pa), bruteForcePenetration(b, pb, a, pa), kRoundOff);
     overlapping += fast > 0;
+    // With a running maximum (as the diagnostics pass it): the larger of the two.
+    for (const double atLeast : {0.5 * fast, fast, 2 * fast + 0.01}) {
+      EXPECT_EQ(meshPenetration(a, pa, b, pb, atLeast), std::max(fast, atLeast)) << "pose " << i;
+    }
   }
   EXPECT_GT(overlapping, 20) << "the poses really overlap";
 }
