@@ -114,25 +114,35 @@ std::optional<PixelRect> projectPoints(const Mat4& viewProjection, std::span<con
 bool floorCovers(const CameraView& camera, int width, int height, double floorHeight,
                  const Eigen::Vector2d& centre, double half, const PixelRect& rect) {
   if (rect.empty() || !(camera.position.z() > floorHeight)) return false;
-  const Mat4 view = camera.viewMatrix();
-  const Mat4 inverse =
-      (camera.projectionMatrix(static_cast<double>(width) / height) * view).inverse();
+  const Mat4 viewProjection =
+      camera.projectionMatrix(static_cast<double>(width) / height) * camera.viewMatrix();
+  const Mat4 inverse = viewProjection.inverse();
   const double inner = half * (1 - 1e-6);  // rounding of the square's corners
+  // The window depth (0 at the near plane, 1 at the far one) of the floor under pixel position
+  // (x, y); none where that ray misses the square.
+  auto floorDepth = [&](double x, double y) -> std::optional<double> {
+    const double nx = 2.0 * x / width - 1, ny = 2.0 * y / height - 1;
+    const Vec4 a = inverse * Vec4(nx, ny, -1, 1), b = inverse * Vec4(nx, ny, 1, 1);
+    const Vec3 from = a.head<3>() / a.w(), to = b.head<3>() / b.w();
+    const Vec3 ray = to - from;
+    if (!(ray.z() < 0)) return std::nullopt;  // at or above the horizon
+    const Vec3 hit = from + ray * ((floorHeight - from.z()) / ray.z());
+    if (!(std::abs(hit.x() - centre.x()) < inner && std::abs(hit.y() - centre.y()) < inner)) {
+      return std::nullopt;
+    }
+    const Vec4 c = viewProjection * Vec4(hit.x(), hit.y(), hit.z(), 1);
+    return c.z() / c.w() * 0.5 + 0.5;
+  };
   for (const int x : {rect.x0 - 1, rect.x1 + 1}) {
     for (const int y : {rect.y0 - 1, rect.y1 + 1}) {
-      const double nx = 2.0 * x / width - 1, ny = 2.0 * y / height - 1;
-      const Vec4 a = inverse * Vec4(nx, ny, -1, 1), b = inverse * Vec4(nx, ny, 1, 1);
-      const Vec3 from = a.head<3>() / a.w(), to = b.head<3>() / b.w();
-      const Vec3 ray = to - from;
-      if (!(ray.z() < 0)) return false;  // at or above the horizon
-      const Vec3 hit = from + ray * ((floorHeight - from.z()) / ray.z());
-      if (!(std::abs(hit.x() - centre.x()) < inner && std::abs(hit.y() - centre.y()) < inner)) {
-        return false;
-      }
-      // In front of the near plane and short of the far one, with room for the floor's
-      // polygon offset (which pushes it back in depth).
-      const double depth = -(view * Vec4(hit.x(), hit.y(), hit.z(), 1)).z();
-      if (!(depth > 1.01 * camera.nearPlane && depth < 0.9 * camera.farPlane)) return false;
+      const std::optional<double> z = floorDepth(x, y), zx = floorDepth(x + 1, y),
+                                  zy = floorDepth(x, y + 1);
+      if (!z || !zx || !zy) return false;
+      // Inside the near and far planes after the floor's polygon offset (glPolygonOffset(1, 4):
+      // the depth slope, affine and so the same over the whole floor, plus 4 units of at most
+      // 2^-20 each), with half as much again to spare.
+      const double slope = std::max(std::abs(*zx - *z), std::abs(*zy - *z));
+      if (!(*z > 0 && *z + 1.5 * (slope + 4 * std::ldexp(1.0, -20)) < 1)) return false;
     }
   }
   return true;

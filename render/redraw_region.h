@@ -71,8 +71,9 @@ struct RectSplit {
 RectSplit splitRect(const PixelRect& r, std::span<const PixelRect> cover);
 
 // Whether the floor square (z = floorHeight, x and y within `half` of `centre`) covers every
-// sample of the pixels of `rect` seen by `camera` in a width x height frame, well inside the
-// near and far planes: then no sample there is left to the sky. The floor's part in front of
+// sample of the pixels of `rect` seen by `camera` in a width x height frame, inside the near
+// and far planes also after the floor's polygon offset: then no sample there is left to the
+// sky. The floor's part in front of
 // the eye projects to a convex region, so it covers the rectangle when it covers its corners
 // (taken a pixel further out).
 bool floorCovers(const CameraView& camera, int width, int height, double floorHeight,

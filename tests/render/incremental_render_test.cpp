@@ -540,6 +540,15 @@ TEST(HiddenWorkGeometry, FloorCoversOnlyRectanglesWhoseEveryRayMeetsTheFloorSqua
   CameraView below = cam;
   below.position.z() = -1;
   EXPECT_FALSE(floorCovers(below, kWidth, kHeight, 0, centre, half, PixelRect{0, 0, 8, 8}));
+  // The floor under the bottom rows lies 5 to 6 m away: beyond a far plane at 4 m, or before
+  // a near plane at 8 m, it is clipped away, and the sky would show.
+  const PixelRect bottom{0, 0, kWidth, 20};
+  CameraView shortSight = cam;
+  shortSight.farPlane = 4;
+  EXPECT_FALSE(floorCovers(shortSight, kWidth, kHeight, 0, centre, half, bottom));
+  CameraView farSight = cam;
+  farSight.nearPlane = 8;
+  EXPECT_FALSE(floorCovers(farSight, kWidth, kHeight, 0, centre, half, bottom));
 }
 
 TEST(HiddenWorkGeometry, FloorShadowsHoldEveryCastersShadowAndNotTheWholeFloor) {
