@@ -13,9 +13,9 @@
 // reaches from its surface point, where the sweep crosses the height range of a receiver (the
 // floor, or an instance's box, and then only where that instance is drawn: inside its own mesh
 // box's rectangle). Each part is projected to a screen rectangle; everything outside them is
-// provably unchanged. Whenever a premise fails (or a bound reaches behind the
-// camera) the whole frame is redrawn. tests/render/incremental_render_test.cpp compares scene
-// clips drawn both ways byte for byte.
+// provably unchanged. Whenever a premise fails (or a bound reaches behind the camera) the whole
+// frame is redrawn. tests/render/incremental_render_test.cpp compares scene clips drawn both
+// ways byte for byte.
 #pragma once
 
 #include <array>
@@ -73,9 +73,8 @@ RectSplit splitRect(const PixelRect& r, std::span<const PixelRect> cover);
 // Whether the floor square (z = floorHeight, x and y within `half` of `centre`) covers every
 // sample of the pixels of `rect` seen by `camera` in a width x height frame, inside the near
 // and far planes also after the floor's polygon offset: then no sample there is left to the
-// sky. The floor's part in front of
-// the eye projects to a convex region, so it covers the rectangle when it covers its corners
-// (taken a pixel further out).
+// sky. The floor's part in front of the eye projects to a convex region, so it covers the
+// rectangle when it covers its corners (taken a pixel further out).
 bool floorCovers(const CameraView& camera, int width, int height, double floorHeight,
                  const Eigen::Vector2d& centre, double half, const PixelRect& rect);
 
