@@ -138,11 +138,12 @@ bool floorCovers(const CameraView& camera, int width, int height, double floorHe
       const std::optional<double> z = floorDepth(x, y), zx = floorDepth(x + 1, y),
                                   zy = floorDepth(x, y + 1);
       if (!z || !zx || !zy) return false;
-      // Inside the near and far planes after the floor's polygon offset (glPolygonOffset(1, 4):
-      // the depth slope, affine and so the same over the whole floor, plus 4 units of at most
-      // 2^-20 each), with half as much again to spare.
+      // Inside the near and far planes after the floor's polygon offset (the factor times the
+      // depth slope, which is affine and so the same over the whole floor, plus the units,
+      // each at most 2^-20), with half as much again to spare.
       const double slope = std::max(std::abs(*zx - *z), std::abs(*zy - *z));
-      if (!(*z > 0 && *z + 1.5 * (slope + 4 * std::ldexp(1.0, -20)) < 1)) return false;
+      const double offset = kFloorOffsetFactor * slope + kFloorOffsetUnits * std::ldexp(1.0, -20);
+      if (!(*z > 0 && *z + 1.5 * offset < 1)) return false;
     }
   }
   return true;

@@ -70,6 +70,11 @@ struct RectSplit {
 };
 RectSplit splitRect(const PixelRect& r, std::span<const PixelRect> cover);
 
+// The floor is pushed back in depth by glPolygonOffset(factor, units), so that a terrain at
+// its level wins (render/gl/renderer.cpp); floorCovers() allows for exactly this offset.
+constexpr float kFloorOffsetFactor = 1.0f;
+constexpr float kFloorOffsetUnits = 4.0f;
+
 // Whether the floor square (z = floorHeight, x and y within `half` of `centre`) covers every
 // sample of the pixels of `rect` seen by `camera` in a width x height frame, inside the near
 // and far planes also after the floor's polygon offset: then no sample there is left to the

@@ -120,6 +120,7 @@ struct Renderer::Impl {
   // `region`: as scenePass's (the scissor is set by the caller).
   void presentPass(const DrawList& list, const std::optional<PixelRect>& region);
   void scissor(const std::optional<PixelRect>& region, int scale);
+  PixelRect wholeFrame() const { return PixelRect{0, 0, settings.width, settings.height}; }
 };
 
 Renderer::Impl::~Impl() {
@@ -343,14 +344,13 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
     // Pushed back a little in depth: where a terrain lies exactly at the floor's level (a
     // valley floor), the terrain wins instead of the two z-fighting in stripes.
     gl.Enable(GL_POLYGON_OFFSET_FILL);
-    gl.PolygonOffset(1.0f, 4.0f);
+    gl.PolygonOffset(kFloorOffsetFactor, kFloorOffsetUnits);
     const std::optional<std::vector<PixelRect>>& shadows = tracker.floorShadows();
     if (settings.skipHiddenWork && shadows) {
       // Where no shadow can fall, the program without lookups (shadow lookups were a third of
       // a crosses frame's time on llvmpipe). The scissor does not change the grid's
       // derivatives: they come from whole 2x2 quads either way.
-      const RectSplit split =
-          splitRect(region.value_or(PixelRect{0, 0, settings.width, settings.height}), *shadows);
+      const RectSplit split = splitRect(region.value_or(wholeFrame()), *shadows);
       for (const auto& [program, pieces] : {std::pair{groundProgram.get(), &split.inside},
                                             std::pair{litGroundProgram.get(), &split.outside}}) {
         if (pieces->empty()) continue;
@@ -375,15 +375,12 @@ void Renderer::Impl::presentPass(const DrawList& list, const std::optional<Pixel
   gl.Viewport(0, 0, settings.width, settings.height);
   gl.Disable(GL_DEPTH_TEST);
   // Where the floor covers every sample, the program that does not work out the sky.
-  const bool covered =
-      settings.skipHiddenWork && list.groundHeight &&
-      floorCovers(list.camera, settings.width, settings.height, *list.groundHeight,
-                  list.camera.position.head<2>(), groundHalfSide(list),
-                  region.value_or(PixelRect{0, 0, settings.width, settings.height}));
+  const PixelRect drawn = region.value_or(wholeFrame());
+  const bool covered = settings.skipHiddenWork && list.groundHeight &&
+                       floorCovers(list.camera, settings.width, settings.height, *list.groundHeight,
+                                   list.camera.position.head<2>(), groundHalfSide(list), drawn);
   ShaderProgram& presentProgram = covered ? *floorPresentProgram : *this->presentProgram;
-  if (covered) {
-    skyFree += region ? region->area() : static_cast<long long>(settings.width) * settings.height;
-  }
+  if (covered) skyFree += drawn.area();
   presentProgram.use();
   gl.ActiveTexture(samples > 1 ? GL_TEXTURE0 : GL_TEXTURE1);
   gl.BindTexture(samples > 1 ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D, sceneColor);
