@@ -14,6 +14,7 @@ void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>
                std::vector<BodyPair>& pairs) {
   struct Interval {
     double lo, hi;
+    double reach;  // bounding radius plus the body's rounding slack
     int id;
   };
   std::vector<Interval> xs;
@@ -21,7 +22,8 @@ void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>
   for (int i = 0; i < static_cast<int>(bodies.size()); ++i) {
     if (!bodies[i].active) continue;
     const double r = bodies[i].shape->tree->boundingRadius;
-    xs.push_back({states[i].x.x() - r, states[i].x.x() + r, i});
+    const double reach = r + roundingSlack(states[i].x, r);
+    xs.push_back({states[i].x.x() - reach, states[i].x.x() + reach, reach, i});
   }
   std::sort(xs.begin(), xs.end(), [](const Interval& u, const Interval& v) {
     return u.lo < v.lo || (u.lo == v.lo && u.id < v.id);
@@ -29,11 +31,10 @@ void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>
   const std::size_t first = pairs.size();
   for (std::size_t i = 0; i < xs.size(); ++i) {
     const int a = xs[i].id;
-    const double ra = bodies[a].shape->tree->boundingRadius;
     for (std::size_t j = i + 1; j < xs.size() && xs[j].lo <= xs[i].hi; ++j) {
       const int b = xs[j].id;
       if (bodies[a].isStatic && bodies[b].isStatic) continue;
-      const double reach = ra + bodies[b].shape->tree->boundingRadius;
+      const double reach = xs[i].reach + xs[j].reach;
       if ((states[a].x - states[b].x).squaredNorm() < reach * reach)
         pairs.push_back({std::min(a, b), std::max(a, b)});
     }

@@ -9,9 +9,9 @@
 namespace vf {
 
 // Appends to `pairs` every pair (a < b) of active bodies, not both static, whose bounding
-// spheres (SphereTree::boundingRadius about the centre of mass) overlap, found by sweep and
-// prune along x. Ordered by (a, b),
-// so contacts are generated in a fixed order.
+// spheres (SphereTree::boundingRadius about the centre of mass, each widened by its
+// roundingSlack) overlap, found by sweep and prune along x. Ordered by (a, b), so contacts are
+// generated in a fixed order.
 void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
                std::vector<BodyPair>& pairs);
 

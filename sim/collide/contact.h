@@ -22,6 +22,17 @@ struct Contact {
   std::uint32_t leafB = 0;      // leaf-sphere index in b's tree; 0 for the plane
 };
 
+// How much the tests that only prune (bounding spheres in the broad phase, inner nodes of the
+// sphere-tree descents) are widened, in m, for a body at x with a sphere of the given radius
+// about it: a pair's slack is the sum of its two bodies'. The pruning tests round differently
+// from the leaf tests (other centres, other frames), and a leaf that touches exactly where its
+// ancestors' spheres touch (a box's corner leaf) would otherwise be lost to rounding of the
+// coordinates; far above that rounding (1e-16 of |x|), far below any leaf radius, so it only
+// lets a few more pairs through to the exact leaf tests.
+inline double roundingSlack(const Vec3& x, double radius) {
+  return 1e-9 * (1 + x.lpNorm<Eigen::Infinity>() + radius);
+}
+
 // A body pair whose bounding spheres overlap; a < b.
 struct BodyPair {
   int a = 0;

@@ -33,104 +33,132 @@ namespace {
 
 constexpr double kSamePatchCos = 0.5;  // cos 60 degrees
 
-// Indices into `cs` of the representatives of one patch (size > kContactsPerPatch), in the
-// order chosen; `n` is the patch normal. Points are compared in 2-D coordinates of the patch
-// plane, computed once.
-std::vector<int> spanningSubset(const std::vector<Contact>& cs, const std::vector<int>& patch,
-                                const Vec3& n) {
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// Scratch space reused over the pairs of one call, so that a step allocates once, not per pair
+// and patch (at level 6 a step has thousands of leaf contacts in a few pairs).
+struct Scratch {
+  std::vector<int> patchOf;           // patch of each contact of the pair, in narrow-phase order
+  std::vector<int> heads;             // first contact of each patch (its normal decides membership)
+  std::vector<Vec3> sums;             // each patch's sum of max(depth, 0) * normal
+  std::vector<int> members;           // the contacts of the patch being reduced, in order
+  std::vector<Eigen::Vector2d> flat;  // their points in the patch plane
+  std::vector<Contact> kept;          // the pair's output, before it is written back in place
+};
+
+// Writes the representatives of one patch (members.size() > kContactsPerPatch), in the order
+// chosen, into kept; `n` is the patch normal. Points are compared in 2-D coordinates of the
+// patch plane, computed once.
+void spanningSubset(const std::vector<Contact>& cs, Scratch& s, const Vec3& n) {
   Vec3 t1, t2;  // any basis of the plane: only distances and areas in it matter
   t1 = (std::abs(n.x()) < 0.57 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
   t2 = n.cross(t1);
-  const std::size_t m = patch.size();
-  std::vector<Eigen::Vector2d> flat(m);
+  const std::size_t m = s.members.size();
+  s.flat.resize(m);
   std::size_t deepest = 0;
+  double deepestDepth = cs[s.members[0]].depth;
   for (std::size_t k = 0; k < m; ++k) {
-    const Vec3& p = cs[patch[k]].point;
-    flat[k] = Eigen::Vector2d(p.dot(t1), p.dot(t2));
-    if (cs[patch[k]].depth > cs[patch[deepest]].depth) deepest = k;  // ties: narrow-phase order
+    const Contact& c = cs[s.members[k]];
+    s.flat[k] = Eigen::Vector2d(c.point.dot(t1), c.point.dot(t2));
+    if (c.depth > deepestDepth) deepest = k, deepestDepth = c.depth;  // ties: narrow-phase order
   }
-  std::vector<std::size_t> keep{deepest};
+  std::size_t keep[4] = {deepest, m, m, m};
+  int kept = 1;
   // The contact (not kept yet) with the largest positive score, or m if none scores > 0.
   auto best = [&](auto score) {
     std::size_t arg = m;
     double top = 0;
     for (std::size_t k = 0; k < m; ++k) {
-      if (std::find(keep.begin(), keep.end(), k) != keep.end()) continue;
-      const double sc = score(flat[k]);
-      if (sc > top) top = sc, arg = k;
+      const double sc = score(s.flat[k]);
+      if (sc > top && k != keep[0] && k != keep[1] && k != keep[2]) top = sc, arg = k;
     }
     return arg;
   };
-  auto cross2 = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() * b.y() - a.y() * b.x();
-  };
-  const Eigen::Vector2d p0 = flat[deepest];
+  const Eigen::Vector2d p0 = s.flat[deepest];
   const std::size_t i1 = best([&](const Eigen::Vector2d& p) { return (p - p0).squaredNorm(); });
   if (i1 < m) {
-    keep.push_back(i1);
-    const Eigen::Vector2d p1 = flat[i1];
+    keep[kept++] = i1;
+    const Eigen::Vector2d p1 = s.flat[i1];
     const std::size_t i2 =
         best([&](const Eigen::Vector2d& p) { return std::abs(cross2(p1 - p0, p - p0)); });
     if (i2 < m) {
-      keep.push_back(i2);
-      const Eigen::Vector2d p2 = flat[i2];
+      keep[kept++] = i2;
+      const Eigen::Vector2d p2 = s.flat[i2];
       // Farthest outside the triangle: the largest area added beyond one of its edges.
       const double side = cross2(p1 - p0, p2 - p0) > 0 ? 1.0 : -1.0;
       const std::size_t i3 = best([&](const Eigen::Vector2d& p) {
         return -side * std::min({cross2(p1 - p0, p - p0), cross2(p2 - p1, p - p1),
                                  cross2(p0 - p2, p - p2)});
       });
-      if (i3 < m) keep.push_back(i3);
+      if (i3 < m) keep[kept++] = i3;
     }
   }
-  std::vector<int> out;
-  for (std::size_t k : keep) out.push_back(patch[k]);
-  return out;
+  for (int k = 0; k < kept; ++k) {
+    Contact c = cs[s.members[keep[k]]];
+    c.normal = n;
+    s.kept.push_back(c);
+  }
 }
 
-void reducePair(const std::vector<Contact>& cs, std::size_t begin, std::size_t end,
-                std::vector<Contact>& out) {
+// The representatives of the pair's contacts cs[begin, end) into s.kept.
+void reducePair(const std::vector<Contact>& cs, std::size_t begin, std::size_t end, Scratch& s) {
   // Patches in narrow-phase order: a contact joins the first patch whose first contact's normal
-  // is within 60 degrees of its own.
-  std::vector<std::vector<int>> patches;
+  // is within 60 degrees of its own. Each patch's depth-weighted normal sum is accumulated on the
+  // way, in the patch's order.
+  s.heads.clear();
+  s.sums.clear();
+  s.patchOf.resize(end - begin);
   for (std::size_t i = begin; i < end; ++i) {
+    const Contact& c = cs[i];
     std::size_t k = 0;
-    while (k < patches.size() && cs[patches[k][0]].normal.dot(cs[i].normal) < kSamePatchCos) ++k;
-    if (k == patches.size()) patches.emplace_back();
-    patches[k].push_back(static_cast<int>(i));
+    while (k < s.heads.size() && cs[s.heads[k]].normal.dot(c.normal) < kSamePatchCos) ++k;
+    if (k == s.heads.size()) {
+      s.heads.push_back(static_cast<int>(i));
+      s.sums.push_back(Vec3::Zero());
+    }
+    s.patchOf[i - begin] = static_cast<int>(k);
+    s.sums[k] += std::max(c.depth, 0.0) * c.normal;
   }
-  for (std::vector<int>& patch : patches) {
-    if (static_cast<int>(patch.size()) <= kContactsPerPatch) {
-      std::stable_sort(patch.begin(), patch.end(),
+  s.kept.clear();
+  for (std::size_t k = 0; k < s.heads.size(); ++k) {
+    s.members.clear();
+    if (s.heads.size() == 1) {
+      for (std::size_t i = begin; i < end; ++i) s.members.push_back(static_cast<int>(i));
+    } else {
+      for (std::size_t i = begin; i < end; ++i)
+        if (s.patchOf[i - begin] == static_cast<int>(k)) s.members.push_back(static_cast<int>(i));
+    }
+    if (static_cast<int>(s.members.size()) <= kContactsPerPatch) {
+      std::stable_sort(s.members.begin(), s.members.end(),
                        [&](int x, int y) { return cs[x].depth > cs[y].depth; });
-      for (int i : patch) out.push_back(cs[i]);
+      for (int i : s.members) s.kept.push_back(cs[i]);
       continue;
     }
-    Vec3 sum = Vec3::Zero();
-    for (int i : patch) sum += std::max(cs[i].depth, 0.0) * cs[i].normal;
-    const Vec3 n = sum.norm() > 0 ? Vec3(sum.normalized()) : cs[patch[0]].normal;
-    for (int i : spanningSubset(cs, patch, n)) {
-      Contact c = cs[i];
-      c.normal = n;
-      out.push_back(c);
-    }
+    const Vec3& sum = s.sums[k];
+    const Vec3 n = sum.norm() > 0 ? Vec3(sum.normalized()) : cs[s.members[0]].normal;
+    spanningSubset(cs, s, n);
   }
 }
 
 }  // namespace
 
 void reduceContacts(std::vector<Contact>& contacts) {
-  std::vector<Contact> out;
-  out.reserve(contacts.size());
+  // In place: a pair's representatives are no more than its contacts, so they are written at or
+  // before where the pair began, after all of its contacts have been read.
+  static thread_local Scratch scratch;
+  std::size_t write = 0;
   for (std::size_t begin = 0; begin < contacts.size();) {
     std::size_t end = begin + 1;
     while (end < contacts.size() && contacts[end].a == contacts[begin].a &&
            contacts[end].b == contacts[begin].b)
       ++end;
-    reducePair(contacts, begin, end, out);
+    reducePair(contacts, begin, end, scratch);
+    for (const Contact& c : scratch.kept) contacts[write++] = c;
     begin = end;
   }
-  contacts.swap(out);
+  contacts.resize(write);
 }
 
 }  // namespace vf

@@ -9,10 +9,15 @@
 //
 // Because each voxel's circumscribed sphere contains its children's spheres, this finds exactly
 // the leaf pairs that a test of all leaf spheres against all leaf spheres finds
-// (tests/sim/narrow_phase_test.cpp checks that against brute force on random poses).
+// (tests/sim/narrow_phase_test.cpp checks that against brute force on random poses). In
+// floating point "contains" holds only up to rounding: a box's corner leaf touches every
+// ancestor's sphere at the corner, so a pruning test that rounds differently from the leaf test
+// could drop a leaf pair that touches. The pruning tests (bounding spheres, inner nodes) are
+// therefore widened by roundingSlack (contact.h), and only leaf tests decide; the test file
+// checks exactly such corner contacts, tens of km from the origin.
 //
-// World-space centres are computed once per visited node and passed down, so each sphere test
-// is one squared distance.
+// Centres are computed once per visited node and passed down, so each sphere test is one
+// squared distance.
 #include "sim/collide/narrow_phase.h"
 
 #include <algorithm>
@@ -32,9 +37,16 @@ namespace {
 struct NodeRef {
   int level;
   std::uint32_t index;
-  Vec3 center;  // world
+  Vec3 center;  // world for descendAlone; body a's frame in TreeTreeDescent
 };
 
+// Body-body descent. The inner tests run in body a's frame: a's node centres are the tree's
+// own (no transform), b's are carried into a's frame by the relative pose, so half the centre
+// transforms of a world-frame descent are saved. They are widened by `slack_`, so they may let
+// through a pair that the unwidened test would drop, never the reverse. A leaf pair is decided,
+// and its contact computed, from world centres by the expressions a world-frame descent uses:
+// the same contacts, to the bit, in the same order (the order follows the children's order, not
+// the tests); every scene's checksum stayed the same.
 class TreeTreeDescent {
  public:
   TreeTreeDescent(const Collider& a, const Collider& b, std::vector<Contact>& out)
@@ -42,42 +54,52 @@ class TreeTreeDescent {
 
   std::uint64_t run() {
     ++tests_;
-    const double reach = ta_.boundingRadius + tb_.boundingRadius;
+    slack_ = roundingSlack(a_.x, ta_.boundingRadius) + roundingSlack(b_.x, tb_.boundingRadius);
+    const double reach = ta_.boundingRadius + tb_.boundingRadius + slack_;
     if ((a_.x - b_.x).squaredNorm() >= reach * reach) return tests_;
+    Rab_ = a_.R.transpose() * b_.R;
+    tab_ = a_.R.transpose() * (b_.x - a_.x);
     // Level 0 is a single voxel; the bounding spheres above stand in for it.
-    descend(NodeRef{0, 0, a_.x}, NodeRef{0, 0, b_.x});
+    descend(NodeRef{0, 0, Vec3::Zero()}, NodeRef{0, 0, tab_});
     return tests_;
   }
 
  private:
-  // Children of node n of tree t, with their world centres.
-  static int children(const SphereTree& t, const Collider& c, const NodeRef& n,
-                      std::array<NodeRef, 8>& kids) {
-    const SphereTreeLevel& lv = t.levels[n.level];
-    const SphereTreeLevel& next = t.levels[n.level + 1];
+  // Children of node n of tree a (centres as they are) or b (carried into a's frame).
+  int childrenA(const NodeRef& n, std::array<NodeRef, 8>& kids) const {
+    const SphereTreeLevel& lv = ta_.levels[n.level];
+    const SphereTreeLevel& next = ta_.levels[n.level + 1];
     int k = 0;
     for (std::uint32_t i = lv.childBegin[n.index]; i < lv.childBegin[n.index + 1]; ++i)
-      kids[k++] = NodeRef{n.level + 1, i, c.x + c.R * next.centers[i]};
+      kids[k++] = NodeRef{n.level + 1, i, next.centers[i]};
+    return k;
+  }
+  int childrenB(const NodeRef& n, std::array<NodeRef, 8>& kids) const {
+    const SphereTreeLevel& lv = tb_.levels[n.level];
+    const SphereTreeLevel& next = tb_.levels[n.level + 1];
+    int k = 0;
+    for (std::uint32_t i = lv.childBegin[n.index]; i < lv.childBegin[n.index + 1]; ++i)
+      kids[k++] = NodeRef{n.level + 1, i, tab_ + Rab_ * next.centers[i]};
     return k;
   }
 
   bool overlap(const NodeRef& na, const NodeRef& nb) {
     ++tests_;
-    const double r = ta_.levels[na.level].radius + tb_.levels[nb.level].radius;
+    const double r = ta_.levels[na.level].radius + tb_.levels[nb.level].radius + slack_;
     return (na.center - nb.center).squaredNorm() < r * r;
   }
 
-  // na and nb are known to collide (or are the roots after the bounding-sphere test).
+  // na and nb may collide (or are the roots after the bounding-sphere test).
   void descend(const NodeRef& na, const NodeRef& nb) {
     const bool leafA = na.level == ta_.leafLevel();
     const bool leafB = nb.level == tb_.leafLevel();
     if (leafA && leafB) {
-      emit(na, nb);
+      emit(na.index, worldA(na), nb.index, worldB(nb));
       return;
     }
     std::array<NodeRef, 8> kidsA, kidsB;
-    int nA = leafA ? 1 : children(ta_, a_, na, kidsA);
-    int nB = leafB ? 1 : children(tb_, b_, nb, kidsB);
+    int nA = leafA ? 1 : childrenA(na, kidsA);
+    int nB = leafB ? 1 : childrenB(nb, kidsB);
     if (leafA) kidsA[0] = na;
     if (leafB) kidsB[0] = nb;
     // Early exit: a child that misses the other side's node misses all that node's children
@@ -95,23 +117,48 @@ class TreeTreeDescent {
         if (overlap(na, kidsB[j])) kidsB[kept++] = kidsB[j];
       nB = kept;
     }
+    // Leaves among the survivors get their world centres once, for the exact test.
+    const bool kidsLeafA = kidsA[0].level == ta_.leafLevel();
+    const bool kidsLeafB = kidsB[0].level == tb_.leafLevel();
+    std::array<Vec3, 8> wA, wB;
+    if (kidsLeafA)
+      for (int i = 0; i < nA; ++i) wA[i] = worldA(kidsA[i]);
+    if (kidsLeafB)
+      for (int j = 0; j < nB; ++j) wB[j] = worldB(kidsB[j]);
     for (int i = 0; i < nA; ++i)
-      for (int j = 0; j < nB; ++j)
-        if (overlap(kidsA[i], kidsB[j])) descend(kidsA[i], kidsB[j]);
+      for (int j = 0; j < nB; ++j) {
+        if (kidsLeafA && kidsLeafB)
+          emit(kidsA[i].index, wA[i], kidsB[j].index, wB[j]);
+        else if (overlap(kidsA[i], kidsB[j]))
+          descend(kidsA[i], kidsB[j]);
+      }
   }
 
-  void emit(const NodeRef& na, const NodeRef& nb) {
-    const Vec3 d = na.center - nb.center;
+  // World centres of leaves, by the expressions a world-frame descent uses (a one-level tree's
+  // root leaf stands at the body origin).
+  Vec3 worldA(const NodeRef& n) const {
+    return n.level == 0 ? a_.x : Vec3(a_.x + a_.R * ta_.levels[n.level].centers[n.index]);
+  }
+  Vec3 worldB(const NodeRef& n) const {
+    return n.level == 0 ? b_.x : Vec3(b_.x + b_.R * tb_.levels[n.level].centers[n.index]);
+  }
+
+  // The exact test of a leaf pair, and its contact, in world coordinates.
+  void emit(std::uint32_t leafA, const Vec3& ca, std::uint32_t leafB, const Vec3& cb) {
+    ++tests_;
+    const double r = ta_.leaves().radius + tb_.leaves().radius;
+    const Vec3 d = ca - cb;
+    if (d.squaredNorm() >= r * r) return;
     const double dist = d.norm();
     if (dist == 0.0) return;  // coincident centres: no defined normal (measure zero)
     Contact c;
     c.a = a_.body;
     c.b = b_.body;
-    c.point = 0.5 * (na.center + nb.center);  // midpoint of the two centres (fig. 5)
-    c.normal = d / dist;                      // n21, from body 2 towards body 1
-    c.depth = ta_.leaves().radius + tb_.leaves().radius - dist;
-    c.leafA = na.index;
-    c.leafB = nb.index;
+    c.point = 0.5 * (ca + cb);  // midpoint of the two centres (fig. 5)
+    c.normal = d / dist;        // n21, from body 2 towards body 1
+    c.depth = r - dist;
+    c.leafA = leafA;
+    c.leafB = leafB;
     out_.push_back(c);
   }
 
@@ -120,6 +167,9 @@ class TreeTreeDescent {
   const SphereTree& ta_;
   const SphereTree& tb_;
   std::vector<Contact>& out_;
+  Mat3 Rab_;  // b's frame -> a's frame: p_a = Rab_ p_b + tab_
+  Vec3 tab_;
+  double slack_ = 0;  // widening of the internal tests, m
   std::uint64_t tests_ = 0;
 };
 
@@ -165,20 +215,52 @@ Contact groundContact(const Collider& a, const Collider& ground, const NodeRef& 
 }
 
 // Sphere tree against a plane: a sphere touches when its centre is less than its radius above
-// the plane (exact, so leaves need no second test). Contact point: the centre projected onto
-// the plane.
+// the plane (exact). Contact point: the centre projected onto the plane. Inner nodes are tested
+// in the body frame (height = n.x - offset + (R^T n).c, no centre transform), widened by
+// roundingSlack; leaves are tested and emitted from their world centres by the world-frame
+// expressions, so the contacts are exactly the leaves whose world centre is less than a radius
+// above the plane, in the children's order.
 std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector<Contact>& out) {
+  const SphereTree& tree = *a.tree;
   auto height = [&](const Vec3& c) { return p.normal.dot(c) - p.offset; };
-  return descendAlone(
-      a, [&](const Vec3& c, double r, double&) { return height(c) < r; },
-      [&](const NodeRef& n, double r) {
-        const double h = height(n.center);
-        Contact c = groundContact(a, p, n);
-        c.normal = p.normal;
-        c.point = n.center - h * p.normal;
-        c.depth = r - h;
-        out.push_back(c);
-      });
+  std::uint64_t tests = 1;
+  const double slack = roundingSlack(a.x, tree.boundingRadius) + 1e-9 * std::abs(p.offset);
+  const double h0 = height(a.x);
+  if (!(h0 < tree.boundingRadius + slack)) return tests;
+  const Vec3 m = a.R.transpose() * p.normal;
+  const int leafLevel = tree.leafLevel();
+  auto emit = [&](std::uint32_t leaf, const Vec3& center, double h, double r) {
+    Contact c;
+    c.a = a.body;
+    c.b = p.body;
+    c.leafA = leaf;
+    c.normal = p.normal;
+    c.point = center - h * p.normal;
+    c.depth = r - h;
+    out.push_back(c);
+  };
+  if (leafLevel == 0) {  // a one-level tree: its root is its leaf, at the body origin
+    if (h0 < tree.levels[0].radius) emit(0, a.x, h0, tree.levels[0].radius);
+    return tests;
+  }
+  // The level-0 voxel is skipped: the bounding sphere above stands in for it.
+  auto visit = [&](auto& self, int level, std::uint32_t index) -> void {
+    const SphereTreeLevel& lv = tree.levels[level];
+    const SphereTreeLevel& next = tree.levels[level + 1];
+    const bool leaves = level + 1 == leafLevel;
+    for (std::uint32_t i = lv.childBegin[index]; i < lv.childBegin[index + 1]; ++i) {
+      ++tests;
+      if (!leaves) {
+        if (h0 + m.dot(next.centers[i]) < next.radius + slack) self(self, level + 1, i);
+        continue;
+      }
+      const Vec3 center = a.x + a.R * next.centers[i];
+      const double h = height(center);
+      if (h < next.radius) emit(i, center, h, next.radius);
+    }
+  };
+  visit(visit, 0, 0);
+  return tests;
 }
 
 // Sphere tree against terrain. A node may touch unless its sphere lies entirely above the

@@ -111,6 +111,7 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
                    std::vector<BodyState>& states, const SolverSettings& settings,
                    ContactCache& cache) {
   if (contacts.empty()) {
+    if (settings.passes) *settings.passes = 0;
     if (settings.normalImpulses) settings.normalImpulses->clear();
     cache.impulses.clear();
     cache.dt = settings.dt;
@@ -176,8 +177,14 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
     push(r.t2, r.jt2, motion[r.a], motion[r.b]);
   }
 
+  // A pass that changes no accumulated impulse leaves every velocity as it was (it pushes only
+  // zero impulses), so every later pass would repeat it: the passes stop there, with the
+  // result of all `iterations` passes (tests/sim/impulse_test.cpp compares both).
   const int count = static_cast<int>(rows.size());
-  for (int pass = 0; pass < settings.iterations; ++pass) {
+  int pass = 0;
+  while (pass < settings.iterations) {
+    ++pass;
+    bool changed = false;
     for (int k = 0; k < count; ++k) {
       Row& r = rows[k];
       Motion& A = motion[r.a];
@@ -200,10 +207,13 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
       }
       push(r.t1, jt1 - r.jt1, A, B);
       push(r.t2, jt2 - r.jt2, A, B);
+      changed = changed || djn != 0.0 || jt1 != r.jt1 || jt2 != r.jt2;
       r.jt1 = jt1;
       r.jt2 = jt2;
     }
+    if (!changed && settings.stopWhenConverged) break;
   }
+  if (settings.passes) *settings.passes = pass;
 
   // Only resting contacts seed the next step: an impact's impulse belongs to its own step, and
   // re-applied while the bodies separate it would throw them apart.

@@ -20,6 +20,9 @@ double inverseEffectiveMass(double invMassA, const Mat3& invInertiaA, const Vec3
 struct SolverSettings {
   ContactMaterial material;
   int iterations = 12;
+  // Stop before `iterations` passes once a pass changes no accumulated impulse: every later
+  // pass would repeat it, so the result is the same. Off only to test that claim.
+  bool stopWhenConverged = true;
   // Approach speeds below this get no restitution: the speed gravity adds in a step or two.
   // Without it a resting body would bounce by eps g dt every step (visible jitter).
   double restingSpeed = 0;
@@ -27,6 +30,8 @@ struct SolverSettings {
   // Rock fall (opt-in): ground contacts take restitution and friction from the ground
   // material under the contact point instead of `material`; null: the paper's model.
   const GroundMap* ground = nullptr;
+  // If set, receives the number of passes made (at most `iterations`).
+  int* passes = nullptr;
   // If set, receives each contact's accumulated normal impulse (N s), in contact order.
   std::vector<double>* normalImpulses = nullptr;
 };

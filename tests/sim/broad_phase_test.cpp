@@ -18,8 +18,10 @@ std::vector<BodyPair> allPairs(const std::vector<BodyInfo>& bodies,
     for (int b = a + 1; b < static_cast<int>(bodies.size()); ++b) {
       if (!bodies[a].active || !bodies[b].active || (bodies[a].isStatic && bodies[b].isStatic))
         continue;
+      const double ra = bodies[a].shape->tree->boundingRadius;
+      const double rb = bodies[b].shape->tree->boundingRadius;
       const double reach =
-          bodies[a].shape->tree->boundingRadius + bodies[b].shape->tree->boundingRadius;
+          ra + rb + roundingSlack(states[a].x, ra) + roundingSlack(states[b].x, rb);
       if ((states[a].x - states[b].x).squaredNorm() < reach * reach) out.push_back({a, b});
     }
   return out;

@@ -102,5 +102,33 @@ TEST(ContactReduction, PerpendicularPatchesStayApart) {
   EXPECT_LE(cs.size(), 2u * kContactsPerPatch);
 }
 
+// Pairs are reduced in place, one after another: reducing a list of several pairs (large and
+// small, one with two patches) gives what reducing each pair's contacts alone gives.
+TEST(ContactReduction, PairsReducedInPlaceAsIfEachWereAlone) {
+  std::vector<std::vector<Contact>> pairs(4);
+  std::uint32_t leaf = 0;
+  auto wobble = [](int i) { return 0.01 * ((i * 37) % 11 - 5); };
+  for (int i = 0; i < 30; ++i)
+    pairs[0].push_back(contactAt(0, kGround, Vec3(0.05 * (i % 6), 0.05 * (i / 6), 0),
+                                 Vec3(wobble(i), wobble(i + 3), 1), 0.001 * (i % 7), leaf++));
+  for (int i = 0; i < 3; ++i)
+    pairs[1].push_back(contactAt(0, 1, Vec3(i, 0, 0), Vec3(0, 0, 1), 0.002 * i, leaf++));
+  for (int i = 0; i < 50; ++i)  // two patches at 90 degrees, interleaved
+    pairs[2].push_back(contactAt(1, 2, Vec3(0.03 * i, 0.01 * (i % 5), 0.02 * (i % 3)),
+                                 i % 2 ? Vec3(1, wobble(i), 0) : Vec3(wobble(i), 0, 1),
+                                 0.0005 * (i % 9), leaf++));
+  pairs[3].push_back(contactAt(2, kGround, Vec3(5, 5, 0), Vec3(0, 0, 1), 0.003, leaf++));
+  std::vector<Contact> all, expected;
+  for (std::vector<Contact> p : pairs) {
+    all.insert(all.end(), p.begin(), p.end());
+    reduceContacts(p);
+    expected.insert(expected.end(), p.begin(), p.end());
+  }
+  reduceContacts(all);
+  ASSERT_EQ(all.size(), expected.size());
+  ASSERT_LT(all.size(), 30u) << "the large pairs were reduced";
+  for (std::size_t i = 0; i < all.size(); ++i) EXPECT_TRUE(same(all[i], expected[i])) << i;
+}
+
 }  // namespace
 }  // namespace vf

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 #include <utility>
@@ -157,6 +158,113 @@ TEST(NarrowPhase, PlaneContactsAreTheLeafSpheresCrossingThePlane) {
     }
     EXPECT_EQ(found, expected) << "trial " << trial;
   }
+}
+
+// The descents test inner nodes in body a's frame (and the plane's height in the body frame),
+// widened by a slack, and decide leaves in world coordinates. The hard case: a box's corner
+// leaf, whose sphere touches every ancestor's sphere at the box corner (circumscribed spheres of
+// a corner sub-voxel and its voxel both pass through the corner), turned so that the corner
+// diagonal faces the plane or the other box's corner, at touching distance, far from the origin
+// (coordinates of tens of km, whose rounding is what differs between the frames): every
+// ancestor test then has the leaf's own margin, and an unwidened body-frame test drops contacts
+// that the world-frame leaf test keeps. The contacts must be exactly the brute-force ones, with
+// the brute-force expressions' values to the bit.
+TEST(NarrowPhase, BodyFrameTestsLoseNoLeafPairFarFromTheOriginOrAtTouchingDistance) {
+  auto sa = test::boxShape(0.3, 0.3, 0.3, 800, 4);
+  auto sb = test::boxShape(0.3, 0.3, 0.3, 800, 3);
+  const auto& la = sa->tree->leaves();
+  const auto& lb = sb->tree->leaves();
+  const Vec3 diag = Vec3(1, 1, 1).normalized();
+  auto cornerLeaf = [&](const SphereTreeLevel& l) {  // the leaf farthest along the diagonal
+    std::uint32_t best = 0;
+    for (std::uint32_t k = 0; k < l.centers.size(); ++k)
+      if (l.centers[k].dot(diag) > l.centers[best].dot(diag)) best = k;
+    return best;
+  };
+  const std::uint32_t i = cornerLeaf(la), j = cornerLeaf(lb);
+  Prng rng(11);
+  int planeHits = 0, pairHits = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Vec3 far(rng.uniform(2e4, 5e4), rng.uniform(-5e4, -2e4), rng.uniform(1e3, 3e3));
+    const Eigen::AngleAxisd twist(rng.uniform(0, 6.28), Vec3::UnitZ());
+    // a's corner diagonal straight down, onto the plane through the lowest point of leaf i.
+    const Quat qa = Quat(twist) * Quat::FromTwoVectors(diag, -Vec3::UnitZ());
+    const Collider a = sphereTreeCollider(0, *sa->tree, far, qa);
+    const Vec3 ca = a.x + a.R * la.centers[i];
+    const double h = ca.z() - la.radius * (1 - rng.uniform(0, 1e-12));
+    std::vector<Contact> onPlane;
+    collide(a, planeCollider(h), onPlane);
+    std::set<std::uint32_t> planeExpected, planeFound;
+    for (std::uint32_t k = 0; k < la.centers.size(); ++k)
+      if ((a.x + a.R * la.centers[k]).z() - h < la.radius) planeExpected.insert(k);
+    for (const Contact& c : onPlane) {
+      planeFound.insert(c.leafA);
+      const Vec3 w = a.x + a.R * la.centers[c.leafA];
+      EXPECT_EQ(c.depth, la.radius - (w.z() - h));
+      EXPECT_EQ(c.point, w - (w.z() - h) * Vec3::UnitZ());
+    }
+    EXPECT_EQ(planeFound, planeExpected) << "trial " << trial;
+    planeHits += planeExpected.count(i) > 0;
+
+    // a's corner diagonal along a random direction u, b's along -u, the two corner leaves at
+    // touching distance (a random direction, so that rounding falls either way).
+    const Vec3 u = randomRotation(rng) * Vec3::UnitX();
+    const Quat qa2 = Quat::FromTwoVectors(diag, u);
+    const Quat qb = Quat::FromTwoVectors(diag, -u);
+    const Collider a2 = sphereTreeCollider(0, *sa->tree, far, qa2);
+    const double r = la.radius + lb.radius;
+    const Vec3 ca2 = a2.x + a2.R * la.centers[i];
+    const Vec3 xb =
+        ca2 + (1 - rng.uniform(0, 1e-12)) * r * u - qb.toRotationMatrix() * lb.centers[j];
+    const Collider b = sphereTreeCollider(1, *sb->tree, xb, qb);
+    const auto expected = bruteForce(a2, b);
+    std::vector<Contact> contacts;
+    collide(a2, b, contacts);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+    for (const Contact& c : contacts) {
+      found.insert({c.leafA, c.leafB});
+      const Vec3 wa = a2.x + a2.R * la.centers[c.leafA];
+      const Vec3 wb = b.x + b.R * lb.centers[c.leafB];
+      EXPECT_EQ(c.point, 0.5 * (wa + wb));
+      EXPECT_EQ(c.depth, r - (wa - wb).norm());
+    }
+    EXPECT_EQ(found, expected) << "trial " << trial;
+    pairHits += expected.count({i, j}) > 0;
+  }
+  // Rounding decides these contacts, so some touch and some do not; both must occur for the
+  // test to show anything.
+  EXPECT_GT(planeHits, 10);
+  EXPECT_LT(planeHits, 190);
+  EXPECT_GT(pairHits, 10);
+  EXPECT_LT(pairHits, 190);
+}
+
+// A tree of one level (its root is its only leaf, at the body origin; the rock-fall tests' smooth
+// balls) against the plane and against another such tree.
+TEST(NarrowPhase, OneLevelTreesTouchAtTheirRootLeaf) {
+  SphereTree ball;
+  SphereTreeLevel leaf;
+  leaf.radius = 0.25;
+  leaf.edge = 0.5 / std::sqrt(3.0);
+  leaf.centers = {Vec3::Zero()};
+  leaf.childBegin = {0, 0};
+  ball.levels = {leaf};
+  ball.boundingRadius = 0.25;
+  const Quat q = Quat(Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()));
+  const Collider a = sphereTreeCollider(0, ball, Vec3(1, 2, 0.2), q);
+  std::vector<Contact> contacts;
+  collide(a, planeCollider(0.0), contacts);
+  ASSERT_EQ(contacts.size(), 1u);
+  EXPECT_EQ(contacts[0].point, Vec3(1, 2, 0));
+  EXPECT_NEAR(contacts[0].depth, 0.05, 1e-15);
+  contacts.clear();
+  collide(sphereTreeCollider(0, ball, Vec3(1, 2, 0.3), q), planeCollider(0.0), contacts);
+  EXPECT_TRUE(contacts.empty());
+  const Collider b = sphereTreeCollider(1, ball, Vec3(1.4, 2, 0.2), q);
+  collide(a, b, contacts);
+  ASSERT_EQ(contacts.size(), 1u);
+  EXPECT_EQ(contacts[0].normal, Vec3(-1, 0, 0));
+  EXPECT_NEAR(contacts[0].depth, 0.1, 1e-15);
 }
 
 }  // namespace
