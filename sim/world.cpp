@@ -36,12 +36,24 @@ constexpr int kReducedPassFactor = 4;
 
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point& t) {
-  const Clock::time_point now = Clock::now();
-  const double s = std::chrono::duration<double>(now - t).count();
-  t = now;
-  return s;
-}
+// Stage timer of a step: seconds since the last lap (0 when timing is off).
+class StageClock {
+ public:
+  explicit StageClock(bool on) : on_(on) {
+    if (on_) last_ = Clock::now();
+  }
+  double lap() {
+    if (!on_) return 0;
+    const Clock::time_point now = Clock::now();
+    const double s = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return s;
+  }
+
+ private:
+  bool on_;
+  Clock::time_point last_;
+};
 
 }  // namespace
 
@@ -56,6 +68,7 @@ void RunStats::add(const StepStats& s) {
   floored += s.floored;
   overlappingReleases += s.overlappingReleases;
   leafContacts += s.leafContacts;
+  solverPasses += s.solverPasses;
   sleepingBodySteps += s.sleeping;
   secondsStepSize += s.secondsStepSize;
   secondsPairs += s.secondsPairs;
@@ -154,20 +167,20 @@ double World::stableStep() const {
 void World::stepToward(double target) {
   if (runaway_) return;
   StepStats s;
-  Clock::time_point clock = Clock::now();
+  StageClock clock(def_.stageTimes);
 
   const StepPlan plan = planStep(target);
   const bool lands = plan.lands;
   s.dt = plan.dt;
   s.floored = plan.floored ? 1 : 0;
-  s.secondsStepSize = secondsSince(clock);
+  s.secondsStepSize = clock.lap();
 
   applyGravity(bodies_, states_, def_.gravity, s.dt);
 
   pairs_.clear();
   findPairs(bodies_, states_, pairs_);
   s.pairs = pairs_.size();
-  s.secondsPairs = secondsSince(clock);
+  s.secondsPairs = clock.lap();
 
   contacts_.clear();
   s.sphereTests = findContacts(bodies_, states_, pairs_, def_.groundHeight, def_.terrain.get(),
@@ -182,11 +195,11 @@ void World::stepToward(double target) {
                                   def_.threads, contacts_);
   }
   s.leafContacts = contacts_.size();
-  s.secondsContacts = secondsSince(clock);
+  s.secondsContacts = clock.lap();
 
   if (def_.contactReduction) reduceContacts(contacts_);
   s.contacts = contacts_.size();
-  s.secondsReduce = secondsSince(clock);
+  s.secondsReduce = clock.lap();
 
   SolverSettings solver;
   solver.material = def_.contact;
@@ -200,15 +213,18 @@ void World::stepToward(double target) {
   solver.dt = s.dt;
   solver.ground = def_.ground.get();
   solver.normalImpulses = def_.ground ? &normalImpulses_ : nullptr;
+  int passes = 0;
+  solver.passes = &passes;
   if (def_.ground) groundLaw_.beforeSolve(bodies_, states_);
   solveContacts(contacts_, bodies_, states_, solver, contactCache_);
+  s.solverPasses = static_cast<std::uint64_t>(passes);
   if (def_.ground) {
     const GroundLawStats law =
         groundLaw_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground,
                               def_.gravity, s.dt, def_.terrain.get(), def_.groundHeight);
     for (int id : law.bounced) monitor_.countBounce(id);
   }
-  s.secondsSolve = secondsSince(clock);
+  s.secondsSolve = clock.lap();
 
   // Runaway check (run_guard.cpp) on the momenta of this step, before anything moves.
   runaway_ = guard_.check(bodies_, states_, def_.gravity, time_, s.dt, def_.limits);
@@ -216,16 +232,16 @@ void World::stepToward(double target) {
 
   s.nonFinite = integrate(bodies_, states_, s.dt, def_.rotation);
   time_ = lands ? target : time_ + s.dt;
-  s.secondsIntegrate = secondsSince(clock);
+  s.secondsIntegrate = clock.lap();
 
   if (def_.sleep) updateSleep(contacts_, bodies_, states_, s.dt, def_.sleepSettings);
   for (const BodyInfo& b : bodies_) s.sleeping += b.sleeping ? 1 : 0;
-  s.secondsSleep = secondsSince(clock);
+  s.secondsSleep = clock.lap();
 
   s.overlappingReleases = releaseBodies();
   // Rock fall on terrain: edges, NODATA holes, push-out from below, rest (ground/rock_monitor).
   if (def_.terrain) monitor_.afterStep(time_, bodies_, states_);
-  s.secondsRelease = secondsSince(clock);
+  s.secondsRelease = clock.lap();
 
   last_ = s;
   totals_.add(s);

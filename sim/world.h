@@ -61,6 +61,10 @@ struct WorldDef {
   // Threads for the narrow phase; results are merged in a fixed order, so the trajectory and
   // the checksum do not depend on it.
   int threads = 1;
+  // Time every stage of every step (StepStats::seconds*; benchmarks and the paper's figures):
+  // nine clock reads a step, several per cent of a step of one or two bodies. Off: those
+  // fields stay 0.
+  bool stageTimes = false;
   // Rock fall (opt-in): ground materials with rolling resistance (sim/ground/). Null: the
   // paper's model, [contact] body_ground for every ground contact.
   std::shared_ptr<const GroundMap> ground;
@@ -82,11 +86,12 @@ struct StepStats {
   std::uint64_t sphereTests = 0;   // sphere-sphere and sphere-plane tests in the narrow phase
   std::uint64_t leafContacts = 0;  // colliding leaf pairs the narrow phase found
   std::uint64_t contacts = 0;      // contacts handed to the solver (after reduction, if on)
+  std::uint64_t solverPasses = 0;  // passes the solver made over the contacts
   std::uint64_t sleeping = 0;      // bodies asleep at the end of the step
   std::uint64_t nonFinite = 0;     // bodies whose state went non-finite and were frozen
   std::uint64_t floored = 0;       // 1 if eq. 20 asked for less than WorldDef::minStep
   std::uint64_t overlappingReleases = 0;  // bodies released into another body's spheres
-  // One timer per stage, in step order.
+  // One timer per stage, in step order (0 unless WorldDef::stageTimes).
   double secondsStepSize = 0, secondsPairs = 0, secondsContacts = 0, secondsReduce = 0,
          secondsSolve = 0, secondsIntegrate = 0, secondsSleep = 0, secondsRelease = 0;
 };
@@ -98,6 +103,7 @@ struct RunStats {
   std::uint64_t pairs = 0, sphereTests = 0, contacts = 0, nonFinite = 0, floored = 0;
   std::uint64_t overlappingReleases = 0;
   std::uint64_t leafContacts = 0;
+  std::uint64_t solverPasses = 0;
   std::uint64_t sleepingBodySteps = 0;  // sum over steps of the bodies asleep
   double secondsStepSize = 0, secondsPairs = 0, secondsContacts = 0, secondsReduce = 0,
          secondsSolve = 0, secondsIntegrate = 0, secondsSleep = 0, secondsRelease = 0;

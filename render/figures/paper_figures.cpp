@@ -67,6 +67,7 @@ RunResult runScene(const std::string& scenesDir, const RunConfig& c) {
   spec.autoStep = c.step <= 0;
   spec.fixedStep = c.step > 0 ? c.step : 0;
   spec.collider = c.collider;
+  spec.stageTimes = true;  // compute time = the stages' timers
   RunResult r;
   for (int i = 0; i < c.repeats; ++i) {
     BuiltScene built = buildScene(spec);

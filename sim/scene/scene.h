@@ -153,7 +153,8 @@ struct SceneSpec {
   ColliderMethod collider = ColliderMethod::kVoxel;  // collider = "voxel" | "polygon"
   bool contactReduction = false;  // a few contacts per patch (README, "Performance")
   bool sleep = false;             // bodies at rest sleep until touched
-  int threads = 1;  // not a scene key (results do not depend on it): set by the caller
+  int threads = 1;          // not a scene key (results do not depend on it): set by the caller
+  bool stageTimes = false;  // not a scene key: time each stage of every step (WorldDef)
   RotationUpdate rotation = RotationUpdate::kExplicitEuler;  // `rotation = "euler" | "midpoint"`
   bool stopWhenSettled = false;  // `stop = "all_at_rest"`: end when every rock stopped or left
   RestCriterion rest;            // `rest = { speed = .., time = .. }`

@@ -215,6 +215,7 @@ WorldDef sceneWorldDef(const SceneSpec& spec) {
   def.contactReduction = spec.contactReduction;
   def.sleep = spec.sleep;
   def.threads = spec.threads;
+  def.stageTimes = spec.stageTimes;
   def.limits = spec.limits;
   return def;
 }

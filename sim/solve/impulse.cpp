@@ -88,7 +88,9 @@ Axis makeAxis(const Vec3& d, const Vec3& ra, const Vec3& rb, const Motion& A, co
   x.rbXd = rb.cross(d);
   x.dwA = A.invI * x.raXd;
   x.dwB = B.invI * x.rbXd;
-  x.k = 1.0 / inverseEffectiveMass(A.invMass, A.invI, ra, B.invMass, B.invI, rb, d);
+  // inverseEffectiveMass's expression on the products just made (the same operations in the
+  // same order, so the same bits).
+  x.k = 1.0 / (A.invMass + B.invMass + x.raXd.dot(x.dwA) + x.rbXd.dot(x.dwB));
   return x;
 }
 
