@@ -69,6 +69,8 @@ void RunStats::add(const StepStats& s) {
   overlappingReleases += s.overlappingReleases;
   leafContacts += s.leafContacts;
   solverPasses += s.solverPasses;
+  pairsByCandidates += s.pairsByCandidates;
+  pairsByDescent += s.pairsByDescent;
   sleepingBodySteps += s.sleeping;
   secondsStepSize += s.secondsStepSize;
   secondsPairs += s.secondsPairs;
@@ -183,8 +185,9 @@ void World::stepToward(double target) {
   s.secondsPairs = clock.lap();
 
   contacts_.clear();
+  const std::uint64_t served0 = candidates_.served, descents0 = candidates_.descents;
   s.sphereTests = findContacts(bodies_, states_, pairs_, def_.groundHeight, def_.terrain.get(),
-                               def_.threads, contacts_);
+                               def_.threads, contacts_, def_.coherence ? &candidates_ : nullptr);
   // Woken bodies start from rest with this step's gravity, and their own contacts (skipped
   // while they slept) are found again with everyone else's, in the usual order; repeated while
   // those wake further islands.
@@ -192,8 +195,10 @@ void World::stepToward(double target) {
     for (int i : woken) states_[i].P = (s.dt / bodies_[i].invMass) * def_.gravity;
     contacts_.clear();
     s.sphereTests += findContacts(bodies_, states_, pairs_, def_.groundHeight, def_.terrain.get(),
-                                  def_.threads, contacts_);
+                                  def_.threads, contacts_, def_.coherence ? &candidates_ : nullptr);
   }
+  s.pairsByCandidates = candidates_.served - served0;
+  s.pairsByDescent = candidates_.descents - descents0;
   s.leafContacts = contacts_.size();
   s.secondsContacts = clock.lap();
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "sim/collide/contact.h"
+#include "sim/collide/narrow_phase.h"
 #include "sim/collide/penetration.h"
 #include "sim/core/body.h"
 #include "sim/core/math.h"
@@ -65,6 +66,9 @@ struct WorldDef {
   // nine clock reads a step, several per cent of a step of one or two bodies. Off: those
   // fields stay 0.
   bool stageTimes = false;
+  // Temporal coherence in the narrow phase (narrow_phase.h, PairCandidates): exact, the same
+  // contacts; off only to test that.
+  bool coherence = true;
   // Rock fall (opt-in): ground materials with rolling resistance (sim/ground/). Null: the
   // paper's model, [contact] body_ground for every ground contact.
   std::shared_ptr<const GroundMap> ground;
@@ -87,9 +91,12 @@ struct StepStats {
   std::uint64_t leafContacts = 0;  // colliding leaf pairs the narrow phase found
   std::uint64_t contacts = 0;      // contacts handed to the solver (after reduction, if on)
   std::uint64_t solverPasses = 0;  // passes the solver made over the contacts
-  std::uint64_t sleeping = 0;      // bodies asleep at the end of the step
-  std::uint64_t nonFinite = 0;     // bodies whose state went non-finite and were frozen
-  std::uint64_t floored = 0;       // 1 if eq. 20 asked for less than WorldDef::minStep
+  // Sphere-tree collider pairs (body-body, body-plane) whose contacts came from last steps'
+  // candidates, and those found by a descent (narrow_phase.h, PairCandidates).
+  std::uint64_t pairsByCandidates = 0, pairsByDescent = 0;
+  std::uint64_t sleeping = 0;             // bodies asleep at the end of the step
+  std::uint64_t nonFinite = 0;            // bodies whose state went non-finite and were frozen
+  std::uint64_t floored = 0;              // 1 if eq. 20 asked for less than WorldDef::minStep
   std::uint64_t overlappingReleases = 0;  // bodies released into another body's spheres
   // One timer per stage, in step order (0 unless WorldDef::stageTimes).
   double secondsStepSize = 0, secondsPairs = 0, secondsContacts = 0, secondsReduce = 0,
@@ -104,6 +111,7 @@ struct RunStats {
   std::uint64_t overlappingReleases = 0;
   std::uint64_t leafContacts = 0;
   std::uint64_t solverPasses = 0;
+  std::uint64_t pairsByCandidates = 0, pairsByDescent = 0;
   std::uint64_t sleepingBodySteps = 0;  // sum over steps of the bodies asleep
   double secondsStepSize = 0, secondsPairs = 0, secondsContacts = 0, secondsReduce = 0,
          secondsSolve = 0, secondsIntegrate = 0, secondsSleep = 0, secondsRelease = 0;
@@ -219,6 +227,7 @@ class World {
   StepStats last_;
   std::vector<BodyPair> pairs_;         // scratch, reused every step
   std::vector<Contact> contacts_;       // scratch, reused every step
+  CandidateCache candidates_;           // leaf-pair candidates from step to step (narrow phase)
   ContactCache contactCache_;           // last step's contact impulses (warm starting)
   std::uint64_t stepsHash_;             // see stepsHash()
   std::vector<double> normalImpulses_;  // scratch: per contact, for the ground law

@@ -34,6 +34,13 @@
 namespace vf {
 namespace {
 
+// Temporal coherence (PairCandidates): candidates are kept within kCandidateMargin of the two
+// leaf radii beyond touching, and built only after a step in which the pair moved less than
+// kCalmStep of that margin, so that they are likely to serve several steps (a tumbling pair
+// would rebuild them every step, at more than a plain descent's cost).
+constexpr double kCandidateMargin = 0.25;
+constexpr double kCalmStep = 0.25;
+
 struct NodeRef {
   int level;
   std::uint32_t index;
@@ -49,16 +56,24 @@ struct NodeRef {
 // the tests); every scene's checksum stayed the same.
 class TreeTreeDescent {
  public:
-  TreeTreeDescent(const Collider& a, const Collider& b, std::vector<Contact>& out)
-      : a_(a), b_(b), ta_(*a.tree), tb_(*b.tree), out_(out) {}
+  TreeTreeDescent(const Collider& a, const Collider& b, std::vector<Contact>& out,
+                  PairCandidates* memo)
+      : a_(a), b_(b), ta_(*a.tree), tb_(*b.tree), out_(out), memo_(memo) {}
 
   std::uint64_t run() {
     ++tests_;
     slack_ = roundingSlack(a_.x, ta_.boundingRadius) + roundingSlack(b_.x, tb_.boundingRadius);
-    const double reach = ta_.boundingRadius + tb_.boundingRadius + slack_;
-    if ((a_.x - b_.x).squaredNorm() >= reach * reach) return tests_;
     Rab_ = a_.R.transpose() * b_.R;
     tab_ = a_.R.transpose() * (b_.x - a_.x);
+    if (memo_ && planCandidates()) {  // the candidates hold: test only them
+      for (std::size_t k = 0; k < memo_->leaves.size(); k += 2) {
+        const std::uint32_t i = memo_->leaves[k], j = memo_->leaves[k + 1];
+        emit(i, leafWorldA(i), j, leafWorldB(j));
+      }
+      return tests_;
+    }
+    const double reach = ta_.boundingRadius + tb_.boundingRadius + slack_ + margin_;
+    if ((a_.x - b_.x).squaredNorm() >= reach * reach) return tests_;
     // Level 0 is a single voxel; the bounding spheres above stand in for it.
     descend(NodeRef{0, 0, Vec3::Zero()}, NodeRef{0, 0, tab_});
     return tests_;
@@ -83,9 +98,34 @@ class TreeTreeDescent {
     return k;
   }
 
+  // Whether the stored candidates hold for the current relative pose; if not, whether this
+  // descent builds new ones (margin_ > 0). See PairCandidates (narrow_phase.h).
+  bool planCandidates() {
+    PairCandidates& m = *memo_;
+    m.used = true;
+    m.served = false;
+    // How far any leaf centre of b may have moved relative to a since a pose (the Frobenius
+    // norm bounds the spectral one).
+    auto moved = [&](const Mat3& R, const Vec3& t) {
+      return (Rab_ - R).norm() * tb_.boundingRadius + (tab_ - t).norm();
+    };
+    if (m.holds && moved(m.buildR, m.buildT) < m.margin - 2 * slack_) return m.served = true;
+    const double margin = kCandidateMargin * (ta_.leaves().radius + tb_.leaves().radius);
+    m.holds = m.hasLast && moved(m.lastR, m.lastT) < kCalmStep * margin;
+    m.hasLast = true;
+    m.lastR = Rab_;
+    m.lastT = tab_;
+    if (!m.holds) return false;
+    m.buildR = Rab_;
+    m.buildT = tab_;
+    m.margin = margin_ = margin;
+    m.leaves.clear();
+    return false;
+  }
+
   bool overlap(const NodeRef& na, const NodeRef& nb) {
     ++tests_;
-    const double r = ta_.levels[na.level].radius + tb_.levels[nb.level].radius + slack_;
+    const double r = ta_.levels[na.level].radius + tb_.levels[nb.level].radius + slack_ + margin_;
     return (na.center - nb.center).squaredNorm() < r * r;
   }
 
@@ -136,19 +176,27 @@ class TreeTreeDescent {
 
   // World centres of leaves, by the expressions a world-frame descent uses (a one-level tree's
   // root leaf stands at the body origin).
-  Vec3 worldA(const NodeRef& n) const {
-    return n.level == 0 ? a_.x : Vec3(a_.x + a_.R * ta_.levels[n.level].centers[n.index]);
+  Vec3 worldA(const NodeRef& n) const { return leafWorldA(n.index); }
+  Vec3 worldB(const NodeRef& n) const { return leafWorldB(n.index); }
+  Vec3 leafWorldA(std::uint32_t i) const {
+    return ta_.leafLevel() == 0 ? a_.x : Vec3(a_.x + a_.R * ta_.leaves().centers[i]);
   }
-  Vec3 worldB(const NodeRef& n) const {
-    return n.level == 0 ? b_.x : Vec3(b_.x + b_.R * tb_.levels[n.level].centers[n.index]);
+  Vec3 leafWorldB(std::uint32_t j) const {
+    return tb_.leafLevel() == 0 ? b_.x : Vec3(b_.x + b_.R * tb_.leaves().centers[j]);
   }
 
-  // The exact test of a leaf pair, and its contact, in world coordinates.
+  // The exact test of a leaf pair, and its contact, in world coordinates; while candidates
+  // are built, a pair within the margin is kept as one.
   void emit(std::uint32_t leafA, const Vec3& ca, std::uint32_t leafB, const Vec3& cb) {
     ++tests_;
     const double r = ta_.leaves().radius + tb_.leaves().radius;
     const Vec3 d = ca - cb;
-    if (d.squaredNorm() >= r * r) return;
+    const double d2 = d.squaredNorm();
+    if (margin_ > 0 && d2 < (r + margin_) * (r + margin_)) {
+      memo_->leaves.push_back(leafA);
+      memo_->leaves.push_back(leafB);
+    }
+    if (d2 >= r * r) return;
     const double dist = d.norm();
     if (dist == 0.0) return;  // coincident centres: no defined normal (measure zero)
     Contact c;
@@ -167,9 +215,11 @@ class TreeTreeDescent {
   const SphereTree& ta_;
   const SphereTree& tb_;
   std::vector<Contact>& out_;
-  Mat3 Rab_;  // b's frame -> a's frame: p_a = Rab_ p_b + tab_
+  PairCandidates* memo_;  // null: no temporal coherence
+  Mat3 Rab_;              // b's frame -> a's frame: p_a = Rab_ p_b + tab_
   Vec3 tab_;
-  double slack_ = 0;  // widening of the internal tests, m
+  double slack_ = 0;   // widening of the internal tests, m
+  double margin_ = 0;  // while building candidates: their margin, m
   std::uint64_t tests_ = 0;
 };
 
@@ -220,27 +270,70 @@ Contact groundContact(const Collider& a, const Collider& ground, const NodeRef& 
 // roundingSlack; leaves are tested and emitted from their world centres by the world-frame
 // expressions, so the contacts are exactly the leaves whose world centre is less than a radius
 // above the plane, in the children's order.
-std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector<Contact>& out) {
+std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector<Contact>& out,
+                               PairCandidates* memo) {
   const SphereTree& tree = *a.tree;
   auto height = [&](const Vec3& c) { return p.normal.dot(c) - p.offset; };
   std::uint64_t tests = 1;
   const double slack = roundingSlack(a.x, tree.boundingRadius) + 1e-9 * std::abs(p.offset);
   const double h0 = height(a.x);
-  if (!(h0 < tree.boundingRadius + slack)) return tests;
   const Vec3 m = a.R.transpose() * p.normal;
   const int leafLevel = tree.leafLevel();
-  auto emit = [&](std::uint32_t leaf, const Vec3& center, double h, double r) {
+  const double leafRadius = tree.leaves().radius;
+  auto emit = [&](std::uint32_t leaf, const Vec3& center, double h) {
     Contact c;
     c.a = a.body;
     c.b = p.body;
     c.leafA = leaf;
     c.normal = p.normal;
     c.point = center - h * p.normal;
-    c.depth = r - h;
+    c.depth = leafRadius - h;
     out.push_back(c);
   };
+  auto leafCenter = [&](std::uint32_t i) {
+    return leafLevel == 0 ? a.x : Vec3(a.x + a.R * tree.leaves().centers[i]);
+  };
+  // Temporal coherence (PairCandidates): a leaf's height is h0 + m . c, so it moved by at
+  // most |dh0| + |dm| times the bounding radius since a pose.
+  double margin = 0;
+  if (memo) {
+    memo->used = true;
+    memo->served = false;
+    auto moved = [&](const Vec3& mm, double hh) {
+      return std::abs(h0 - hh) + (m - mm).norm() * tree.boundingRadius;
+    };
+    if (memo->holds && moved(memo->buildT, memo->buildH) < memo->margin - 2 * slack) {
+      memo->served = true;
+      for (std::uint32_t i : memo->leaves) {
+        ++tests;
+        const Vec3 center = leafCenter(i);
+        const double h = height(center);
+        if (h < leafRadius) emit(i, center, h);
+      }
+      return tests;
+    }
+    const double candidateMargin = kCandidateMargin * leafRadius;
+    memo->holds = memo->hasLast && moved(memo->lastT, memo->lastH) < kCalmStep * candidateMargin;
+    memo->hasLast = true;
+    memo->lastT = m;
+    memo->lastH = h0;
+    if (memo->holds) {
+      memo->buildT = m;
+      memo->buildH = h0;
+      memo->margin = margin = candidateMargin;
+      memo->leaves.clear();
+    }
+  }
+  // A leaf: the exact test, and while candidates are built, the margin's.
+  auto leaf = [&](std::uint32_t i) {
+    const Vec3 center = leafCenter(i);
+    const double h = height(center);
+    if (margin > 0 && h < leafRadius + margin) memo->leaves.push_back(i);
+    if (h < leafRadius) emit(i, center, h);
+  };
+  if (!(h0 < tree.boundingRadius + slack + margin)) return tests;
   if (leafLevel == 0) {  // a one-level tree: its root is its leaf, at the body origin
-    if (h0 < tree.levels[0].radius) emit(0, a.x, h0, tree.levels[0].radius);
+    leaf(0);
     return tests;
   }
   // The level-0 voxel is skipped: the bounding sphere above stands in for it.
@@ -251,16 +344,18 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector
     for (std::uint32_t i = lv.childBegin[index]; i < lv.childBegin[index + 1]; ++i) {
       ++tests;
       if (!leaves) {
-        if (h0 + m.dot(next.centers[i]) < next.radius + slack) self(self, level + 1, i);
+        if (h0 + m.dot(next.centers[i]) < next.radius + slack + margin) self(self, level + 1, i);
         continue;
       }
-      const Vec3 center = a.x + a.R * next.centers[i];
-      const double h = height(center);
-      if (h < next.radius) emit(i, center, h, next.radius);
+      leaf(i);
     }
   };
   visit(visit, 0, 0);
   return tests;
+}
+
+std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector<Contact>& out) {
+  return collideTreePlane(a, p, out, nullptr);
 }
 
 // Sphere tree against terrain. A node may touch unless its sphere lies entirely above the
@@ -344,7 +439,7 @@ std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
 }
 
 std::uint64_t collideTreeTree(const Collider& a, const Collider& b, std::vector<Contact>& out) {
-  return TreeTreeDescent(a, b, out).run();
+  return TreeTreeDescent(a, b, out, nullptr).run();
 }
 
 using CollideFn = std::uint64_t (*)(const Collider&, const Collider&, std::vector<Contact>&);
@@ -422,7 +517,7 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
 std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
                            const std::vector<BodyState>& states, const std::vector<BodyPair>& pairs,
                            const std::optional<double>& groundHeight, const Heightfield* terrain,
-                           int threads, std::vector<Contact>& out) {
+                           int threads, std::vector<Contact>& out, CandidateCache* candidates) {
   auto treeOf = [&](int i) {
     const Shape& s = *bodies[i].shape;
     return s.polyhedron ? polygonCollider(i, *s.polyhedron, states[i].x, states[i].q)
@@ -443,6 +538,29 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
     for (std::size_t i = 0; i < bodies.size(); ++i)
       if (bodies[i].moves()) jobs.emplace_back(treeOf(static_cast<int>(i)), ground);
   }
+  // Each sphere-tree pair's candidates, looked up (or made) here, before any thread runs;
+  // pointers to unordered_map elements stay valid while others are inserted.
+  std::vector<PairCandidates*> memo(jobs.size(), nullptr);
+  if (candidates) {
+    for (auto& [key, entry] : candidates->pairs) entry.used = false;
+    for (std::size_t k = 0; k < jobs.size(); ++k) {
+      const Collider& a = jobs[k].first;
+      const Collider& b = jobs[k].second;
+      if (a.type != ColliderType::kSphereTree ||
+          (b.type != ColliderType::kSphereTree && b.type != ColliderType::kPlane))
+        continue;
+      const std::uint64_t key =
+          (static_cast<std::uint64_t>(a.body) << 32) | static_cast<std::uint32_t>(b.body - kGround);
+      memo[k] = &candidates->pairs[key];
+    }
+  }
+  auto run = [&](std::size_t k, std::vector<Contact>& sink) -> std::uint64_t {
+    const Collider& a = jobs[k].first;
+    const Collider& b = jobs[k].second;
+    if (!memo[k]) return collide(a, b, sink);
+    if (b.type == ColliderType::kPlane) return collideTreePlane(a, b, sink, memo[k]);
+    return TreeTreeDescent(a, b, sink, memo[k]).run();
+  };
   // Contiguous chunks, one per thread, each into its own list; the lists are appended in chunk
   // order, so the contacts are exactly the serial ones in the serial order whatever `threads`.
   const int chunks =
@@ -452,8 +570,7 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
   auto runChunk = [&](int c) {
     const std::size_t begin = jobs.size() * c / chunks, end = jobs.size() * (c + 1) / chunks;
     std::vector<Contact>& sink = c == 0 ? out : found[c];
-    for (std::size_t k = begin; k < end; ++k)
-      tests[c] += collide(jobs[k].first, jobs[k].second, sink);
+    for (std::size_t k = begin; k < end; ++k) tests[c] += run(k, sink);
   };
   std::vector<std::thread> workers;
   for (int c = 1; c < chunks; ++c) workers.emplace_back(runChunk, c);
@@ -463,6 +580,11 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
   for (int c = 1; c < chunks; ++c) {
     out.insert(out.end(), found[c].begin(), found[c].end());
     total += tests[c];
+  }
+  if (candidates) {  // pairs that are gone start afresh if they meet again
+    for (const PairCandidates* m : memo)
+      if (m) ++(m->served ? candidates->served : candidates->descents);
+    std::erase_if(candidates->pairs, [](const auto& entry) { return !entry.second.used; });
   }
   return total;
 }

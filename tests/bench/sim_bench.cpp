@@ -94,6 +94,9 @@ double runSpec(benchmark::State& state, vf::SceneSpec spec) {
   state.counters["tests_per_step"] = static_cast<double>(t.sphereTests) / steps;
   state.counters["leaf_contacts_per_step"] = static_cast<double>(t.leafContacts) / steps;
   state.counters["passes_per_step"] = static_cast<double>(t.solverPasses) / steps;
+  state.counters["pct_pairs_by_candidates"] =
+      100.0 * static_cast<double>(t.pairsByCandidates) /
+      static_cast<double>(std::max<std::uint64_t>(1, t.pairsByCandidates + t.pairsByDescent));
   state.counters["contacts_per_step"] = static_cast<double>(t.contacts) / steps;
   state.counters["asleep_per_step"] = static_cast<double>(t.sleepingBodySteps) / steps;
   state.counters["max_pen_mm"] =
