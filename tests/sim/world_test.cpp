@@ -122,6 +122,17 @@ TEST(World, StateHashSeesEveryBit) {
   EXPECT_EQ(a.stateHash(), c.stateHash());
 }
 
+// 40 boxes dropped in a column onto each other, spinning: enough collider pairs for two
+// threads, and piles that settle.
+void addPileOf40Boxes(World& world) {
+  auto s = test::boxShape(0.3, 0.2, 0.2, 800, 3);
+  for (int i = 0; i < 40; ++i) {
+    BodyDef b = test::bodyAt(s, Vec3(0.13 * (i % 5), 0.11 * (i / 5 % 3), 0.2 + 0.25 * i));
+    b.angularVelocity = Vec3(0.5 * (i % 3), 0.3, 0);
+    world.addBody(b);
+  }
+}
+
 // Threads share the narrow phase and merge in a fixed order: a pile of 40 boxes (enough
 // collider pairs for two threads) gives the same state hash at every tenth of a second with 1
 // and 2 threads, with and without the extensions that reorder work (reduction, sleeping).
@@ -134,12 +145,7 @@ TEST(World, StateHashDoesNotDependOnTheThreadCount) {
       def.contactReduction = extensions;
       def.sleep = extensions;
       World world(def);
-      auto s = test::boxShape(0.3, 0.2, 0.2, 800, 3);
-      for (int i = 0; i < 40; ++i) {
-        BodyDef b = test::bodyAt(s, Vec3(0.13 * (i % 5), 0.11 * (i / 5 % 3), 0.2 + 0.25 * i));
-        b.angularVelocity = Vec3(0.5 * (i % 3), 0.3, 0);
-        world.addBody(b);
-      }
+      addPileOf40Boxes(world);
       std::vector<std::uint64_t> hashes;
       for (int k = 1; k <= 20; ++k) {
         world.advanceTo(0.1 * k);
@@ -165,12 +171,7 @@ TEST(World, CoherenceChangesNoBitOfTheTrajectory) {
       def.contactReduction = extensions;
       def.sleep = extensions;
       World world(def);
-      auto s = test::boxShape(0.3, 0.2, 0.2, 800, 3);
-      for (int i = 0; i < 40; ++i) {
-        BodyDef b = test::bodyAt(s, Vec3(0.13 * (i % 5), 0.11 * (i / 5 % 3), 0.2 + 0.25 * i));
-        b.angularVelocity = Vec3(0.5 * (i % 3), 0.3, 0);
-        world.addBody(b);
-      }
+      addPileOf40Boxes(world);
       std::vector<std::uint64_t> hashes;
       while (world.time() < 2.0) {
         world.stepNext();
