@@ -81,16 +81,18 @@ void spanningSubset(const std::vector<Contact>& cs, Scratch& s, const Vec3& n) {
   if (i1 < m) {
     keep[kept++] = i1;
     const Eigen::Vector2d p1 = s.flat[i1];
-    const std::size_t i2 =
-        best([&](const Eigen::Vector2d& p) { return std::abs(cross2(p1 - p0, p - p0)); });
+    const std::size_t i2 = best([&, e = Eigen::Vector2d(p1 - p0)](const Eigen::Vector2d& p) {
+      return std::abs(cross2(e, p - p0));
+    });
     if (i2 < m) {
       keep[kept++] = i2;
       const Eigen::Vector2d p2 = s.flat[i2];
       // Farthest outside the triangle: the largest area added beyond one of its edges.
       const double side = cross2(p1 - p0, p2 - p0) > 0 ? 1.0 : -1.0;
+      const Eigen::Vector2d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;  // the triangle's edges
       const std::size_t i3 = best([&](const Eigen::Vector2d& p) {
-        return -side * std::min({cross2(p1 - p0, p - p0), cross2(p2 - p1, p - p1),
-                                 cross2(p0 - p2, p - p2)});
+        return -side *
+               std::min(std::min(cross2(e0, p - p0), cross2(e1, p - p1)), cross2(e2, p - p2));
       });
       if (i3 < m) keep[kept++] = i3;
     }
