@@ -130,5 +130,18 @@ TEST(Diagnostics, EnergiesByHand) {
   EXPECT_NEAR(d.potentialEnergy, m * 9.81 * 2, 1e-9);
 }
 
+// A 0.1 m cube wholly inside a 1 m cube, centres together, surfaces 0.45 m apart (no leaf
+// spheres of the two touch): every sample of the small cube lies on its faces, at most 0.05 m
+// from the centre along some axis, so the deepest is 0.5 - 0.05 = 0.45 m inside the big one. A
+// shortcut that judged pairs by touching surfaces alone would read 0 here.
+TEST(Diagnostics, ABodyWhollyInsideAnotherWithoutTouchingSurfaces) {
+  World world(WorldDef{});
+  auto big = test::boxShape(1.0, 1.0, 1.0, 800, 3);
+  auto small = test::boxShape(0.1, 0.1, 0.1, 800, 3);
+  world.addBody(bodyAt(big, Vec3(0, 0, 5)));
+  world.addBody(bodyAt(small, Vec3(0, 0, 5)));
+  EXPECT_NEAR(world.measure().maxPenetrationBodyBody, 0.45, kRounding);
+}
+
 }  // namespace
 }  // namespace vf

@@ -178,7 +178,9 @@ TEST(World, CoherenceChangesNoBitOfTheTrajectory) {
         hashes.push_back(world.stateHash());
       }
       if (served) *served = world.totals().pairsByCandidates;
-      if (!coherence) EXPECT_EQ(world.totals().pairsByCandidates, 0u);
+      if (!coherence) {
+        EXPECT_EQ(world.totals().pairsByCandidates, 0u);
+      }
       return hashes;
     };
     std::uint64_t served = 0, unused = 0;
