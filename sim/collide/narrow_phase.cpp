@@ -41,6 +41,17 @@ namespace {
 constexpr double kCandidateMargin = 0.25;
 constexpr double kCalmStep = 0.25;
 
+// What a pair's test does this time (PairCandidates): test only the stored candidates, build new
+// ones while descending, or descend plainly. `sinceBuild` and `sinceLast` bound how far any leaf
+// centre moved relative to the other side since the candidates' pose and since the last test's
+// (infinity where there is none); `slack` is the pair's rounding slack.
+enum class CandidatePlan { kServe, kBuild, kDescend };
+CandidatePlan chooseCandidatePlan(const PairCandidates& m, double sinceBuild, double sinceLast,
+                                  double margin, double slack) {
+  if (m.holds && sinceBuild < m.margin - 2 * slack) return CandidatePlan::kServe;
+  return sinceLast < kCalmStep * margin ? CandidatePlan::kBuild : CandidatePlan::kDescend;
+}
+
 struct NodeRef {
   int level;
   std::uint32_t index;
@@ -98,23 +109,26 @@ class TreeTreeDescent {
     return k;
   }
 
-  // Whether the stored candidates hold for the current relative pose; if not, whether this
-  // descent builds new ones (margin_ > 0). See PairCandidates (narrow_phase.h).
+  // Whether the stored candidates serve this test; if not, whether this descent builds new
+  // ones (margin_ > 0). See PairCandidates (narrow_phase.h).
   bool planCandidates() {
     PairCandidates& m = *memo_;
     m.used = true;
-    m.served = false;
     // How far any leaf centre of b may have moved relative to a since a pose (the Frobenius
     // norm bounds the spectral one).
     auto moved = [&](const Mat3& R, const Vec3& t) {
       return (Rab_ - R).norm() * tb_.boundingRadius + (tab_ - t).norm();
     };
-    if (m.holds && moved(m.buildR, m.buildT) < m.margin - 2 * slack_) return m.served = true;
     const double margin = kCandidateMargin * (ta_.leaves().radius + tb_.leaves().radius);
-    m.holds = m.hasLast && moved(m.lastR, m.lastT) < kCalmStep * margin;
+    const CandidatePlan plan =
+        chooseCandidatePlan(m, m.holds ? moved(m.buildR, m.buildT) : INFINITY,
+                            m.hasLast ? moved(m.lastR, m.lastT) : INFINITY, margin, slack_);
+    m.served = plan == CandidatePlan::kServe;
+    if (m.served) return true;
     m.hasLast = true;
     m.lastR = Rab_;
     m.lastT = tab_;
+    m.holds = plan == CandidatePlan::kBuild;
     if (!m.holds) return false;
     m.buildR = Rab_;
     m.buildT = tab_;
@@ -134,7 +148,7 @@ class TreeTreeDescent {
     const bool leafA = na.level == ta_.leafLevel();
     const bool leafB = nb.level == tb_.leafLevel();
     if (leafA && leafB) {
-      emit(na.index, worldA(na), nb.index, worldB(nb));
+      emit(na.index, leafWorldA(na.index), nb.index, leafWorldB(nb.index));
       return;
     }
     std::array<NodeRef, 8> kidsA, kidsB;
@@ -162,9 +176,9 @@ class TreeTreeDescent {
     const bool kidsLeafB = kidsB[0].level == tb_.leafLevel();
     std::array<Vec3, 8> wA, wB;
     if (kidsLeafA)
-      for (int i = 0; i < nA; ++i) wA[i] = worldA(kidsA[i]);
+      for (int i = 0; i < nA; ++i) wA[i] = leafWorldA(kidsA[i].index);
     if (kidsLeafB)
-      for (int j = 0; j < nB; ++j) wB[j] = worldB(kidsB[j]);
+      for (int j = 0; j < nB; ++j) wB[j] = leafWorldB(kidsB[j].index);
     for (int i = 0; i < nA; ++i)
       for (int j = 0; j < nB; ++j) {
         if (kidsLeafA && kidsLeafB)
@@ -176,8 +190,6 @@ class TreeTreeDescent {
 
   // World centres of leaves, by the expressions a world-frame descent uses (a one-level tree's
   // root leaf stands at the body origin).
-  Vec3 worldA(const NodeRef& n) const { return leafWorldA(n.index); }
-  Vec3 worldB(const NodeRef& n) const { return leafWorldB(n.index); }
   Vec3 leafWorldA(std::uint32_t i) const {
     return ta_.leafLevel() == 0 ? a_.x : Vec3(a_.x + a_.R * ta_.leaves().centers[i]);
   }
@@ -298,12 +310,15 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector
   double margin = 0;
   if (memo) {
     memo->used = true;
-    memo->served = false;
     auto moved = [&](const Vec3& mm, double hh) {
       return std::abs(h0 - hh) + (m - mm).norm() * tree.boundingRadius;
     };
-    if (memo->holds && moved(memo->buildT, memo->buildH) < memo->margin - 2 * slack) {
-      memo->served = true;
+    const double candidateMargin = kCandidateMargin * leafRadius;
+    const CandidatePlan plan = chooseCandidatePlan(
+        *memo, memo->holds ? moved(memo->buildT, memo->buildH) : INFINITY,
+        memo->hasLast ? moved(memo->lastT, memo->lastH) : INFINITY, candidateMargin, slack);
+    memo->served = plan == CandidatePlan::kServe;
+    if (memo->served) {
       for (std::uint32_t i : memo->leaves) {
         ++tests;
         const Vec3 center = leafCenter(i);
@@ -312,8 +327,7 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector
       }
       return tests;
     }
-    const double candidateMargin = kCandidateMargin * leafRadius;
-    memo->holds = memo->hasLast && moved(memo->lastT, memo->lastH) < kCalmStep * candidateMargin;
+    memo->holds = plan == CandidatePlan::kBuild;
     memo->hasLast = true;
     memo->lastT = m;
     memo->lastH = h0;

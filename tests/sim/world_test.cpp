@@ -133,18 +133,24 @@ void addPileOf40Boxes(World& world) {
   }
 }
 
+// The world the pile falls in: a floor, `threads` narrow-phase threads, and contact reduction
+// and sleeping when `extensions`.
+WorldDef pileWorld(int threads, bool extensions) {
+  WorldDef def;
+  def.groundHeight = 0.0;
+  def.threads = threads;
+  def.contactReduction = extensions;
+  def.sleep = extensions;
+  return def;
+}
+
 // Threads share the narrow phase and merge in a fixed order: a pile of 40 boxes (enough
 // collider pairs for two threads) gives the same state hash at every tenth of a second with 1
 // and 2 threads, with and without the extensions that reorder work (reduction, sleeping).
 TEST(World, StateHashDoesNotDependOnTheThreadCount) {
   for (const bool extensions : {false, true}) {
     auto run = [&](int threads) {
-      WorldDef def;
-      def.groundHeight = 0.0;
-      def.threads = threads;
-      def.contactReduction = extensions;
-      def.sleep = extensions;
-      World world(def);
+      World world(pileWorld(threads, extensions));
       addPileOf40Boxes(world);
       std::vector<std::uint64_t> hashes;
       for (int k = 1; k <= 20; ++k) {
@@ -163,13 +169,9 @@ TEST(World, StateHashDoesNotDependOnTheThreadCount) {
 // pair tests, or the comparison would show nothing.
 TEST(World, CoherenceChangesNoBitOfTheTrajectory) {
   for (const bool extensions : {false, true}) {
-    auto run = [&](bool coherence, int threads, std::uint64_t* served) {
-      WorldDef def;
-      def.groundHeight = 0.0;
-      def.threads = threads;
+    auto run = [&](bool coherence, int threads, std::uint64_t& served) {
+      WorldDef def = pileWorld(threads, extensions);
       def.coherence = coherence;
-      def.contactReduction = extensions;
-      def.sleep = extensions;
       World world(def);
       addPileOf40Boxes(world);
       std::vector<std::uint64_t> hashes;
@@ -177,16 +179,16 @@ TEST(World, CoherenceChangesNoBitOfTheTrajectory) {
         world.stepNext();
         hashes.push_back(world.stateHash());
       }
-      if (served) *served = world.totals().pairsByCandidates;
+      served = world.totals().pairsByCandidates;
       if (!coherence) {
         EXPECT_EQ(world.totals().pairsByCandidates, 0u);
       }
       return hashes;
     };
     std::uint64_t served = 0, unused = 0;
-    const auto plain = run(false, 1, &unused);
-    EXPECT_EQ(run(true, 1, &served), plain) << (extensions ? "with" : "without") << " extensions";
-    EXPECT_EQ(run(true, 2, &unused), plain) << "two threads";
+    const auto plain = run(false, 1, unused);
+    EXPECT_EQ(run(true, 1, served), plain) << (extensions ? "with" : "without") << " extensions";
+    EXPECT_EQ(run(true, 2, unused), plain) << "two threads";
     EXPECT_GT(served, plain.size()) << "candidates served fewer pair tests than there were steps";
   }
 }
