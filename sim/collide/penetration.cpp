@@ -13,22 +13,34 @@ Vec3 toBody(const Pose& p, const Vec3& world) { return p.q.conjugate() * (world 
 
 double meshPenetration(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb,
                        double atLeast) {
-  const Eigen::AlignedBox3d boxB = b.mesh.bounds();
+  const Eigen::AlignedBox3d boxB = b.sides->bounds();
   // A -> B body frames in one rotation and one offset.
   const Mat3 R = (pb.q.conjugate() * pa.q).toRotationMatrix();
   const Vec3 t = pb.q.conjugate() * (pa.x - pb.x);
+  const double tMax = t.lpNorm<Eigen::Infinity>();
   double deepest = std::max(atLeast, 0.0);
-  for (const Vec3& s : a.surfaceSamples) {
-    const Vec3 inB = t + R * s;
-    if (!boxB.contains(inB)) continue;  // outside B's bounds: outside B
-    // Inside B, the way out to the nearest face of B's bounds crosses B's surface: a sample no
-    // farther than `deepest` from those faces cannot be deeper.
-    const double toFace = std::min((inB - boxB.min()).minCoeff(), (boxB.max() - inB).minCoeff());
-    if (toFace <= deepest) continue;
-    // Nor can a sample within `deepest` of B's surface: the search may stop there, and what it
-    // returns beyond that distance is the exact nearest point.
-    const MeshBvh::Nearest n = b.bvh->nearest(inB, deepest);
-    if (n.distance > deepest && n.inside) deepest = n.distance;
+  const SampleClusters& samples = a.surfaceSamples;
+  for (const SampleClusters::Cluster& cluster : samples.clusters) {
+    // A cluster whose sphere misses B's bounds holds no sample inside them. The slack covers
+    // the rounding by which a sample moved on its own may land nearer the box than its sphere.
+    const Vec3 centre = t + R * cluster.centre;
+    const double reach =
+        cluster.radius + 1e-9 * (1 + tMax + cluster.centre.norm() + cluster.radius);
+    if (boxB.squaredExteriorDistance(centre) > reach * reach) continue;
+    for (std::uint32_t i = cluster.begin; i < cluster.end; ++i) {
+      const Vec3 inB = t + R * samples.points[i];
+      if (!boxB.contains(inB)) continue;  // outside B's bounds: outside B
+      // In a grid cell wholly outside B (B's cavity, say): outside B, as the search would find.
+      if (b.sides->side(inB) == SideGrid::Side::kOutside) continue;
+      // Inside B, the way out to the nearest face of B's bounds crosses B's surface: a sample
+      // no farther than `deepest` from those faces cannot be deeper.
+      const double toFace = std::min((inB - boxB.min()).minCoeff(), (boxB.max() - inB).minCoeff());
+      if (toFace <= deepest) continue;
+      // Nor can a sample within `deepest` of B's surface: the search may stop there, and what
+      // it returns beyond that distance is the exact nearest point.
+      const MeshBvh::Nearest n = b.bvh->nearest(inB, deepest);
+      if (n.distance > deepest && n.inside) deepest = n.distance;
+    }
   }
   return deepest;
 }
@@ -53,7 +65,10 @@ double terrainPenetration(const Shape& s, const Pose& p, const Heightfield& terr
 
 bool pointInsideBody(const Shape& s, const Pose& p, const Vec3& point) {
   const Vec3 local = toBody(p, point);
-  return s.mesh.bounds().contains(local) && s.bvh->nearest(local).inside;
+  if (!s.sides->bounds().contains(local)) return false;
+  const SideGrid::Side side = s.sides->side(local);
+  if (side != SideGrid::Side::kNearSurface) return side == SideGrid::Side::kInside;
+  return s.bvh->nearest(local).inside;
 }
 
 Diagnostics measureDiagnostics(const std::vector<BodyInfo>& bodies,

@@ -92,4 +92,52 @@ std::vector<Vec3> surfaceSamples(const TriMesh& mesh) {
   return samples;
 }
 
+SampleClusters clusterSamples(const std::vector<Vec3>& points, int cellsAlongLongest) {
+  SampleClusters out;
+  if (points.empty()) return out;
+  Eigen::AlignedBox3d box;
+  for (const Vec3& p : points) box.extend(p);
+  const int cells =
+      cellsAlongLongest > 0
+          ? cellsAlongLongest
+          : std::clamp(
+                static_cast<int>(std::lround(std::sqrt(static_cast<double>(points.size()) / 24))),
+                1, 8);
+  const double cell = std::max(box.sizes().maxCoeff(), 1e-300) / cells;
+  std::array<int, 3> n{};
+  for (int k = 0; k < 3; ++k)
+    n[k] = std::max(1, static_cast<int>(std::ceil(box.sizes()[k] / cell)));
+  auto cellOf = [&](const Vec3& p) {
+    std::size_t at = 0, stride = 1;
+    for (int k = 0; k < 3; ++k) {
+      const int i = std::clamp(static_cast<int>((p[k] - box.min()[k]) / cell), 0, n[k] - 1);
+      at += stride * static_cast<std::size_t>(i);
+      stride *= static_cast<std::size_t>(n[k]);
+    }
+    return at;
+  };
+  std::vector<std::pair<std::size_t, std::uint32_t>> order;  // (cell, index): a stable sort
+  order.reserve(points.size());
+  for (std::uint32_t i = 0; i < points.size(); ++i) order.emplace_back(cellOf(points[i]), i);
+  std::sort(order.begin(), order.end());
+  out.points.reserve(points.size());
+  for (std::size_t i = 0; i < order.size();) {
+    SampleClusters::Cluster c;
+    c.begin = static_cast<std::uint32_t>(out.points.size());
+    Eigen::AlignedBox3d bounds;
+    std::size_t j = i;
+    for (; j < order.size() && order[j].first == order[i].first; ++j) {
+      out.points.push_back(points[order[j].second]);
+      bounds.extend(out.points.back());
+    }
+    c.end = static_cast<std::uint32_t>(out.points.size());
+    c.centre = bounds.center();
+    for (std::uint32_t m = c.begin; m < c.end; ++m)
+      c.radius = std::max(c.radius, (out.points[m] - c.centre).norm());
+    out.clusters.push_back(c);
+    i = j;
+  }
+  return out;
+}
+
 }  // namespace vf

@@ -48,7 +48,8 @@ std::shared_ptr<const Shape> makeShape(std::string name, TriMesh meshFileCoords,
   shape->diameter = 2 * farthest;  // l of eqs. 18-20
   shape->centerInside = pointInsideMesh(shape->mesh, Vec3::Zero());
   shape->bvh = std::make_shared<const MeshBvh>(shape->mesh);
-  shape->surfaceSamples = surfaceSamples(shape->mesh);
+  shape->sides = std::make_shared<const SideGrid>(shape->mesh, *shape->bvh);
+  shape->surfaceSamples = clusterSamples(surfaceSamples(shape->mesh));
 
   if (tree == nullptr)
     tree = std::make_shared<const SphereTree>(buildSphereTree(shape->mesh, level));

@@ -9,7 +9,9 @@
 #include "sim/core/math.h"
 #include "sim/geometry/mass_properties.h"
 #include "sim/geometry/mesh_bvh.h"
+#include "sim/geometry/mesh_query.h"
 #include "sim/geometry/tri_mesh.h"
+#include "sim/shape/side_grid.h"
 #include "sim/shape/sphere_tree.h"
 
 namespace vf {
@@ -31,10 +33,12 @@ struct Shape {
   // Set when the scene selects the polygon collider (collider = "polygon"): the body then
   // collides by its convex polyhedron; the tree still serves eq. 20 and release checks.
   std::shared_ptr<const ConvexPolyhedron> polyhedron;
-  // Diagnostics only (collide/penetration.cpp): the triangle hierarchy for exact point queries
-  // and the surface samples (vertices, edge midpoints, centroids) whose depth is measured.
+  // Diagnostics only (collide/penetration.cpp): the triangle hierarchy for exact point queries,
+  // the grid that answers them at once away from the surface, and the surface samples
+  // (vertices, edge midpoints, centroids) whose depth is measured, in clusters.
   std::shared_ptr<const MeshBvh> bvh;
-  std::vector<Vec3> surfaceSamples;
+  std::shared_ptr<const SideGrid> sides;
+  SampleClusters surfaceSamples;
 };
 
 // Builds a shape from a validated mesh in file coordinates: scales it, computes mass

@@ -19,6 +19,8 @@
 //     rocks at a given step) and pairs_per_step. Run with --benchmark_repetitions=3 for medians.
 //   TreeBuild/<level>: voxel sphere tree of a 100k-triangle closed mesh (a bumpy sphere);
 //   TreeBuild1M/7: of a 1M-triangle one at level 7, with the tree's memory.
+//   DiagnosticsBuild1M: what the true-mesh diagnostics build for the same mesh (the triangle
+//     hierarchy and the side grid), with their memory.
 //   LoadDem/<file>: loading a DEM through GDAL: the 520 x 387 Tyrol grid as the repository's
 //     Float64 GeoTIFF, and as an ESRI ASCII grid (VOXFALL_BENCH_ASCII_DEM, if set, names one,
 //     e.g. the AvaFrame original).
@@ -31,9 +33,11 @@
 #include <string>
 #include <utility>
 
+#include "sim/geometry/mesh_bvh.h"
 #include "sim/recorder.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/heightfield.h"
+#include "sim/shape/side_grid.h"
 #include "sim/shape/sphere_tree.h"
 
 namespace {
@@ -198,6 +202,24 @@ void treeBuild1M(benchmark::State& state) {
   treeBuildOf(state, bumpySphere(708, 708));  // 2 * 708 * 707 = 1,001,112 triangles
 }
 
+void diagnosticsBuild1M(benchmark::State& state) {
+  const vf::TriMesh mesh = bumpySphere(708, 708);
+  std::size_t bvhBytes = 0, gridBytes = 0;
+  double gridSeconds = 0;
+  for (auto _ : state) {
+    const vf::MeshBvh bvh(mesh);
+    const double start = processCpuSeconds();
+    const vf::SideGrid grid(mesh, bvh);
+    gridSeconds = processCpuSeconds() - start;
+    bvhBytes = bvh.memoryBytes();
+    gridBytes = grid.memoryBytes();
+  }
+  state.counters["triangles"] = static_cast<double>(mesh.triangles.size());
+  state.counters["bvh_MB"] = static_cast<double>(bvhBytes) / 1e6;
+  state.counters["grid_MB"] = static_cast<double>(gridBytes) / 1e6;
+  state.counters["grid_s"] = gridSeconds;
+}
+
 }  // namespace
 
 BENCHMARK_CAPTURE(runScene, cubes, std::string("cubes"))
@@ -262,6 +284,12 @@ BENCHMARK(treeBuild)->Name("TreeBuild")->Arg(6)->Unit(benchmark::kMillisecond)->
 BENCHMARK(treeBuild1M)
     ->Name("TreeBuild1M")
     ->Arg(7)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+BENCHMARK(diagnosticsBuild1M)
+    ->Name("DiagnosticsBuild1M")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);

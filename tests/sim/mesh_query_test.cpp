@@ -100,5 +100,43 @@ TEST(MeshQuery, SurfaceSamplesOfBox) {
   EXPECT_EQ(surfaceSamples(box), samples);   // deterministic order
 }
 
+// Clusters hold every point once, each within its cluster's sphere, and a cluster is one cell
+// of the grid: points of different clusters never share a cell.
+TEST(MeshQuery, SampleClustersPartitionThePointsIntoCellSpheres) {
+  Prng rng(8);
+  // Two corners fix the bounds to [-1, 3] x [0, 1] x [5, 5.5], so the cells are exactly 1 m.
+  std::vector<Vec3> points{Vec3(-1, 0, 5), Vec3(3, 1, 5.5)};
+  for (int i = 0; i < 500; ++i)
+    points.emplace_back(rng.uniform(-1, 3), rng.uniform(0, 1), rng.uniform(5, 5.5));
+  const SampleClusters c = clusterSamples(points, 4);
+  ASSERT_EQ(c.points.size(), points.size());
+  std::multiset<std::array<double, 3>> given, grouped;
+  for (const Vec3& p : points) given.insert({p.x(), p.y(), p.z()});
+  for (const Vec3& p : c.points) grouped.insert({p.x(), p.y(), p.z()});
+  EXPECT_EQ(grouped, given);
+  // 4 cells along x, 1 m: one along y and one along z.
+  EXPECT_EQ(c.clusters.size(), 4u);
+  std::uint32_t next = 0;
+  for (const SampleClusters::Cluster& k : c.clusters) {
+    EXPECT_EQ(k.begin, next);
+    EXPECT_LT(k.begin, k.end);
+    next = k.end;
+    for (std::uint32_t i = k.begin; i < k.end; ++i) {
+      EXPECT_LE((c.points[i] - k.centre).norm(), k.radius);
+      // x decides the cell here; every point of a cluster in the same 1 m slab.
+      auto slab = [](const Vec3& p) { return std::min(std::floor(p.x() + 1), 3.0); };
+      EXPECT_EQ(slab(c.points[i]), slab(c.points[k.begin]));
+    }
+  }
+  EXPECT_EQ(next, points.size());
+  EXPECT_TRUE(clusterSamples({}, 4).clusters.empty());
+  // Chosen from the count: round(sqrt(502 / 24)) = 5 cells of 0.8 m along x, so 2 along y and
+  // 1 along z, all holding points; a box's 38 samples make one.
+  EXPECT_EQ(clusterSamples(points).clusters.size(), 10u);
+  EXPECT_EQ(
+      clusterSamples(surfaceSamples(test::boxMesh(Vec3(0, 0, 0), Vec3(1, 2, 3)))).clusters.size(),
+      1u);
+}
+
 }  // namespace
 }  // namespace vf
