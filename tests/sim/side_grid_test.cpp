@@ -14,6 +14,7 @@
 #include "sim/geometry/mesh_import.h"
 #include "sim/geometry/mesh_query.h"
 #include "sim/shape/shape.h"
+#include "tests/sim/test_meshes.h"
 
 namespace vf {
 namespace {
@@ -111,6 +112,29 @@ TEST(SideGrid, DecidesTheCavityAndTheCore) {
   const SideGrid one(cross, MeshBvh(cross), 1);
   EXPECT_EQ(one.side(core), Side::kNearSurface);
   EXPECT_EQ(one.cells(), (std::array<int, 3>{1, 1, 1}));
+}
+
+// A hollow box (a closed cavity: an inner box wound inwards): the cavity is a group of cells
+// that no outside cell reaches, and it is outside the solid; the wall between is inside.
+TEST(SideGrid, AClosedCavityIsOutsideAndTheWallInside) {
+  TriMesh hollow = test::boxMesh(Vec3(0, 0, 0), Vec3(1, 1, 1));
+  const TriMesh inner = test::boxMesh(Vec3(0.25, 0.25, 0.25), Vec3(0.75, 0.75, 0.75));
+  const auto offset = static_cast<std::uint32_t>(hollow.vertices.size());
+  hollow.vertices.insert(hollow.vertices.end(), inner.vertices.begin(), inner.vertices.end());
+  for (const auto& t : inner.triangles)
+    hollow.triangles.push_back({t[0] + offset, t[2] + offset, t[1] + offset});  // inwards
+  const SideGrid grid(hollow, MeshBvh(hollow), 16);
+  EXPECT_EQ(grid.side(Vec3(0.5, 0.5, 0.5)), Side::kOutside);   // the cavity
+  EXPECT_EQ(grid.side(Vec3(0.125, 0.5, 0.5)), Side::kInside);  // the wall
+  EXPECT_EQ(grid.side(Vec3(0.5, 0.875, 0.5)), Side::kInside);
+  EXPECT_EQ(grid.side(Vec3(0.01, 0.5, 0.5)), Side::kNearSurface);
+  Prng rng(3);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 p(rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 1));
+    const Side s = grid.side(p);
+    if (s == Side::kNearSurface) continue;
+    EXPECT_EQ(s == Side::kInside, pointInsideMesh(hollow, p)) << p.transpose();
+  }
 }
 
 // pointInsideBody, which asks the grid first, against the winding number in world poses.
