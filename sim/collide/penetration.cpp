@@ -65,8 +65,7 @@ double terrainPenetration(const Shape& s, const Pose& p, const Heightfield& terr
 
 bool pointInsideBody(const Shape& s, const Pose& p, const Vec3& point) {
   const Vec3 local = toBody(p, point);
-  if (!s.sides->bounds().contains(local)) return false;
-  const SideGrid::Side side = s.sides->side(local);
+  const SideGrid::Side side = s.sides->side(local);  // outside the bounds: kOutside
   if (side != SideGrid::Side::kNearSurface) return side == SideGrid::Side::kInside;
   return s.bvh->nearest(local).inside;
 }

@@ -10,6 +10,8 @@
 #include <numbers>
 #include <utility>
 
+#include "sim/geometry/cell_grid.h"
+
 namespace vf {
 namespace {
 
@@ -103,22 +105,10 @@ SampleClusters clusterSamples(const std::vector<Vec3>& points, int cellsAlongLon
           : std::clamp(
                 static_cast<int>(std::lround(std::sqrt(static_cast<double>(points.size()) / 24))),
                 1, 8);
-  const double cell = std::max(box.sizes().maxCoeff(), 1e-300) / cells;
-  std::array<int, 3> n{};
-  for (int k = 0; k < 3; ++k)
-    n[k] = std::max(1, static_cast<int>(std::ceil(box.sizes()[k] / cell)));
-  auto cellOf = [&](const Vec3& p) {
-    std::size_t at = 0, stride = 1;
-    for (int k = 0; k < 3; ++k) {
-      const int i = std::clamp(static_cast<int>((p[k] - box.min()[k]) / cell), 0, n[k] - 1);
-      at += stride * static_cast<std::size_t>(i);
-      stride *= static_cast<std::size_t>(n[k]);
-    }
-    return at;
-  };
+  const CellGrid grid(box, cells);
   std::vector<std::pair<std::size_t, std::uint32_t>> order;  // (cell, index): a stable sort
   order.reserve(points.size());
-  for (std::uint32_t i = 0; i < points.size(); ++i) order.emplace_back(cellOf(points[i]), i);
+  for (std::uint32_t i = 0; i < points.size(); ++i) order.emplace_back(grid.cellOf(points[i]), i);
   std::sort(order.begin(), order.end());
   out.points.reserve(points.size());
   for (std::size_t i = 0; i < order.size();) {

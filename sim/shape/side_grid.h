@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "sim/core/math.h"
+#include "sim/geometry/cell_grid.h"
 #include "sim/geometry/mesh_bvh.h"
 #include "sim/geometry/tri_mesh.h"
 
@@ -27,19 +28,17 @@ class SideGrid {
   Side side(const Vec3& p) const;
 
   // The mesh's bounds, which the grid covers.
-  Eigen::AlignedBox3d bounds() const { return {lo_, hi_}; }
+  Eigen::AlignedBox3d bounds() const { return {grid_.lo, hi_}; }
   // Grid cells per axis and bytes held.
-  const std::array<int, 3>& cells() const { return n_; }
+  const std::array<int, 3>& cells() const { return grid_.n; }
   std::size_t memoryBytes() const { return side_.capacity() * sizeof(Side); }
 
   static constexpr int kDefaultCells = 32;
 
  private:
-  Vec3 lo_ = Vec3::Zero();  // the mesh's bounds: the grid's first corner...
-  Vec3 hi_ = Vec3::Zero();  // ...and its last
-  double cell_ = 1;         // m, side of a cubic cell
-  std::array<int, 3> n_{1, 1, 1};
-  std::vector<Side> side_;  // x fastest, then y, then z
+  CellGrid grid_;           // over the mesh's bounds, from their lower corner...
+  Vec3 hi_ = Vec3::Zero();  // ...to their upper one
+  std::vector<Side> side_;  // per cell, in CellGrid::index order
 };
 
 }  // namespace vf
