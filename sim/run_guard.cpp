@@ -51,11 +51,6 @@ std::string bodyName(int id, const std::string& shape) {
   return "body " + std::to_string(id) + " (shape '" + shape + "')";
 }
 
-// |v| + (l/2)|w|: the speed bound of a body's fastest point (eq. 18).
-double pointSpeed(const BodyInfo& b, const BodyState& y) {
-  return (y.P * b.invMass).norm() + 0.5 * b.shape->diameter * angularVelocityOf(b, y).norm();
-}
-
 }  // namespace
 
 std::string Runaway::message() const {
@@ -88,25 +83,26 @@ std::optional<Runaway> RunGuard::check(const std::vector<BodyInfo>& bodies,
     const BodyInfo& b = bodies[i];
     if (!b.moves()) continue;
     const BodyState& y = states[i];
-    Runaway r;
-    r.body = static_cast<int>(i);
-    r.shape = b.shape->name;
-    r.time = time;
-    if (!y.x.allFinite() || !y.q.coeffs().allFinite() || !y.P.allFinite() || !y.L.allFinite()) {
-      r.quantity = "non-finite state";
-      r.value = NAN;
+    // Built only when the run stops (the shape's name is a string copy).
+    auto stop = [&](const char* quantity, double value, double limit) {
+      Runaway r;
+      r.body = static_cast<int>(i);
+      r.shape = b.shape->name;
+      r.time = time;
+      r.quantity = quantity;
+      r.value = value;
+      r.limit = limit;
       return r;
-    }
-    const double speed = pointSpeed(b, y);
-    if (!(speed <= limits.maxSpeed)) {
-      r.quantity = "speed";
-      r.value = speed;
-      r.limit = limits.maxSpeed;
-      return r;
-    }
+    };
+    if (!y.x.allFinite() || !y.q.coeffs().allFinite() || !y.P.allFinite() || !y.L.allFinite())
+      return stop("non-finite state", NAN, 0);
+    const Vec3 w = angularVelocityOf(b, y);
+    // |v| + (l/2)|w|: the speed bound of a body's fastest point (eq. 18).
+    const double speed = (y.P * b.invMass).norm() + 0.5 * b.shape->diameter * w.norm();
+    if (!(speed <= limits.maxSpeed)) return stop("speed", speed, limits.maxSpeed);
     const Vec3 v = y.P * b.invMass;
     const double mass = 1 / b.invMass;
-    const double kinetic = 0.5 * y.P.dot(v) + 0.5 * y.L.dot(angularVelocityOf(b, y));
+    const double kinetic = 0.5 * y.P.dot(v) + 0.5 * y.L.dot(w);
     const double pe = -mass * gravity.dot(y.x + dt * v);
     if (!counted_[i]) {
       counted_[i] = 1;

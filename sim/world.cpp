@@ -105,6 +105,7 @@ int World::addBody(const BodyDef& d) {
     y.P = d.shape->mass * d.velocity;
     y.L = R * d.shape->inertiaBody * R.transpose() * d.angularVelocity;  // L = I(t) w
   }
+  stableStepCache_ = std::numeric_limits<double>::quiet_NaN();
   const bool placeNow = b.active && b.dropHeight >= 0;
   bodies_.push_back(std::move(b));
   states_.push_back(y);
@@ -163,7 +164,9 @@ void World::foldStepHash() {
 }
 
 double World::stableStep() const {
-  return vf::stableStep(bodies_, states_, def_.gravity, def_.maxStep);
+  if (std::isnan(stableStepCache_))
+    stableStepCache_ = vf::stableStep(bodies_, states_, def_.gravity, def_.maxStep);
+  return stableStepCache_;
 }
 
 void World::stepToward(double target) {
@@ -172,6 +175,7 @@ void World::stepToward(double target) {
   StageClock clock(def_.stageTimes);
 
   const StepPlan plan = planStep(target);
+  stableStepCache_ = std::numeric_limits<double>::quiet_NaN();  // the state changes from here on
   const bool lands = plan.lands;
   s.dt = plan.dt;
   s.floored = plan.floored ? 1 : 0;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -235,6 +236,9 @@ class World {
   RockMonitor monitor_;                 // terrain edges, push-out, rest, outcomes
   RunGuard guard_;                      // runaway checks (run_guard.h)
   std::optional<Runaway> runaway_;      // see runaway()
+  // stableStep() of the current state, NaN until asked: advanceTo asks for the next step's end
+  // and the step then plans with the same state. Cleared wherever states_ or bodies_ change.
+  mutable double stableStepCache_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace vf

@@ -4,6 +4,9 @@
 // terrain lookup fast in the paper.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -13,7 +16,7 @@
 namespace vf {
 
 struct Heightfield {
-  int nx = 0, ny = 0;         // samples along x (columns) and y (rows)
+  int nx = 0, ny = 0;         // samples along x (columns) and y (rows), at least 2 each
   double x0 = 0, y0 = 0;      // position of sample (0, 0), the south-west one, m
   double cell = 1;            // sample spacing, m
   std::vector<double> z;      // nx * ny heights, z[j * nx + i] for sample (i, j); NaN = no data
@@ -27,14 +30,33 @@ struct Heightfield {
 
   double at(int i, int j) const { return z[static_cast<std::size_t>(j) * nx + i]; }
   // True if all four corners of cell (i, j) (samples i..i+1, j..j+1) have data.
-  bool hasCell(int i, int j) const;
+  bool hasCell(int i, int j) const {
+    return i >= 0 && j >= 0 && i + 1 < nx && j + 1 < ny && !std::isnan(at(i, j)) &&
+           !std::isnan(at(i + 1, j)) && !std::isnan(at(i, j + 1)) && !std::isnan(at(i + 1, j + 1));
+  }
   // Height of the triangulated surface at (x, y); NaN outside the grid or over missing data.
-  double heightAt(double x, double y) const;
+  double heightAt(double x, double y) const {
+    const double gx = (x - x0) / cell, gy = (y - y0) / cell;
+    if (!(gx >= 0 && gy >= 0 && gx <= nx - 1 && gy <= ny - 1))
+      return std::numeric_limits<double>::quiet_NaN();
+    // The cell's indices: gx >= 0, so truncation is the floor. The far edge of the grid
+    // belongs to the last cell.
+    const int i = static_cast<int>(std::min(gx, static_cast<double>(nx - 2)));
+    const int j = static_cast<int>(std::min(gy, static_cast<double>(ny - 2)));
+    if (!hasCell(i, j)) return std::numeric_limits<double>::quiet_NaN();
+    const double u = gx - i, v = gy - j;
+    const double z00 = at(i, j), z10 = at(i + 1, j), z01 = at(i, j + 1), z11 = at(i + 1, j + 1);
+    if (u >= v) return z00 + u * (z10 - z00) + v * (z11 - z10);  // triangle (p00, p10, p11)
+    return z00 + v * (z01 - z00) + u * (z11 - z01);              // triangle (p00, p11, p01)
+  }
   // Upward unit normal of the surface triangle under (x, y); +z where heightAt is NaN.
   Vec3 normalAt(double x, double y) const;
   // The cells whose squares meet [x - r, x + r] x [y - r, y + r], clamped to the grid:
   // i in [i0, i1], j in [j0, j1]; empty (i0 > i1 or j0 > j1) when the square misses the grid.
-  void cellRange(double x, double y, double r, int& i0, int& i1, int& j0, int& j1) const;
+  void cellRange(double x, double y, double r, int& i0, int& i1, int& j0, int& j1) const {
+    const Square s = square(x, y, r);
+    cellRange(s, i0, i1, j0, j1);
+  }
   // The highest sample of the cells that meet [x - r, x + r] x [y - r, y + r] (the surface
   // there is no higher); -infinity when the square misses the grid or has no data.
   double maxHeightNear(double x, double y, double r) const;
@@ -43,7 +65,34 @@ struct Heightfield {
   // planes at the corners of the part of the square over that cell (a linear function's
   // maximum over a rectangle is at a corner), capped by the cell's highest sample, plus 1e-9 m
   // against rounding; -infinity when the square meets no cell with data.
-  double surfaceBoundNear(double x, double y, double r) const;
+  double surfaceBoundNear(double x, double y, double r) const {
+    const Square s = square(x, y, r);
+    int i0, i1, j0, j1;
+    cellRange(s, i0, i1, j0, j1);
+    double top = -INFINITY;
+    for (int j = j0; j <= j1; ++j) {  // cellRange keeps i + 1 < nx and j + 1 < ny
+      const double* row0 = z.data() + static_cast<std::size_t>(j) * nx;
+      const double* row1 = row0 + nx;
+      const double v0 = std::clamp(s.gy0 - j, 0.0, 1.0), v1 = std::clamp(s.gy1 - j, 0.0, 1.0);
+      for (int i = i0; i <= i1; ++i) {
+        const double z00 = row0[i], z10 = row0[i + 1], z01 = row1[i], z11 = row1[i + 1];
+        if (std::isnan(z00) || std::isnan(z10) || std::isnan(z01) || std::isnan(z11)) continue;
+        // An extended plane can rise above the cell's samples where the other triangle lies;
+        // the surface over the cell never does. A cell whose samples are no higher than the
+        // bound so far cannot raise it.
+        const double samples = std::max(std::max(z00, z10), std::max(z01, z11));
+        if (samples <= top) continue;
+        // Planes of the triangles (p00, p10, p11) and (p00, p11, p01) in cell coordinates u, v.
+        const double a1 = z10 - z00, b1 = z11 - z10, a2 = z11 - z01, b2 = z01 - z00;
+        const double u0 = std::clamp(s.gx0 - i, 0.0, 1.0), u1 = std::clamp(s.gx1 - i, 0.0, 1.0);
+        const double u = a1 > 0 ? u1 : u0, v = b1 > 0 ? v1 : v0;  // each plane's highest corner
+        const double uu = a2 > 0 ? u1 : u0, vv = b2 > 0 ? v1 : v0;
+        top = std::max(top,
+                       std::min(samples, std::max(z00 + u * a1 + v * b1, z00 + vv * b2 + uu * a2)));
+      }
+    }
+    return top + 1e-9;
+  }
   // The surface height that a body whose lowest point is at `bottom` rests on when its points
   // `pts` (world) are lowered straight down until the first touches the surface:
   // bottom - min over pts of (p.z - heightAt(p.x, p.y)). Points over no data are skipped;
@@ -54,6 +103,36 @@ struct Heightfield {
   void cellTriangles(int i, int j, Vec3 tri[2][3]) const;
   // All cells with data as a triangle mesh (for drawing; open, so never a body).
   TriMesh toMesh() const;
+
+ private:
+  // The square [x - r, x + r] x [y - r, y + r] relative to the grid origin, in m (o*) and in
+  // cell units (g*): the cell range and the pruning bound share the divisions.
+  struct Square {
+    double ox0, ox1, oy0, oy1;
+    double gx0, gx1, gy0, gy1;
+  };
+  Square square(double x, double y, double r) const {
+    Square s;
+    s.ox0 = x - r - x0, s.ox1 = x + r - x0, s.oy0 = y - r - y0, s.oy1 = y + r - y0;
+    s.gx0 = s.ox0 / cell, s.gx1 = s.ox1 / cell, s.gy0 = s.oy0 / cell, s.gy1 = s.oy1 / cell;
+    return s;
+  }
+  void cellRange(const Square& s, int& i0, int& i1, int& j0, int& j1) const {
+    if (s.ox1 < 0 || s.oy1 < 0 || s.ox0 > (nx - 1) * cell || s.oy0 > (ny - 1) * cell) {
+      i0 = j0 = 0;
+      i1 = j1 = -1;
+      return;
+    }
+    // floor(g) clamped to [0, n - 2]: clamped first, a non-negative value's truncation is its
+    // floor (and costs a conversion instead of a rounding call).
+    auto lo = [](double g, int n) {
+      return static_cast<int>(std::clamp(g, 0.0, static_cast<double>(n - 2)));
+    };
+    i0 = lo(s.gx0, nx);
+    i1 = lo(s.gx1, nx);
+    j0 = lo(s.gy0, ny);
+    j1 = lo(s.gy1, ny);
+  }
 };
 
 // Reads a DEM in any raster format GDAL reads (GeoTIFF, ESRI ASCII with xllcorner or

@@ -121,7 +121,10 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
   }
   const int n = static_cast<int>(bodies.size());
   const int groundSlot = n;  // an immovable extra slot for the floor
-  std::vector<Motion> motion(n + 1);
+  // Scratch reused from step to step (per thread: ensembles step worlds on several).
+  static thread_local std::vector<Motion> motion;
+  static thread_local std::vector<Row> rows;
+  motion.assign(n + 1, Motion{});
   for (int i = 0; i < n; ++i) {
     if (!bodies[i].moves()) continue;
     const BodyState& y = states[i];
@@ -133,8 +136,7 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
   }
 
   const ContactMaterial& mat = settings.material;
-  std::vector<Row> rows;
-  rows.reserve(contacts.size());
+  rows.clear();
   for (const Contact& c : contacts) {
     Row r;
     r.key = ContactKey{c.a, c.b, c.leafA, c.leafB};

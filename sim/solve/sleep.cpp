@@ -44,9 +44,12 @@ std::vector<int> wakeTouched(const std::vector<Contact>& contacts, std::vector<B
 int updateSleep(const std::vector<Contact>& contacts, std::vector<BodyInfo>& bodies,
                 std::vector<BodyState>& states, double dt, const SleepSettings& settings) {
   const int n = static_cast<int>(bodies.size());
+  // Scratch reused from step to step (per thread: ensembles step worlds on several).
+  static thread_local std::vector<char> touching, ready;
+  static thread_local std::vector<int> parent;
   // Only a supported body rests: one slow at the top of a throw, or drifting slowly through
   // empty space, is not at rest and must not freeze there.
-  std::vector<char> touching(n, 0);
+  touching.assign(n, 0);
   for (const Contact& c : contacts) {
     touching[c.a] = 1;
     if (c.b != kGround) touching[c.b] = 1;
@@ -62,7 +65,7 @@ int updateSleep(const std::vector<Contact>& contacts, std::vector<BodyInfo>& bod
                            0.5 * b.shape->diameter * angularVelocityOf(b, states[i]).norm();
     b.restTime = fastest < settings.speed ? b.restTime + dt : 0.0;
   }
-  std::vector<int> parent(n);
+  parent.resize(n);
   std::iota(parent.begin(), parent.end(), 0);
   for (const Contact& c : contacts) {
     if (c.b == kGround || !bodies[c.a].moves() || !bodies[c.b].moves()) continue;
@@ -70,7 +73,7 @@ int updateSleep(const std::vector<Contact>& contacts, std::vector<BodyInfo>& bod
     if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);  // root = lowest id
   }
   // An island is ready if every moving member has rested long enough.
-  std::vector<char> ready(n, 1);
+  ready.assign(n, 1);
   for (int i = 0; i < n; ++i)
     if (bodies[i].moves() && bodies[i].restTime < settings.time) ready[findRoot(parent, i)] = 0;
   int slept = 0;

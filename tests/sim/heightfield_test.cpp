@@ -67,7 +67,60 @@ TEST(Heightfield, ReadsCornerAndCentreHeadersWithRowsFromTheNorth) {
       EXPECT_NEAR(n.dot(Vec3(-0.3, 0.2, 1).normalized()), 1.0, 1e-12);
     }
     EXPECT_TRUE(std::isnan(h.heightAt(h.x0 - 0.01, h.y0)));  // outside the grid
+    // The far edges belong to the last cells; just beyond them there is no surface.
+    const double xEnd = h.x0 + 4 * 0.5, yEnd = h.y0 + 3 * 0.5;
+    EXPECT_NEAR(h.heightAt(xEnd, yEnd), 0.3 * xEnd - 0.2 * yEnd + 1, 1e-12);
+    EXPECT_NEAR(h.heightAt(xEnd, h.y0 + 0.3), 0.3 * xEnd - 0.2 * (h.y0 + 0.3) + 1, 1e-12);
+    EXPECT_TRUE(std::isnan(h.heightAt(xEnd + 1e-9, h.y0 + 0.3)));
+    EXPECT_TRUE(std::isnan(h.heightAt(h.x0 + 0.3, yEnd + 1e-9)));
+    EXPECT_TRUE(std::isnan(h.heightAt(h.x0 - 1e30, h.y0)));  // far off: no overflowing index
   }
+}
+
+// cellRange against counting cells one by one: cell i (of nx - 1) spans [x0 + i c, x0 + (i+1) c]
+// and is in the range when its interior meets [x - r, x + r] (random squares, so none ends
+// exactly on a grid line), the range clamped to the grid's cells; squares that miss the grid
+// give an empty range. Squares straddle every edge of the grid and lie wholly beside it.
+TEST(Heightfield, CellRangeIsTheCellsTheSquareMeets) {
+  Heightfield h;
+  h.nx = 9;
+  h.ny = 6;
+  h.cell = 0.7;
+  h.x0 = -2.0;
+  h.y0 = 3.0;
+  h.z.assign(static_cast<std::size_t>(h.nx * h.ny), 1.0);
+  auto count = [&](double lo, double hi, double origin, int cells, int& first, int& last) {
+    first = cells, last = -1;
+    for (int i = 0; i < cells; ++i)
+      if (origin + (i + 1) * h.cell > lo && origin + i * h.cell < hi) {
+        first = std::min(first, i);
+        last = std::max(last, i);
+      }
+  };
+  Prng rng(23);
+  int empty = 0, clampedLow = 0, clampedHigh = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const double x = rng.uniform(-4.5, 6.5), y = rng.uniform(0.5, 9.0), r = rng.uniform(0.05, 1.2);
+    int i0, i1, j0, j1, a0, a1, b0, b1;
+    h.cellRange(x, y, r, i0, i1, j0, j1);
+    count(x - r, x + r, h.x0, h.nx - 1, a0, a1);
+    count(y - r, y + r, h.y0, h.ny - 1, b0, b1);
+    if (a1 < 0 || b1 < 0) {  // misses the grid
+      ++empty;
+      EXPECT_TRUE(i0 > i1 || j0 > j1) << x << " " << y << " " << r;
+      continue;
+    }
+    clampedLow += x - r < h.x0 ? 1 : 0;
+    clampedHigh += y + r > h.y0 + (h.ny - 1) * h.cell ? 1 : 0;
+    EXPECT_EQ(i0, a0) << x << " " << r;
+    EXPECT_EQ(i1, a1) << x << " " << r;
+    EXPECT_EQ(j0, b0) << y << " " << r;
+    EXPECT_EQ(j1, b1) << y << " " << r;
+  }
+  // The cases the clamping is for did occur.
+  EXPECT_GT(empty, 100);
+  EXPECT_GT(clampedLow, 100);
+  EXPECT_GT(clampedHigh, 100);
 }
 
 TEST(Heightfield, NoDataCellsAreHoles) {
