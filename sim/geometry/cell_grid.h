@@ -13,6 +13,13 @@
 
 namespace vf {
 
+// The index of the cell that coordinate q (in cells from the first cell's start) lies in:
+// floor(q) clamped to [0, last]. Clamped first, a value >= 0 truncates to its floor, so this is a
+// conversion rather than a rounding call, and a far-off q never overflows an int. q not NaN.
+inline int cellIndex(double q, int last) {
+  return static_cast<int>(std::clamp(q, 0.0, static_cast<double>(last)));
+}
+
 struct CellGrid {
   Vec3 lo = Vec3::Zero();
   double cell = 1;  // side of a cell
@@ -31,9 +38,7 @@ struct CellGrid {
            static_cast<std::size_t>(n[2]);
   }
   // The cell index along `axis` of coordinate x.
-  int along(int axis, double x) const {
-    return std::clamp(static_cast<int>(std::floor((x - lo[axis]) / cell)), 0, n[axis] - 1);
-  }
+  int along(int axis, double x) const { return cellIndex((x - lo[axis]) / cell, n[axis] - 1); }
   std::size_t index(int i, int j, int k) const {
     return static_cast<std::size_t>(i) +
            static_cast<std::size_t>(n[0]) *

@@ -8,9 +8,7 @@ namespace vf {
 
 Vec3 Heightfield::normalAt(double x, double y) const {
   const double gx = (x - x0) / cell, gy = (y - y0) / cell;
-  // floor, clamped to the grid's cells (clamped first, truncation is the floor).
-  const int i = static_cast<int>(std::clamp(gx, 0.0, static_cast<double>(nx - 2)));
-  const int j = static_cast<int>(std::clamp(gy, 0.0, static_cast<double>(ny - 2)));
+  const int i = cellIndex(gx, nx - 2), j = cellIndex(gy, ny - 2);
   if (!hasCell(i, j)) return Vec3::UnitZ();
   Vec3 tri[2][3];
   cellTriangles(i, j, tri);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sim/core/math.h"
+#include "sim/geometry/cell_grid.h"
 #include "sim/geometry/tri_mesh.h"
 
 namespace vf {
@@ -39,10 +40,8 @@ struct Heightfield {
     const double gx = (x - x0) / cell, gy = (y - y0) / cell;
     if (!(gx >= 0 && gy >= 0 && gx <= nx - 1 && gy <= ny - 1))
       return std::numeric_limits<double>::quiet_NaN();
-    // The cell's indices: gx >= 0, so truncation is the floor. The far edge of the grid
-    // belongs to the last cell.
-    const int i = static_cast<int>(std::min(gx, static_cast<double>(nx - 2)));
-    const int j = static_cast<int>(std::min(gy, static_cast<double>(ny - 2)));
+    // The far edge of the grid belongs to the last cell.
+    const int i = cellIndex(gx, nx - 2), j = cellIndex(gy, ny - 2);
     if (!hasCell(i, j)) return std::numeric_limits<double>::quiet_NaN();
     const double u = gx - i, v = gy - j;
     const double z00 = at(i, j), z10 = at(i + 1, j), z01 = at(i, j + 1), z11 = at(i + 1, j + 1);
@@ -123,15 +122,10 @@ struct Heightfield {
       i1 = j1 = -1;
       return;
     }
-    // floor(g) clamped to [0, n - 2]: clamped first, a non-negative value's truncation is its
-    // floor (and costs a conversion instead of a rounding call).
-    auto lo = [](double g, int n) {
-      return static_cast<int>(std::clamp(g, 0.0, static_cast<double>(n - 2)));
-    };
-    i0 = lo(s.gx0, nx);
-    i1 = lo(s.gx1, nx);
-    j0 = lo(s.gy0, ny);
-    j1 = lo(s.gy1, ny);
+    i0 = cellIndex(s.gx0, nx - 2);
+    i1 = cellIndex(s.gx1, nx - 2);
+    j0 = cellIndex(s.gy0, ny - 2);
+    j1 = cellIndex(s.gy1, ny - 2);
   }
 };
 

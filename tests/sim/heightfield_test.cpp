@@ -77,6 +77,17 @@ TEST(Heightfield, ReadsCornerAndCentreHeadersWithRowsFromTheNorth) {
   }
 }
 
+// cellIndex (the cell index of the heightfield and the diagnostics' cell grids) against
+// std::floor then clamping, on both sides of every bound, and far off where a floor converted to
+// int would overflow.
+TEST(Heightfield, CellIndexIsTheClampedFloor) {
+  for (double q : {-1.5, -1.0, -0.5, -0.0, 0.0, 0.25, 1.0, 2.999, 3.0, 4.5, 5.0, 5.5, 6.0})
+    EXPECT_EQ(cellIndex(q, 5), std::clamp(static_cast<int>(std::floor(q)), 0, 5)) << q;
+  EXPECT_EQ(cellIndex(-1e30, 5), 0);
+  EXPECT_EQ(cellIndex(1e30, 5), 5);
+  EXPECT_EQ(cellIndex(0.5, 0), 0);  // a single cell
+}
+
 // cellRange against counting cells one by one: cell i (of nx - 1) spans [x0 + i c, x0 + (i+1) c]
 // and is in the range when its interior meets [x - r, x + r] (random squares, so none ends
 // exactly on a grid line), the range clamped to the grid's cells; squares that miss the grid
