@@ -220,6 +220,7 @@ void World::stepToward(double target) {
       def_.contactReduction ? kReducedPassFactor * def_.solverIterations : def_.solverIterations;
   solver.restingSpeed = 2 * def_.gravity.norm() * s.dt;  // what gravity adds in two steps
   solver.dt = s.dt;
+  solver.threads = def_.threads;
   solver.ground = def_.ground.get();
   solver.normalImpulses = def_.ground ? &normalImpulses_ : nullptr;
   int passes = 0;

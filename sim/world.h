@@ -60,8 +60,8 @@ struct WorldDef {
   bool contactReduction = false;  // a few representative contacts per patch (contact_reduction.h)
   bool sleep = false;             // bodies at rest sleep until touched (solve/sleep.h)
   SleepSettings sleepSettings;
-  // Threads for the narrow phase; results are merged in a fixed order, so the trajectory and
-  // the checksum do not depend on it.
+  // Threads for the narrow phase (blocks of collider pairs) and the solver (contact islands);
+  // results are merged in a fixed order, so the trajectory and the checksum do not depend on it.
   int threads = 1;
   // Time every stage of every step (StepStats::seconds*; benchmarks and the paper's figures):
   // nine clock reads a step, several per cent of a step of one or two bodies. Off: those

@@ -77,6 +77,7 @@ void addExportCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::Range(0.001, 1000.0))
       ->type_name("N");
   addPhysicsOptions(*sub, o->overrides, " (scenes only)");
+  addThreadsOption(*sub, o->overrides, " (scenes only)");
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
   addOverwriteFlags(*sub, o->overwrite, o->neverOverwrite);
   sub->callback([o, &exitCode] { exitCode = runExport(*o); });

@@ -53,6 +53,16 @@ void addPhysicsOptions(CLI::App& command, SceneOverrides& o, const std::string& 
                        what);
 }
 
+void addThreadsOption(CLI::App& command, SceneOverrides& o, const std::string& what) {
+  command
+      .add_option("--threads", o.threads,
+                  "threads for finding and solving contacts (default 1; the results are the "
+                  "same bits for any count; pays from a few hundred bodies)" +
+                      what)
+      ->type_name("N")
+      ->check(CLI::Range(1, 256));
+}
+
 std::optional<std::pair<std::int64_t, std::int64_t>> parseSize(const std::string& text) {
   const std::size_t x = text.find_first_of("xX");
   if (x == std::string::npos) return std::nullopt;

@@ -24,6 +24,10 @@ void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite)
 // ("" or e.g. " (scenes only)").
 void addPhysicsOptions(CLI::App& command, SceneOverrides& overrides, const std::string& what = "");
 
+// --threads N for the commands that step one scene (SceneOverrides::threads; an ensemble runs
+// one realisation per thread instead, --jobs).
+void addThreadsOption(CLI::App& command, SceneOverrides& overrides, const std::string& what = "");
+
 // A frame size "WxH" (the x may be capital): width and height in pixels as written; nothing
 // for anything else ("640x", "640x480x2", "640 x 480"). The range is checked by addSizeOption.
 std::optional<std::pair<std::int64_t, std::int64_t>> parseSize(const std::string& text);

@@ -267,6 +267,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::Range(0.001, 1000.0))
       ->type_name("N");
   addPhysicsOptions(*sub, o->overrides);
+  addThreadsOption(*sub, o->overrides);
   sub->add_option("--crf", o->crf, "H.264 quality, 0..51, lower is better (default: 18)")
       ->check(CLI::Range(0, 51))
       ->type_name("N");

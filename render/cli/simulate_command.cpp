@@ -186,6 +186,7 @@ void addSimulateCommand(CLI::App& app, int& exitCode) {
                   "when it ends in .geojson")
       ->type_name("FILE");
   addPhysicsOptions(*sub, o->overrides);
+  addThreadsOption(*sub, o->overrides);
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
   addOverwriteFlags(*sub, o->overwrite, o->neverOverwrite);
   sub->callback([o, &exitCode] { exitCode = runSimulate(*o); });

@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <thread>
 #include <utility>
@@ -474,6 +475,8 @@ constexpr CollideFn kCollide[kTypes][kTypes] = {
 // Fewer collider pairs than this per thread are not worth starting a thread for (a thread start
 // costs about as much as a few dozen sphere-tree descents at rest).
 constexpr int kJobsPerThread = 16;
+// Blocks of work per thread: enough that a thread that drew cheap blocks takes more.
+constexpr int kBlocksPerThread = 16;
 
 }  // namespace
 
@@ -586,28 +589,37 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
     if (b.type == ColliderType::kPlane) return collideTreePlane(a, b, sink, memo[k]);
     return TreeTreeDescent(a, b, sink, memo[k]).run();
   };
-  // Contiguous chunks, one per thread, each into its own list; the lists are appended in chunk
-  // order, so the contacts are exactly the serial ones in the serial order whatever `threads`.
-  const int chunks =
+  // Blocks of consecutive jobs, each into its own list, taken by the threads from a shared
+  // counter; the lists are appended in block order, so the contacts are exactly the serial ones
+  // in the serial order whatever `threads`. (Jobs differ in cost by orders of magnitude, a
+  // rock's pile against a rock in flight: one fixed half per thread left one of them idle.)
+  const int workers =
       std::max(1, std::min<int>(threads, static_cast<int>(jobs.size() / kJobsPerThread)));
-  std::vector<std::vector<Contact>>& found = scratch.found;
-  if (found.size() < static_cast<std::size_t>(chunks)) found.resize(chunks);
-  for (std::vector<Contact>& f : found) f.clear();
-  std::vector<std::uint64_t>& tests = scratch.tests;
-  tests.assign(chunks, 0);
-  auto runChunk = [&](int c) {
-    const std::size_t begin = jobs.size() * c / chunks, end = jobs.size() * (c + 1) / chunks;
-    std::vector<Contact>& sink = c == 0 ? out : found[c];
-    for (std::size_t k = begin; k < end; ++k) tests[c] += run(k, sink);
-  };
-  std::vector<std::thread> workers;
-  for (int c = 1; c < chunks; ++c) workers.emplace_back(runChunk, c);
-  runChunk(0);
-  for (std::thread& w : workers) w.join();
-  std::uint64_t total = tests[0];
-  for (int c = 1; c < chunks; ++c) {
-    out.insert(out.end(), found[c].begin(), found[c].end());
-    total += tests[c];
+  std::uint64_t total = 0;
+  if (workers == 1) {
+    for (std::size_t k = 0; k < jobs.size(); ++k) total += run(k, out);
+  } else {
+    const int blocks = std::min<int>(static_cast<int>(jobs.size()), workers * kBlocksPerThread);
+    std::vector<std::vector<Contact>>& found = scratch.found;
+    if (found.size() < static_cast<std::size_t>(blocks)) found.resize(blocks);
+    for (std::vector<Contact>& f : found) f.clear();
+    std::vector<std::uint64_t>& tests = scratch.tests;
+    tests.assign(blocks, 0);
+    std::atomic<int> nextBlock{0};
+    auto work = [&] {
+      for (int c; (c = nextBlock.fetch_add(1, std::memory_order_relaxed)) < blocks;) {
+        const std::size_t begin = jobs.size() * c / blocks, end = jobs.size() * (c + 1) / blocks;
+        for (std::size_t k = begin; k < end; ++k) tests[c] += run(k, found[c]);
+      }
+    };
+    std::vector<std::thread> started;
+    for (int t = 1; t < workers; ++t) started.emplace_back(work);
+    work();
+    for (std::thread& t : started) t.join();
+    for (int c = 0; c < blocks; ++c) {
+      out.insert(out.end(), found[c].begin(), found[c].end());
+      total += tests[c];
+    }
   }
   if (candidates) {  // pairs that are gone start afresh if they meet again
     for (const PairCandidates* m : memo)

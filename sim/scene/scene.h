@@ -216,6 +216,9 @@ struct SceneOverrides {
   std::optional<std::uint64_t> maxSteps;
   std::optional<double> maxSpeed;  // m/s
   bool repair = false;             // repair = true on every shape
+  // Threads for the narrow phase and the solver (SceneSpec::threads). Not a change of the run
+  // (the results are the same bits for any count), so any() leaves it out.
+  std::optional<int> threads;
   bool any() const {
     return level || !step.empty() || !collider.empty() || maxSteps || maxSpeed || repair;
   }

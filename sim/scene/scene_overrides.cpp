@@ -71,6 +71,7 @@ void applyOverrides(SceneSpec& spec, const SceneOverrides& o) {
   if (o.maxSpeed) spec.limits.maxSpeed = *o.maxSpeed;
   if (o.repair)
     for (ShapeSpec& s : spec.shapes) s.repair = true;
+  if (o.threads) spec.threads = *o.threads;
 }
 
 }  // namespace vf

@@ -27,9 +27,15 @@
 #include "sim/solve/impulse.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <thread>
+#include <utility>
 
 #include "sim/ground/ground_material.h"
+#include "sim/solve/islands.h"
 
 namespace vf {
 
@@ -79,6 +85,18 @@ void tangents(const Vec3& n, Vec3& t1, Vec3& t2) {
   t2 = n.cross(t1);
 }
 
+struct SolverScratch {
+  std::vector<Motion> motion;
+  std::vector<Row> rows;
+  std::vector<int> root, islandOfRoot, start, order, rowIsland, next, runStart, islandPasses;
+};
+
+// Fewer rows than this are solved on one thread: starting one costs about as much as a few
+// dozen rows' passes.
+constexpr int kRowsPerThread = 64;
+// Runs of islands per thread: enough that a thread whose runs were cheap takes more.
+constexpr int kRunsPerThread = 8;
+
 Vec3 pointVelocity(const Motion& m, const Vec3& r) { return m.v + m.w.cross(r); }
 
 Axis makeAxis(const Vec3& d, const Vec3& ra, const Vec3& rb, const Motion& A, const Motion& B) {
@@ -120,10 +138,14 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
     return;
   }
   const int n = static_cast<int>(bodies.size());
-  const int groundSlot = n;  // an immovable extra slot for the floor
-  // Scratch reused from step to step (per thread: ensembles step worlds on several).
-  static thread_local std::vector<Motion> motion;
-  static thread_local std::vector<Row> rows;
+  const int groundSlot = n;  // an immovable extra slot for the floor (see the islands below)
+  // Scratch reused from step to step (per thread: ensembles step worlds on several). Named
+  // through a reference: inside the lambda that other threads run below, the name of a
+  // thread_local would denote that thread's own (empty) copy.
+  static thread_local SolverScratch scratch;
+  SolverScratch& w = scratch;
+  std::vector<Motion>& motion = w.motion;
+  std::vector<Row>& rows = w.rows;
   motion.assign(n + 1, Motion{});
   for (int i = 0; i < n; ++i) {
     if (!bodies[i].moves()) continue;
@@ -166,58 +188,136 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
     rows.push_back(r);
   }
 
-  // Warm start from the previous step's impulses (cache sorted by key: binary search).
-  const double scale = cache.dt > 0 ? std::min(1.0, settings.dt / cache.dt) : 0.0;
-  for (Row& r : rows) {
-    const auto it =
-        std::lower_bound(cache.impulses.begin(), cache.impulses.end(), r.key,
-                         [](const CachedImpulse& c, const ContactKey& k) { return c.key < k; });
-    if (it == cache.impulses.end() || it->key != r.key) continue;
-    r.jn = it->normal * scale;
-    r.jt1 = it->tangent1 * scale;
-    r.jt2 = it->tangent2 * scale;
-    push(r.n, r.jn, motion[r.a], motion[r.b]);
-    push(r.t1, r.jt1, motion[r.a], motion[r.b]);
-    push(r.t2, r.jt2, motion[r.a], motion[r.b]);
-  }
-
-  // A pass that changes no accumulated impulse leaves every velocity as it was (it pushes only
-  // zero impulses), so every later pass would repeat it: the passes stop there, with the
-  // result of all `iterations` passes (tests/sim/impulse_test.cpp compares both).
+  // Islands (sim/solve/islands.h) share no moving body, and a contact changes the velocities of
+  // its own island only, so passes over all rows and passes over one island at a time give
+  // each body the same sequence of operations: the same bits. Each island is therefore solved on
+  // its own, on any thread, and stops at its own first pass that changes nothing (a pass over
+  // the whole set stops where the last island does, so `passes` is the largest island's count).
+  // The ground and bodies that do not move take no impulse: their motion stays zero, but every
+  // row still writes it, so each island gets a zero slot of its own (n + island) for them.
   const int count = static_cast<int>(rows.size());
-  int pass = 0;
-  while (pass < settings.iterations) {
-    ++pass;
-    bool changed = false;
-    for (int k = 0; k < count; ++k) {
-      Row& r = rows[k];
-      Motion& A = motion[r.a];
-      Motion& B = motion[r.b];
-      // Normal: eq. 15 towards the target, accumulated impulse kept >= 0.
-      const double vn = along(r.n, A, B);
-      const double jn = std::max(r.jn + (r.target - vn) * r.n.k, 0.0);
-      const double djn = jn - r.jn;
-      r.jn = jn;
-      if (djn != 0.0) push(r.n, djn, A, B);
-      // Friction: stop the tangential slip, within the Coulomb disc of the current jn.
-      double jt1 = r.jt1 - along(r.t1, A, B) * r.t1.k;
-      double jt2 = r.jt2 - along(r.t2, A, B) * r.t2.k;
-      const double limit = r.mu * r.jn;
-      const double jt = std::sqrt(jt1 * jt1 + jt2 * jt2);
-      if (jt > limit) {
-        const double s = limit / jt;
-        jt1 *= s;
-        jt2 *= s;
-      }
-      push(r.t1, jt1 - r.jt1, A, B);
-      push(r.t2, jt2 - r.jt2, A, B);
-      changed = changed || djn != 0.0 || jt1 != r.jt1 || jt2 != r.jt2;
-      r.jt1 = jt1;
-      r.jt2 = jt2;
+  std::vector<int>& start = w.start;  // rows per island first, then offsets into `order`
+  std::vector<int>& order = w.order;  // row indices, island by island, in row order within
+  std::vector<int>& rowIsland = w.rowIsland;
+  islandRoots(contacts, bodies, w.root);
+  w.islandOfRoot.assign(n, -1);
+  start.clear();
+  rowIsland.resize(count);
+  for (int k = 0; k < count; ++k) {
+    const Row& r = rows[k];
+    const int body = r.a < n && bodies[r.a].moves() ? r.a : r.b;
+    int& island = w.islandOfRoot[w.root[body]];
+    if (island < 0) {
+      island = static_cast<int>(start.size());
+      start.push_back(0);
     }
-    if (!changed && settings.stopWhenConverged) break;
+    ++start[island];
+    rowIsland[k] = island;
   }
-  if (settings.passes) *settings.passes = pass;
+  const int islands = static_cast<int>(start.size());
+  motion.resize(n + islands);
+  for (int k = 0; k < count; ++k) {
+    Row& r = rows[k];
+    if (r.a >= n || !bodies[r.a].moves()) r.a = n + rowIsland[k];
+    if (r.b >= n || !bodies[r.b].moves()) r.b = n + rowIsland[k];
+  }
+  int offset = 0;
+  for (int& s : start) offset += std::exchange(s, offset);
+  start.push_back(count);
+  order.resize(count);
+  w.next.assign(start.begin(), start.end() - 1);
+  for (int k = 0; k < count; ++k) order[w.next[rowIsland[k]]++] = k;  // row order kept
+
+  const double scale = cache.dt > 0 ? std::min(1.0, settings.dt / cache.dt) : 0.0;
+  auto solveIsland = [&](int island) -> int {
+    const int* first = order.data() + start[island];
+    const int* last = order.data() + start[island + 1];
+    // Warm start from the previous step's impulses (cache sorted by key: binary search).
+    for (const int* k = first; k != last; ++k) {
+      Row& r = rows[*k];
+      const auto it = std::lower_bound(
+          cache.impulses.begin(), cache.impulses.end(), r.key,
+          [](const CachedImpulse& c, const ContactKey& key) { return c.key < key; });
+      if (it == cache.impulses.end() || it->key != r.key) continue;
+      r.jn = it->normal * scale;
+      r.jt1 = it->tangent1 * scale;
+      r.jt2 = it->tangent2 * scale;
+      push(r.n, r.jn, motion[r.a], motion[r.b]);
+      push(r.t1, r.jt1, motion[r.a], motion[r.b]);
+      push(r.t2, r.jt2, motion[r.a], motion[r.b]);
+    }
+    // A pass that changes no accumulated impulse leaves every velocity as it was (it pushes
+    // only zero impulses), so every later pass would repeat it: the passes stop there, with
+    // the result of all `iterations` passes (tests/sim/impulse_test.cpp compares both).
+    int pass = 0;
+    while (pass < settings.iterations) {
+      ++pass;
+      bool changed = false;
+      for (const int* k = first; k != last; ++k) {
+        Row& r = rows[*k];
+        Motion& A = motion[r.a];
+        Motion& B = motion[r.b];
+        // Normal: eq. 15 towards the target, accumulated impulse kept >= 0.
+        const double vn = along(r.n, A, B);
+        const double jn = std::max(r.jn + (r.target - vn) * r.n.k, 0.0);
+        const double djn = jn - r.jn;
+        r.jn = jn;
+        if (djn != 0.0) push(r.n, djn, A, B);
+        // Friction: stop the tangential slip, within the Coulomb disc of the current jn.
+        double jt1 = r.jt1 - along(r.t1, A, B) * r.t1.k;
+        double jt2 = r.jt2 - along(r.t2, A, B) * r.t2.k;
+        const double limit = r.mu * r.jn;
+        const double jt = std::sqrt(jt1 * jt1 + jt2 * jt2);
+        if (jt > limit) {
+          const double s = limit / jt;
+          jt1 *= s;
+          jt2 *= s;
+        }
+        push(r.t1, jt1 - r.jt1, A, B);
+        push(r.t2, jt2 - r.jt2, A, B);
+        changed = changed || djn != 0.0 || jt1 != r.jt1 || jt2 != r.jt2;
+        r.jt1 = jt1;
+        r.jt2 = jt2;
+      }
+      if (!changed && settings.stopWhenConverged) break;
+    }
+    return pass;
+  };
+
+  // Which thread solves an island changes nothing. One thread when there is too little to
+  // share.
+  const int threads =
+      islands < 2 || count < kRowsPerThread ? 1 : std::min(settings.threads, islands);
+  std::vector<int>& islandPasses = w.islandPasses;
+  islandPasses.assign(islands, 0);
+  if (threads == 1) {
+    for (int i = 0; i < islands; ++i) islandPasses[i] = solveIsland(i);
+  } else {
+    // Runs of consecutive islands with about equal numbers of rows, taken from a shared
+    // counter: neighbouring islands often lie side by side in memory (their bodies' ids are
+    // close), and threads solving them at once slowed each other down (one island each from
+    // the counter: no gain over one thread on 1,000 rocks).
+    std::vector<int>& runStart = w.runStart;
+    runStart.assign(1, 0);
+    const int runs = threads * kRunsPerThread;
+    for (int i = 1; i < islands; ++i)
+      if (static_cast<std::int64_t>(start[i]) * runs >=
+          static_cast<std::int64_t>(runStart.size()) * count)
+        runStart.push_back(i);
+    runStart.push_back(islands);
+    const int runCount = static_cast<int>(runStart.size()) - 1;
+    std::atomic<int> nextRun{0};
+    auto work = [&] {
+      for (int k; (k = nextRun.fetch_add(1, std::memory_order_relaxed)) < runCount;)
+        for (int i = runStart[k]; i < runStart[k + 1]; ++i) islandPasses[i] = solveIsland(i);
+    };
+    std::vector<std::thread> started;
+    for (int t = 1; t < threads; ++t) started.emplace_back(work);
+    work();
+    for (std::thread& t : started) t.join();
+  }
+  if (settings.passes)
+    *settings.passes = islands ? *std::max_element(islandPasses.begin(), islandPasses.end()) : 0;
 
   // Only resting contacts seed the next step: an impact's impulse belongs to its own step, and
   // re-applied while the bodies separate it would throw them apart.

@@ -30,6 +30,9 @@ struct SolverSettings {
   // Rock fall (opt-in): ground contacts take restitution and friction from the ground
   // material under the contact point instead of `material`; null: the paper's model.
   const GroundMap* ground = nullptr;
+  // Threads solving the contact islands (each island on one thread; the result is the same
+  // bits for any count).
+  int threads = 1;
   // If set, receives the number of passes made (at most `iterations`).
   int* passes = nullptr;
   // If set, receives each contact's accumulated normal impulse (N s), in contact order.

@@ -1,7 +1,6 @@
-// Islands by union-find over the contacts between two moving bodies (the ground and static
-// bodies join nothing: a pile on the floor is many islands if its bodies do not touch each
-// other). Everything runs in body-id order over the fixed contact order, so who sleeps and when
-// is a function of the state alone: the trajectory stays deterministic.
+// Islands (sim/solve/islands.h) come from this step's contacts; everything runs in body-id
+// order over the fixed contact order, so who sleeps and when is a function of the state alone:
+// the trajectory stays deterministic.
 //
 // Why island-wide: a body resting on another one that still moves must not freeze under it.
 // Why the momenta are zeroed: a sleeping body is not integrated; any residual velocity would
@@ -9,17 +8,10 @@
 #include "sim/solve/sleep.h"
 
 #include <algorithm>
-#include <numeric>
+
+#include "sim/solve/islands.h"
 
 namespace vf {
-namespace {
-
-int findRoot(std::vector<int>& parent, int i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
-
-}  // namespace
 
 std::vector<int> wakeTouched(const std::vector<Contact>& contacts, std::vector<BodyInfo>& bodies) {
   std::vector<int> woken;
@@ -46,7 +38,7 @@ int updateSleep(const std::vector<Contact>& contacts, std::vector<BodyInfo>& bod
   const int n = static_cast<int>(bodies.size());
   // Scratch reused from step to step (per thread: ensembles step worlds on several).
   static thread_local std::vector<char> touching, ready;
-  static thread_local std::vector<int> parent;
+  static thread_local std::vector<int> root;
   // Only a supported body rests: one slow at the top of a throw, or drifting slowly through
   // empty space, is not at rest and must not freeze there.
   touching.assign(n, 0);
@@ -65,24 +57,17 @@ int updateSleep(const std::vector<Contact>& contacts, std::vector<BodyInfo>& bod
                            0.5 * b.shape->diameter * angularVelocityOf(b, states[i]).norm();
     b.restTime = fastest < settings.speed ? b.restTime + dt : 0.0;
   }
-  parent.resize(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  for (const Contact& c : contacts) {
-    if (c.b == kGround || !bodies[c.a].moves() || !bodies[c.b].moves()) continue;
-    const int ra = findRoot(parent, c.a), rb = findRoot(parent, c.b);
-    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);  // root = lowest id
-  }
+  islandRoots(contacts, bodies, root);
   // An island is ready if every moving member has rested long enough.
   ready.assign(n, 1);
   for (int i = 0; i < n; ++i)
-    if (bodies[i].moves() && bodies[i].restTime < settings.time) ready[findRoot(parent, i)] = 0;
+    if (bodies[i].moves() && bodies[i].restTime < settings.time) ready[root[i]] = 0;
   int slept = 0;
   for (int i = 0; i < n; ++i) {
     BodyInfo& b = bodies[i];
-    const int root = findRoot(parent, i);
-    if (!b.moves() || !ready[root]) continue;
+    if (!b.moves() || !ready[root[i]]) continue;
     b.sleeping = true;
-    b.sleepIsland = root;
+    b.sleepIsland = root[i];
     states[i].P.setZero();
     states[i].L.setZero();
     ++slept;

@@ -234,6 +234,8 @@ TEST_F(CliTest, OverridesChangeTheRunAndRunsRepeat) {
   EXPECT_EQ(a.size(), 16u);
   EXPECT_EQ(checksum("--level 2"), a);  // deterministic
   EXPECT_NE(checksum("--level 2 --step 1/600"), a);
+  EXPECT_EQ(checksum("--level 2 --threads 2"), a);  // threads change no bit (world_test)
+  EXPECT_EQ(run("simulate " + cubes + " --quiet --threads 0"), 2) << "threads must be >= 1";
 }
 
 // --size is parsed once, in one place (render/cli/options.cpp): a capital X means the same as
