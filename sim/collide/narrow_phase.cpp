@@ -387,16 +387,33 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector
 // normal. Without the wall, a rock that left a raised grid onto the floor plane of the paper's
 // cliff scene (or was pushed off it by a pile) met no terrain at the border and slid under the
 // surface: 2-9 m deep by the true-mesh check, until the rock monitor buried it.
+//
+// Temporal coherence (PairCandidates; the terrain does not move, so the pair's pose is the
+// body's). Why a margin bounds what a motion can change, although the leaf test is not
+// Lipschitz in the centre (near a NODATA hole a centre deep below a cell is far from every
+// triangle): the argument is containment, as for the plain descent. A node is dropped when its
+// sphere S lies above `surfaceBoundNear` over S's footprint square, and every way a sphere s
+// inside S could touch (its centre below the surface, a triangle point inside it, the border
+// wall beside it) needs a surface or wall point under that bound inside the square: none. A
+// leaf that the descent widened by the margin m did not reach had such an S, of radius at least
+// its own plus m, about its old centre; while no leaf centre has moved by m since, the leaf's
+// sphere still lies inside S, so it does not touch. Every touching leaf is then a candidate,
+// and the candidates are tested in the descent's order by the leaf test itself: the same
+// contacts, bit for bit. The inner tests are widened by the rounding slack, as the plane's are.
 std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
-                                     std::vector<Contact>& out) {
+                                     std::vector<Contact>& out, PairCandidates* memo) {
   const Heightfield& field = *t.terrain;
+  const SphereTree& tree = *a.tree;
   const double xEnd = field.x0 + (field.nx - 1) * field.cell;
   const double yEnd = field.y0 + (field.ny - 1) * field.cell;
+  const double slack = roundingSlack(a.x, tree.boundingRadius);
+  double widen = slack;  // added to every inner radius: the slack, and while building the margin
   // A child's sphere lies in its parent's, so the cells under it are some of the parent's and
   // the highest sample under it is no higher than the parent's: a child whose sphere lies above
   // that is dropped without looking the cells up (the same answer, cheaper; a third of the
   // terrain narrow phase's time went into the lookups with 1,000 rocks).
   auto mayTouch = [&](const Vec3& c, double r, double& bound) {
+    r += widen;
     if (c.z() - r >= bound) return false;
     bound = field.surfaceBoundNear(c.x(), c.y(), r);
     return c.z() - r < bound;
@@ -450,7 +467,50 @@ std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
     k.depth = r - d;
     out.push_back(k);
   };
-  return descendAlone(a, mayTouch, leaf);
+  if (!memo) return descendAlone(a, mayTouch, leaf);
+
+  memo->used = true;
+  const int leafLevel = tree.leafLevel();
+  const double leafRadius = tree.leaves().radius;
+  // How far any leaf centre (within the bounding radius of the origin) moved since a pose.
+  auto moved = [&](const Mat3& R, const Vec3& x) {
+    return (a.x - x).norm() + (a.R - R).norm() * tree.boundingRadius;
+  };
+  const double margin = kCandidateMargin * leafRadius;
+  const CandidatePlan plan = chooseCandidatePlan(
+      *memo, memo->holds ? moved(memo->buildR, memo->buildT) : INFINITY,
+      memo->hasLast ? moved(memo->lastR, memo->lastT) : INFINITY, margin, slack);
+  memo->served = plan == CandidatePlan::kServe;
+  if (memo->served) {
+    std::uint64_t tests = 0;
+    for (std::uint32_t i : memo->leaves) {
+      ++tests;
+      // The centre by descendAlone's own expression, so the same bits.
+      leaf(NodeRef{leafLevel, i, leafLevel == 0 ? a.x : Vec3(a.x + a.R * tree.leaves().centers[i])},
+           leafRadius);
+    }
+    return tests;
+  }
+  memo->hasLast = true;
+  memo->lastR = a.R;
+  memo->lastT = a.x;
+  memo->holds = plan == CandidatePlan::kBuild;
+  if (!memo->holds) return descendAlone(a, mayTouch, leaf);
+  memo->buildR = a.R;
+  memo->buildT = a.x;
+  memo->margin = margin;
+  memo->leaves.clear();
+  widen = slack + margin;
+  // Every leaf the widened descent reaches is a candidate.
+  return descendAlone(a, mayTouch, [&](const NodeRef& n, double r) {
+    memo->leaves.push_back(n.index);
+    leaf(n, r);
+  });
+}
+
+std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
+                                     std::vector<Contact>& out) {
+  return collideTreeHeightfield(a, t, out, nullptr);
 }
 
 std::uint64_t collideTreeTree(const Collider& a, const Collider& b, std::vector<Contact>& out) {
@@ -574,11 +634,12 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
     for (std::size_t k = 0; k < jobs.size(); ++k) {
       const Collider& a = jobs[k].first;
       const Collider& b = jobs[k].second;
-      if (a.type != ColliderType::kSphereTree ||
-          (b.type != ColliderType::kSphereTree && b.type != ColliderType::kPlane))
-        continue;
-      const std::uint64_t key =
-          (static_cast<std::uint64_t>(a.body) << 32) | static_cast<std::uint32_t>(b.body - kGround);
+      if (a.type != ColliderType::kSphereTree || b.type == ColliderType::kPolygon) continue;
+      // b: another body (its id + 1), the floor plane (0) or the terrain (all ones).
+      const std::uint32_t other = b.type == ColliderType::kHeightfield
+                                      ? 0xFFFFFFFFu
+                                      : static_cast<std::uint32_t>(b.body - kGround);
+      const std::uint64_t key = (static_cast<std::uint64_t>(a.body) << 32) | other;
       memo[k] = &candidates->pairs[key];
     }
   }
@@ -587,6 +648,7 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
     const Collider& b = jobs[k].second;
     if (!memo[k]) return collide(a, b, sink);
     if (b.type == ColliderType::kPlane) return collideTreePlane(a, b, sink, memo[k]);
+    if (b.type == ColliderType::kHeightfield) return collideTreeHeightfield(a, b, sink, memo[k]);
     return TreeTreeDescent(a, b, sink, memo[k]).run();
   };
   // Blocks of consecutive jobs, each into its own list, taken by the threads from a shared

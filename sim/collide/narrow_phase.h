@@ -59,8 +59,9 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
 // which neither body moves (static or asleep) are skipped. Up to `threads` threads share the
 // work; the contacts and their order do not depend on it. Returns the sphere tests.
 //
-// `candidates`, when given, carries leaf-pair candidates of sphere-tree pairs (body-body and
-// body-plane) from step to step (temporal coherence): the contacts are the same, found for less.
+// `candidates`, when given, carries leaf-pair candidates of sphere-tree pairs (body-body,
+// body-plane and body-terrain) from step to step (temporal coherence): the contacts are the
+// same, found for less.
 struct CandidateCache;
 std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
                            const std::vector<BodyState>& states, const std::vector<BodyPair>& pairs,
@@ -70,23 +71,26 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
 
 // Temporal coherence of the sphere-tree descents. When a pair moved little relative to itself
 // in the last step, the descent is run once with every test widened by a margin m and keeps
-// the leaf pairs (or, against the plane, the leaves) closer than touching plus m: its
-// candidates, in the descent's order. While the pair's relative pose stays so close to the one
-// they were found at that no leaf point has moved by m relative to the other side (bounded
-// from the change of the relative rotation and translation), every touching leaf pair is among
-// them, so the next steps test only the candidates, exactly as the descent tests leaves and in
-// its order: the same contacts, bit for bit, for the cost of one leaf test per candidate.
+// the leaf pairs (or, against the plane and the terrain, the leaves) closer than touching plus
+// m: its candidates, in the descent's order. While the pair's relative pose stays so close to
+// the one they were found at that no leaf point has moved by m relative to the other side
+// (bounded from the change of the relative rotation and translation), every touching leaf pair
+// is among them, so the next steps test only the candidates, exactly as the descent tests
+// leaves and in its order: the same contacts, bit for bit, for the cost of one leaf test per
+// candidate (against the terrain, why: collideTreeHeightfield in narrow_phase.cpp).
 // Depends on the states only (never on timing or threads), like everything in a step.
 struct PairCandidates {
   bool used = false;    // touched by the current findContacts call
   bool served = false;  // the current call tested only the candidates
   bool holds = false;   // candidates valid for poses near the build pose
   bool hasLast = false;
-  Mat3 buildR, lastR;            // relative rotation (b in a's frame; plane: unused)
-  Vec3 buildT, lastT;            // relative translation (plane: R^T n)
+  Mat3 buildR, lastR;            // relative rotation (b in a's frame; plane: unused;
+                                 // terrain: the body's rotation)
+  Vec3 buildT, lastT;            // relative translation (plane: R^T n; terrain: the position)
   double buildH = 0, lastH = 0;  // plane: height of the body origin
   double margin = 0;
   std::vector<std::uint32_t> leaves;  // candidate leaf pairs (a, b) in pairs, or leaves of a
+                                      // (plane, terrain)
 };
 struct CandidateCache {
   // Keyed by body a, body b (kGround + 1 for the plane) packed in 64 bits.

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <set>
 #include <utility>
@@ -265,6 +266,79 @@ TEST(NarrowPhase, OneLevelTreesTouchAtTheirRootLeaf) {
   ASSERT_EQ(contacts.size(), 1u);
   EXPECT_EQ(contacts[0].normal, Vec3(-1, 0, 0));
   EXPECT_NEAR(contacts[0].depth, 0.1, 1e-15);
+}
+
+// Temporal coherence against the terrain (collideTreeHeightfield, PairCandidates) must give
+// the plain descent's contacts, bit for bit, where the leaf test is least regular: a box
+// walked slowly (so candidates are built and served) and now and then jumped (so they are
+// dropped) over a sloping, wavy grid with a NODATA hole, across the hole and past the east
+// border, where it meets the border wall, turning as it goes and for a while turning in place
+// (it fails, as checked, when the candidates' margin or the rotation's share of the bound on
+// how far leaves moved is left out). Oracle: the same call without
+// candidates. The walk must have been served by candidates often, and must have met the wall
+// and the hole, or the comparison would show little.
+TEST(NarrowPhase, TerrainCandidatesGiveThePlainDescentsContactsOverHolesAndBorders) {
+  auto surface = [](double x, double y) {
+    return 0.15 * x + 0.3 * std::sin(1.3 * x) + 0.2 * std::cos(0.9 * y);
+  };
+  Heightfield field;
+  field.nx = field.ny = 12;
+  field.cell = 0.5;
+  for (int j = 0; j < field.ny; ++j)
+    for (int i = 0; i < field.nx; ++i) field.z.push_back(surface(0.5 * i, 0.5 * j));
+  field.z[5 * field.nx + 6] = NAN;  // the four cells around sample (6, 5): a hole at (3, 2.5)
+  field.zMin = INFINITY;
+  field.zMax = -INFINITY;
+  for (double z : field.z)
+    if (!std::isnan(z)) field.zMin = std::min(field.zMin, z), field.zMax = std::max(field.zMax, z);
+
+  auto s = test::boxShape(0.3, 0.2, 0.15, 800, 3);
+  std::vector<BodyInfo> bodies(1);
+  bodies[0].shape = s;
+  bodies[0].invMass = 1 / s->mass;
+  std::vector<BodyState> states(1);
+  CandidateCache cache;
+  Prng rng(11);
+  Vec3 at(1.2, 2.4, 0);
+  Quat q = Quat::Identity();
+  int wallPoses = 0, holePoses = 0, contactPoses = 0;
+  const int poses = 9000;
+  for (int k = 0; k < poses; ++k) {
+    // East at 0.6 mm a pose (past the border at x = 5.5 by the end), drifting in y, turning
+    // by 1 mrad; every 100th pose a jump of a few cm; for 1,000 poses a turn in place (2 mrad
+    // a pose), where only the rotation bounds how far leaves moved. The box's centre rides 10 cm
+    // above the wavy surface's formula, which goes on beyond the grid and over the hole.
+    const double jump = k % 100 == 99 ? 0.05 : 0.0;
+    const bool turn = k >= 2000 && k < 3000;
+    at += Vec3((turn ? 0 : 0.0006) + jump * rng.uniform(-1, 1),
+               (turn ? 0 : 0.0001) + jump * rng.uniform(-1, 1), 0);
+    q = (q * Quat(Eigen::AngleAxisd((turn ? 0.002 : 0.001) + jump, Vec3(1, 0.5, 0.2).normalized())))
+            .normalized();
+    states[0].x = Vec3(at.x(), at.y(), surface(at.x(), at.y()) + 0.1);
+    states[0].q = q;
+    std::vector<Contact> plain, served;
+    findContacts(bodies, states, {}, std::nullopt, &field, 1, plain, nullptr);
+    findContacts(bodies, states, {}, std::nullopt, &field, 1, served, &cache);
+    ASSERT_EQ(served.size(), plain.size()) << "pose " << k;
+    for (std::size_t c = 0; c < plain.size(); ++c) {
+      const Contact &x = plain[c], &y = served[c];
+      ASSERT_TRUE(x.a == y.a && x.b == y.b && x.leafA == y.leafA && x.leafB == y.leafB)
+          << "pose " << k << ", contact " << c;
+      // Bits, so that rounding counts.
+      ASSERT_EQ(std::memcmp(x.point.data(), y.point.data(), sizeof(Vec3)), 0) << "pose " << k;
+      ASSERT_EQ(std::memcmp(x.normal.data(), y.normal.data(), sizeof(Vec3)), 0) << "pose " << k;
+      ASSERT_EQ(std::memcmp(&x.depth, &y.depth, sizeof(double)), 0) << "pose " << k;
+    }
+    contactPoses += !plain.empty();
+    wallPoses += std::any_of(plain.begin(), plain.end(),
+                             [](const Contact& c) { return c.normal.z() == 0.0; });
+    holePoses += std::abs(at.x() - 3.0) < 0.5 && std::abs(at.y() - 2.5) < 0.5;
+  }
+  EXPECT_GT(contactPoses, poses / 2);
+  EXPECT_GT(wallPoses, 20) << "the walk never met the border wall";
+  EXPECT_GT(holePoses, 20) << "the walk never crossed the hole";
+  EXPECT_GT(cache.served, static_cast<std::uint64_t>(poses / 3)) << "candidates rarely served";
+  EXPECT_GT(cache.descents, 20u) << "candidates were never rebuilt";
 }
 
 }  // namespace
