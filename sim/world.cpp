@@ -83,6 +83,7 @@ void RunStats::add(const StepStats& s) {
 }
 
 World::World(WorldDef def) : def_(std::move(def)), stepsHash_(Hasher().value()) {
+  if (def_.threads > 1) pool_ = std::make_unique<WorkerPool>(def_.threads);
   monitor_.configure(def_.terrainEdge, def_.rest, def_.terrain.get(), def_.groundHeight,
                      def_.gravity);
 }
@@ -191,7 +192,7 @@ void World::stepToward(double target) {
   contacts_.clear();
   const std::uint64_t served0 = candidates_.served, descents0 = candidates_.descents;
   s.sphereTests = findContacts(bodies_, states_, pairs_, def_.groundHeight, def_.terrain.get(),
-                               def_.threads, contacts_, def_.coherence ? &candidates_ : nullptr);
+                               pool_.get(), contacts_, def_.coherence ? &candidates_ : nullptr);
   // Woken bodies start from rest with this step's gravity, and their own contacts (skipped
   // while they slept) are found again with everyone else's, in the usual order; repeated while
   // those wake further islands.
@@ -199,7 +200,7 @@ void World::stepToward(double target) {
     for (int i : woken) states_[i].P = (s.dt / bodies_[i].invMass) * def_.gravity;
     contacts_.clear();
     s.sphereTests += findContacts(bodies_, states_, pairs_, def_.groundHeight, def_.terrain.get(),
-                                  def_.threads, contacts_, def_.coherence ? &candidates_ : nullptr);
+                                  pool_.get(), contacts_, def_.coherence ? &candidates_ : nullptr);
   }
   s.pairsByCandidates = candidates_.served - served0;
   s.pairsByDescent = candidates_.descents - descents0;
@@ -220,7 +221,7 @@ void World::stepToward(double target) {
       def_.contactReduction ? kReducedPassFactor * def_.solverIterations : def_.solverIterations;
   solver.restingSpeed = 2 * def_.gravity.norm() * s.dt;  // what gravity adds in two steps
   solver.dt = s.dt;
-  solver.threads = def_.threads;
+  solver.pool = pool_.get();
   solver.ground = def_.ground.get();
   solver.normalImpulses = def_.ground ? &normalImpulses_ : nullptr;
   int passes = 0;

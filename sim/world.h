@@ -15,6 +15,7 @@
 #include "sim/collide/penetration.h"
 #include "sim/core/body.h"
 #include "sim/core/math.h"
+#include "sim/core/worker_pool.h"
 #include "sim/ground/ground_material.h"
 #include "sim/ground/rock_monitor.h"
 #include "sim/run_guard.h"
@@ -229,6 +230,7 @@ class World {
   std::vector<BodyPair> pairs_;         // scratch, reused every step
   std::vector<Contact> contacts_;       // scratch, reused every step
   CandidateCache candidates_;           // leaf-pair candidates from step to step (narrow phase)
+  std::unique_ptr<WorkerPool> pool_;    // def_.threads > 1: the threads of every step
   ContactCache contactCache_;           // last step's contact impulses (warm starting)
   std::uint64_t stepsHash_;             // see stepsHash()
   std::vector<double> normalImpulses_;  // scratch: per contact, for the ground law

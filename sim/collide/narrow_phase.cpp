@@ -22,13 +22,12 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
-#include <thread>
 #include <utility>
 
 #include "sim/collide/polygon_contact.h"
 #include "sim/core/error.h"
+#include "sim/core/worker_pool.h"
 #include "sim/geometry/mesh_bvh.h"
 #include "sim/shape/convex_polyhedron.h"
 
@@ -594,7 +593,8 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
 std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
                            const std::vector<BodyState>& states, const std::vector<BodyPair>& pairs,
                            const std::optional<double>& groundHeight, const Heightfield* terrain,
-                           int threads, std::vector<Contact>& out, CandidateCache* candidates) {
+                           WorkerPool* pool, std::vector<Contact>& out,
+                           CandidateCache* candidates) {
   auto treeOf = [&](int i) {
     const Shape& s = *bodies[i].shape;
     return s.polyhedron ? polygonCollider(i, *s.polyhedron, states[i].x, states[i].q)
@@ -651,12 +651,14 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
     if (b.type == ColliderType::kHeightfield) return collideTreeHeightfield(a, b, sink, memo[k]);
     return TreeTreeDescent(a, b, sink, memo[k]).run();
   };
-  // Blocks of consecutive jobs, each into its own list, taken by the threads from a shared
-  // counter; the lists are appended in block order, so the contacts are exactly the serial ones
-  // in the serial order whatever `threads`. (Jobs differ in cost by orders of magnitude, a
-  // rock's pile against a rock in flight: one fixed half per thread left one of them idle.)
+  // Blocks of consecutive jobs, each into its own list, run by the pool's threads; the lists
+  // are appended in block order, so the contacts are exactly the serial ones in the serial
+  // order whatever the thread count. (Jobs differ in cost by orders of magnitude, a rock's pile
+  // against a rock in flight: one fixed half per thread left one of them idle.)
   const int workers =
-      std::max(1, std::min<int>(threads, static_cast<int>(jobs.size() / kJobsPerThread)));
+      pool ? std::max(
+                 1, std::min<int>(pool->threads(), static_cast<int>(jobs.size() / kJobsPerThread)))
+           : 1;
   std::uint64_t total = 0;
   if (workers == 1) {
     for (std::size_t k = 0; k < jobs.size(); ++k) total += run(k, out);
@@ -667,17 +669,10 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
     for (std::vector<Contact>& f : found) f.clear();
     std::vector<std::uint64_t>& tests = scratch.tests;
     tests.assign(blocks, 0);
-    std::atomic<int> nextBlock{0};
-    auto work = [&] {
-      for (int c; (c = nextBlock.fetch_add(1, std::memory_order_relaxed)) < blocks;) {
-        const std::size_t begin = jobs.size() * c / blocks, end = jobs.size() * (c + 1) / blocks;
-        for (std::size_t k = begin; k < end; ++k) tests[c] += run(k, found[c]);
-      }
-    };
-    std::vector<std::thread> started;
-    for (int t = 1; t < workers; ++t) started.emplace_back(work);
-    work();
-    for (std::thread& t : started) t.join();
+    pool->run(blocks, [&](int c) {
+      const std::size_t begin = jobs.size() * c / blocks, end = jobs.size() * (c + 1) / blocks;
+      for (std::size_t k = begin; k < end; ++k) tests[c] += run(k, found[c]);
+    });
     for (int c = 0; c < blocks; ++c) {
       out.insert(out.end(), found[c].begin(), found[c].end());
       total += tests[c];

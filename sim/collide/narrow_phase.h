@@ -56,17 +56,19 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
 // The narrow-phase stage of a step: contacts of every broad-phase pair, in pair order, then
 // of every moving body with the floor plane and the terrain (if any), by body id. A body whose
 // shape has a polyhedron collides by the polygon method, else by its sphere tree. Pairs of
-// which neither body moves (static or asleep) are skipped. Up to `threads` threads share the
-// work; the contacts and their order do not depend on it. Returns the sphere tests.
+// which neither body moves (static or asleep) are skipped. The threads of `pool` (none: the
+// calling thread alone) share the work; the contacts and their order do not depend on it.
+// Returns the sphere tests.
 //
 // `candidates`, when given, carries leaf-pair candidates of sphere-tree pairs (body-body,
 // body-plane and body-terrain) from step to step (temporal coherence): the contacts are the
 // same, found for less.
 struct CandidateCache;
+class WorkerPool;
 std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
                            const std::vector<BodyState>& states, const std::vector<BodyPair>& pairs,
                            const std::optional<double>& groundHeight, const Heightfield* terrain,
-                           int threads, std::vector<Contact>& out,
+                           WorkerPool* pool, std::vector<Contact>& out,
                            CandidateCache* candidates = nullptr);
 
 // Temporal coherence of the sphere-tree descents. When a pair moved little relative to itself

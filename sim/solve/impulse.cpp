@@ -27,13 +27,11 @@
 #include "sim/solve/impulse.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <numeric>
-#include <thread>
 #include <utility>
 
+#include "sim/core/worker_pool.h"
 #include "sim/ground/ground_material.h"
 #include "sim/solve/islands.h"
 
@@ -286,17 +284,18 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
 
   // Which thread solves an island changes nothing. One thread when there is too little to
   // share.
-  const int threads =
-      islands < 2 || count < kRowsPerThread ? 1 : std::min(settings.threads, islands);
+  const int threads = islands < 2 || count < kRowsPerThread || !settings.pool
+                          ? 1
+                          : std::min(settings.pool->threads(), islands);
   std::vector<int>& islandPasses = w.islandPasses;
   islandPasses.assign(islands, 0);
   if (threads == 1) {
     for (int i = 0; i < islands; ++i) islandPasses[i] = solveIsland(i);
   } else {
-    // Runs of consecutive islands with about equal numbers of rows, taken from a shared
-    // counter: neighbouring islands often lie side by side in memory (their bodies' ids are
-    // close), and threads solving them at once slowed each other down (one island each from
-    // the counter: no gain over one thread on 1,000 rocks).
+    // Runs of consecutive islands with about equal numbers of rows: neighbouring islands often
+    // lie side by side in memory (their bodies' ids are close), and threads solving them at
+    // once slowed each other down (one island at a time: no gain over one thread on 1,000
+    // rocks).
     std::vector<int>& runStart = w.runStart;
     runStart.assign(1, 0);
     const int runs = threads * kRunsPerThread;
@@ -305,16 +304,9 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
           static_cast<std::int64_t>(runStart.size()) * count)
         runStart.push_back(i);
     runStart.push_back(islands);
-    const int runCount = static_cast<int>(runStart.size()) - 1;
-    std::atomic<int> nextRun{0};
-    auto work = [&] {
-      for (int k; (k = nextRun.fetch_add(1, std::memory_order_relaxed)) < runCount;)
-        for (int i = runStart[k]; i < runStart[k + 1]; ++i) islandPasses[i] = solveIsland(i);
-    };
-    std::vector<std::thread> started;
-    for (int t = 1; t < threads; ++t) started.emplace_back(work);
-    work();
-    for (std::thread& t : started) t.join();
+    settings.pool->run(static_cast<int>(runStart.size()) - 1, [&](int k) {
+      for (int i = runStart[k]; i < runStart[k + 1]; ++i) islandPasses[i] = solveIsland(i);
+    });
   }
   if (settings.passes)
     *settings.passes = islands ? *std::max_element(islandPasses.begin(), islandPasses.end()) : 0;

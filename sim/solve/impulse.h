@@ -10,6 +10,7 @@
 namespace vf {
 
 struct GroundMap;  // sim/ground/ground_material.h
+class WorkerPool;  // sim/core/worker_pool.h
 
 // Denominator of eq. 15 for direction d at lever arms ra, rb (inverse effective mass):
 // 1/M1 + 1/M2 + d . [ (I1^-1 (r1 x d)) x r1 + (I2^-1 (r2 x d)) x r2 ].
@@ -31,8 +32,8 @@ struct SolverSettings {
   // material under the contact point instead of `material`; null: the paper's model.
   const GroundMap* ground = nullptr;
   // Threads solving the contact islands (each island on one thread; the result is the same
-  // bits for any count).
-  int threads = 1;
+  // bits for any count); none: the calling thread alone.
+  WorkerPool* pool = nullptr;
   // If set, receives the number of passes made (at most `iterations`).
   int* passes = nullptr;
   // If set, receives each contact's accumulated normal impulse (N s), in contact order.

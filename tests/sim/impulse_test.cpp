@@ -8,6 +8,7 @@
 
 #include "sim/collide/contact_reduction.h"
 #include "sim/collide/narrow_phase.h"
+#include "sim/core/worker_pool.h"
 #include "tests/support/test_world.h"
 
 namespace vf {
@@ -290,11 +291,12 @@ TEST(Impulse, IslandsSolvedTogetherOnAnyThreadsOrAloneGiveTheSameBits) {
   for (int threads = 1; threads <= 3; ++threads) together.push_back(makeRun(1));
   Run alone = makeRun(3);
   const double dt = 1e-3;
+  WorkerPool two(2), three(3);
   auto settingsFor = [&](int threads, int* passes) {
     SolverSettings settings;
     settings.restingSpeed = 9.81 * dt * 2;
     settings.dt = dt;
-    settings.threads = threads;
+    settings.pool = threads == 3 ? &three : threads == 2 ? &two : nullptr;
     settings.passes = passes;
     return settings;
   };

@@ -317,8 +317,8 @@ TEST(NarrowPhase, TerrainCandidatesGiveThePlainDescentsContactsOverHolesAndBorde
     states[0].x = Vec3(at.x(), at.y(), surface(at.x(), at.y()) + 0.1);
     states[0].q = q;
     std::vector<Contact> plain, served;
-    findContacts(bodies, states, {}, std::nullopt, &field, 1, plain, nullptr);
-    findContacts(bodies, states, {}, std::nullopt, &field, 1, served, &cache);
+    findContacts(bodies, states, {}, std::nullopt, &field, nullptr, plain, nullptr);
+    findContacts(bodies, states, {}, std::nullopt, &field, nullptr, served, &cache);
     ASSERT_EQ(served.size(), plain.size()) << "pose " << k;
     for (std::size_t c = 0; c < plain.size(); ++c) {
       const Contact &x = plain[c], &y = served[c];
