@@ -57,7 +57,7 @@ void addThreadsOption(CLI::App& command, SceneOverrides& o, const std::string& w
   command
       .add_option("--threads", o.threads,
                   "threads for finding and solving contacts (default 1; the results are the "
-                  "same bits for any count; pays from a few hundred bodies)" +
+                  "same bits for any count; pays with hundreds of bodies in contact)" +
                       what)
       ->type_name("N")
       ->check(CLI::Range(1, 256));

@@ -531,8 +531,8 @@ constexpr CollideFn kCollide[kTypes][kTypes] = {
     {nullptr, collidePolygonPlane, collidePolygonHeightfield, collidePolygonPolygon},
 };
 
-// Fewer collider pairs than this per thread are not worth starting a thread for (a thread start
-// costs about as much as a few dozen sphere-tree descents at rest).
+// Fewer collider pairs than this per thread are not worth waking a worker for (that costs about
+// as much as a few dozen sphere-tree descents at rest).
 constexpr int kJobsPerThread = 16;
 // Blocks of work per thread: enough that a thread that drew cheap blocks takes more.
 constexpr int kBlocksPerThread = 16;

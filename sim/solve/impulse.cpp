@@ -89,7 +89,7 @@ struct SolverScratch {
   std::vector<int> root, islandOfRoot, start, order, rowIsland, next, runStart, islandPasses;
 };
 
-// Fewer rows than this are solved on one thread: starting one costs about as much as a few
+// Fewer rows than this are solved on one thread: waking a worker costs about as much as a few
 // dozen rows' passes.
 constexpr int kRowsPerThread = 64;
 // Runs of islands per thread: enough that a thread whose runs were cheap takes more.
