@@ -39,21 +39,22 @@ TEST(WorkerPool, EveryBlockRunsOnceAndIsDoneWhenRunReturns) {
   }
 }
 
-// The pool's threads really share the work: with two threads and blocks that wait until both
-// threads have started one, run() completes only if a worker takes a block (it would hang on
-// one thread; the wait is bounded, at 10 s, so that a failure is a failure, not a hang).
+// The pool's threads really share the work: with two threads, two blocks that each wait until
+// both have started can both see the other start only if a worker runs one beside the caller.
+// On one thread the first block would wait out its bound alone (10 s, so that a failure is a
+// failure, not a hang) and only the second would see both started.
 TEST(WorkerPool, AWorkerTakesBlocksBesideTheCaller) {
   WorkerPool pool(2);
   std::atomic<int> started{0};
-  std::atomic<bool> met{false};
+  std::atomic<int> met{0};
   pool.run(2, [&](int) {
     started.fetch_add(1);
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (started.load() < 2 && std::chrono::steady_clock::now() < until)
       std::this_thread::yield();
-    if (started.load() >= 2) met = true;
+    if (started.load() >= 2) met.fetch_add(1);
   });
-  EXPECT_TRUE(met.load());
+  EXPECT_EQ(met.load(), 2) << "a block ran alone: no worker took one";
 }
 
 }  // namespace
