@@ -313,7 +313,8 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
     // Half a texel of constant depth bias; the normal offset in common.glsl does the rest.
     gl.Uniform1f(p.uniform("uShadowBias"),
                  static_cast<float>(0.5 * shadow.texelSize / shadow.depthRange));
-    gl.Uniform1f(p.uniform("uShadowFilter"), 1.6f / static_cast<float>(settings.shadowMapSize));
+    gl.Uniform1f(p.uniform("uShadowFilter"),
+                 0.95f / static_cast<float>(settings.shadowMapSize));  // common.glsl
   };
 
   // Bodies and terrain first: the floor and the sky then only shade what is still visible.
@@ -437,10 +438,10 @@ void Renderer::render(const DrawList& list, Image& out) {
                           r.settings.shadowMapSize);
   // Every frame updates the tracker; only an unbroken run of whole frames may use its answer.
   // The reach of a shadow lookup from its surface point, in shadow-map texels (common.glsl):
-  // the normal offset (at most 4), the filter radius (1.6), the bilinear footprint (1), and a
-  // texel for rounding.
+  // the normal offset (at most 4), the filter's farthest tap (0.95 sqrt 2 < 1.35), the
+  // bilinear footprint (1), and a texel for rounding.
   std::optional<std::vector<PixelRect>> regions =
-      r.tracker.update(list, shadow, 7.6 * shadow.texelSize);
+      r.tracker.update(list, shadow, 7.35 * shadow.texelSize);
   const bool valid = r.targetsValid;
   r.targetsValid = false;
   const int w = r.settings.width, h = r.settings.height;
