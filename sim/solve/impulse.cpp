@@ -123,27 +123,11 @@ void push(const Axis& x, double j, Motion& A, Motion& B) {
   B.w -= j * x.dwB;
 }
 
-}  // namespace
-
-void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyInfo>& bodies,
-                   std::vector<BodyState>& states, const SolverSettings& settings,
-                   ContactCache& cache) {
-  if (contacts.empty()) {
-    if (settings.passes) *settings.passes = 0;
-    if (settings.normalImpulses) settings.normalImpulses->clear();
-    cache.impulses.clear();
-    cache.dt = settings.dt;
-    return;
-  }
+// Each moving body's velocities and world inverse inertia; slot n (the floor) and the bodies
+// that do not move stay zero.
+void prepareMotion(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
+                   std::vector<Motion>& motion) {
   const int n = static_cast<int>(bodies.size());
-  const int groundSlot = n;  // an immovable extra slot for the floor (see the islands below)
-  // Scratch reused from step to step (per thread: ensembles step worlds on several). Named
-  // through a reference: inside the lambda that other threads run below, the name of a
-  // thread_local would denote that thread's own (empty) copy.
-  static thread_local SolverScratch scratch;
-  SolverScratch& w = scratch;
-  std::vector<Motion>& motion = w.motion;
-  std::vector<Row>& rows = w.rows;
   motion.assign(n + 1, Motion{});
   for (int i = 0; i < n; ++i) {
     if (!bodies[i].moves()) continue;
@@ -154,7 +138,13 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
     m.v = velocityOf(bodies[i], y);
     m.w = m.invI * y.L;
   }
+}
 
+// One row per contact whose sides are not both immovable: axes, material, restitution target.
+void prepareRows(const std::vector<Contact>& contacts, const std::vector<BodyInfo>& bodies,
+                 const std::vector<BodyState>& states, const SolverSettings& settings,
+                 const std::vector<Motion>& motion, std::vector<Row>& rows) {
+  const int groundSlot = static_cast<int>(bodies.size());
   const ContactMaterial& mat = settings.material;
   rows.clear();
   for (const Contact& c : contacts) {
@@ -185,17 +175,23 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
     r.target = vRel < -settings.restingSpeed ? -eps * vRel : 0.0;  // v_rel+ = -eps v_rel-
     rows.push_back(r);
   }
+}
 
-  // Islands (sim/solve/islands.h) share no moving body, and a contact changes the velocities of
-  // its own island only, so passes over all rows and passes over one island at a time give
-  // each body the same sequence of operations: the same bits. Each island is therefore solved on
-  // its own, on any thread, and stops at its own first pass that changes nothing (a pass over
-  // the whole set stops where the last island does, so `passes` is the largest island's count).
-  // The ground and bodies that do not move take no impulse: their motion stays zero, but every
-  // row still writes it, so each island gets a zero slot of its own (n + island) for them.
+// Islands (sim/solve/islands.h) share no moving body, and a contact changes the velocities of
+// its own island only, so passes over all rows and passes over one island at a time give each
+// body the same sequence of operations: the same bits. Each island is therefore solved on its
+// own, on any thread, and stops at its own first pass that changes nothing (a pass over the
+// whole set stops where the last island does, so `passes` is the largest island's count).
+// The ground and bodies that do not move take no impulse: their motion stays zero, but every
+// row still writes it, so each island gets a zero slot of its own (n + island) for them.
+// Fills w.start (island i's rows are w.order[start[i], start[i + 1])), w.order (row indices,
+// island by island, in row order within each) and the zero slots; returns the island count.
+int groupIslands(const std::vector<Contact>& contacts, const std::vector<BodyInfo>& bodies,
+                 SolverScratch& w) {
+  const int n = static_cast<int>(bodies.size());
+  std::vector<Row>& rows = w.rows;
   const int count = static_cast<int>(rows.size());
   std::vector<int>& start = w.start;  // rows per island first, then offsets into `order`
-  std::vector<int>& order = w.order;  // row indices, island by island, in row order within
   std::vector<int>& rowIsland = w.rowIsland;
   islandRoots(contacts, bodies, w.root);
   w.islandOfRoot.assign(n, -1);
@@ -213,7 +209,7 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
     rowIsland[k] = island;
   }
   const int islands = static_cast<int>(start.size());
-  motion.resize(n + islands);
+  w.motion.resize(n + islands);
   for (int k = 0; k < count; ++k) {
     Row& r = rows[k];
     if (r.a >= n || !bodies[r.a].moves()) r.a = n + rowIsland[k];
@@ -222,75 +218,85 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
   int offset = 0;
   for (int& s : start) offset += std::exchange(s, offset);
   start.push_back(count);
-  order.resize(count);
+  w.order.resize(count);
   w.next.assign(start.begin(), start.end() - 1);
-  for (int k = 0; k < count; ++k) order[w.next[rowIsland[k]]++] = k;  // row order kept
+  for (int k = 0; k < count; ++k) w.order[w.next[rowIsland[k]]++] = k;  // row order kept
+  return islands;
+}
 
-  const double scale = cache.dt > 0 ? std::min(1.0, settings.dt / cache.dt) : 0.0;
-  auto solveIsland = [&](int island) -> int {
-    const int* first = order.data() + start[island];
-    const int* last = order.data() + start[island + 1];
-    // Warm start from the previous step's impulses (cache sorted by key: binary search).
+// Warm start and passes over the rows [first, last) of one island; returns the passes made.
+int solveIsland(const int* first, const int* last, Row* rows, Motion* motion,
+                const ContactCache& cache, double scale, const SolverSettings& settings) {
+  // Warm start from the previous step's impulses (cache sorted by key: binary search).
+  for (const int* k = first; k != last; ++k) {
+    Row& r = rows[*k];
+    const auto it =
+        std::lower_bound(cache.impulses.begin(), cache.impulses.end(), r.key,
+                         [](const CachedImpulse& c, const ContactKey& key) { return c.key < key; });
+    if (it == cache.impulses.end() || it->key != r.key) continue;
+    r.jn = it->normal * scale;
+    r.jt1 = it->tangent1 * scale;
+    r.jt2 = it->tangent2 * scale;
+    push(r.n, r.jn, motion[r.a], motion[r.b]);
+    push(r.t1, r.jt1, motion[r.a], motion[r.b]);
+    push(r.t2, r.jt2, motion[r.a], motion[r.b]);
+  }
+  // A pass that changes no accumulated impulse leaves every velocity as it was (it pushes only
+  // zero impulses), so every later pass would repeat it: the passes stop there, with the
+  // result of all `iterations` passes (tests/sim/impulse_test.cpp compares both).
+  int pass = 0;
+  while (pass < settings.iterations) {
+    ++pass;
+    bool changed = false;
     for (const int* k = first; k != last; ++k) {
       Row& r = rows[*k];
-      const auto it = std::lower_bound(
-          cache.impulses.begin(), cache.impulses.end(), r.key,
-          [](const CachedImpulse& c, const ContactKey& key) { return c.key < key; });
-      if (it == cache.impulses.end() || it->key != r.key) continue;
-      r.jn = it->normal * scale;
-      r.jt1 = it->tangent1 * scale;
-      r.jt2 = it->tangent2 * scale;
-      push(r.n, r.jn, motion[r.a], motion[r.b]);
-      push(r.t1, r.jt1, motion[r.a], motion[r.b]);
-      push(r.t2, r.jt2, motion[r.a], motion[r.b]);
-    }
-    // A pass that changes no accumulated impulse leaves every velocity as it was (it pushes
-    // only zero impulses), so every later pass would repeat it: the passes stop there, with
-    // the result of all `iterations` passes (tests/sim/impulse_test.cpp compares both).
-    int pass = 0;
-    while (pass < settings.iterations) {
-      ++pass;
-      bool changed = false;
-      for (const int* k = first; k != last; ++k) {
-        Row& r = rows[*k];
-        Motion& A = motion[r.a];
-        Motion& B = motion[r.b];
-        // Normal: eq. 15 towards the target, accumulated impulse kept >= 0.
-        const double vn = along(r.n, A, B);
-        const double jn = std::max(r.jn + (r.target - vn) * r.n.k, 0.0);
-        const double djn = jn - r.jn;
-        r.jn = jn;
-        if (djn != 0.0) push(r.n, djn, A, B);
-        // Friction: stop the tangential slip, within the Coulomb disc of the current jn.
-        double jt1 = r.jt1 - along(r.t1, A, B) * r.t1.k;
-        double jt2 = r.jt2 - along(r.t2, A, B) * r.t2.k;
-        const double limit = r.mu * r.jn;
-        const double jt = std::sqrt(jt1 * jt1 + jt2 * jt2);
-        if (jt > limit) {
-          const double s = limit / jt;
-          jt1 *= s;
-          jt2 *= s;
-        }
-        push(r.t1, jt1 - r.jt1, A, B);
-        push(r.t2, jt2 - r.jt2, A, B);
-        changed = changed || djn != 0.0 || jt1 != r.jt1 || jt2 != r.jt2;
-        r.jt1 = jt1;
-        r.jt2 = jt2;
+      Motion& A = motion[r.a];
+      Motion& B = motion[r.b];
+      // Normal: eq. 15 towards the target, accumulated impulse kept >= 0.
+      const double vn = along(r.n, A, B);
+      const double jn = std::max(r.jn + (r.target - vn) * r.n.k, 0.0);
+      const double djn = jn - r.jn;
+      r.jn = jn;
+      if (djn != 0.0) push(r.n, djn, A, B);
+      // Friction: stop the tangential slip, within the Coulomb disc of the current jn.
+      double jt1 = r.jt1 - along(r.t1, A, B) * r.t1.k;
+      double jt2 = r.jt2 - along(r.t2, A, B) * r.t2.k;
+      const double limit = r.mu * r.jn;
+      const double jt = std::sqrt(jt1 * jt1 + jt2 * jt2);
+      if (jt > limit) {
+        const double s = limit / jt;
+        jt1 *= s;
+        jt2 *= s;
       }
-      if (!changed && settings.stopWhenConverged) break;
+      push(r.t1, jt1 - r.jt1, A, B);
+      push(r.t2, jt2 - r.jt2, A, B);
+      changed = changed || djn != 0.0 || jt1 != r.jt1 || jt2 != r.jt2;
+      r.jt1 = jt1;
+      r.jt2 = jt2;
     }
-    return pass;
-  };
+    if (!changed && settings.stopWhenConverged) break;
+  }
+  return pass;
+}
 
-  // Which thread solves an island changes nothing. One thread when there is too little to
-  // share.
+// Solves every island, on the pool's threads when there is enough to share; returns the
+// largest island's pass count. Which thread solves an island changes nothing.
+int solveIslands(int islands, SolverScratch& w, const ContactCache& cache,
+                 const SolverSettings& settings) {
+  const int count = static_cast<int>(w.rows.size());
+  const double scale = cache.dt > 0 ? std::min(1.0, settings.dt / cache.dt) : 0.0;
+  auto solve = [&](int i) {
+    const int* order = w.order.data();
+    return solveIsland(order + w.start[i], order + w.start[i + 1], w.rows.data(), w.motion.data(),
+                       cache, scale, settings);
+  };
   const int threads = islands < 2 || count < kRowsPerThread || !settings.pool
                           ? 1
                           : std::min(settings.pool->threads(), islands);
   std::vector<int>& islandPasses = w.islandPasses;
   islandPasses.assign(islands, 0);
   if (threads == 1) {
-    for (int i = 0; i < islands; ++i) islandPasses[i] = solveIsland(i);
+    for (int i = 0; i < islands; ++i) islandPasses[i] = solve(i);
   } else {
     // Runs of consecutive islands with about equal numbers of rows: neighbouring islands often
     // lie side by side in memory (their bodies' ids are close), and threads solving them at
@@ -300,33 +306,21 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
     runStart.assign(1, 0);
     const int runs = threads * kRunsPerThread;
     for (int i = 1; i < islands; ++i)
-      if (static_cast<std::int64_t>(start[i]) * runs >=
+      if (static_cast<std::int64_t>(w.start[i]) * runs >=
           static_cast<std::int64_t>(runStart.size()) * count)
         runStart.push_back(i);
     runStart.push_back(islands);
     settings.pool->run(static_cast<int>(runStart.size()) - 1, [&](int k) {
-      for (int i = runStart[k]; i < runStart[k + 1]; ++i) islandPasses[i] = solveIsland(i);
+      for (int i = runStart[k]; i < runStart[k + 1]; ++i) islandPasses[i] = solve(i);
     });
   }
-  if (settings.passes)
-    *settings.passes = islands ? *std::max_element(islandPasses.begin(), islandPasses.end()) : 0;
+  return islands ? *std::max_element(islandPasses.begin(), islandPasses.end()) : 0;
+}
 
-  // Only resting contacts seed the next step: an impact's impulse belongs to its own step, and
-  // re-applied while the bodies separate it would throw them apart.
-  cache.dt = settings.dt;
-  cache.impulses.clear();
-  for (const Row& r : rows)
-    if (r.target == 0.0) cache.impulses.push_back({r.key, r.jn, r.jt1, r.jt2});
-  std::sort(cache.impulses.begin(), cache.impulses.end(),
-            [](const CachedImpulse& x, const CachedImpulse& y) { return x.key < y.key; });
-
-  if (settings.normalImpulses) {
-    settings.normalImpulses->assign(contacts.size(), 0.0);
-    for (const Row& r : rows)
-      (*settings.normalImpulses)[static_cast<std::size_t>(r.contact)] = r.jn;
-  }
-
-  // P1 += J, L1 += r1 x J for the total impulse of every contact (and the opposite on body 2).
+// P1 += J, L1 += r1 x J for the total impulse of every row (and the opposite on body 2).
+void applyImpulses(const std::vector<Row>& rows, const std::vector<BodyInfo>& bodies,
+                   std::vector<BodyState>& states) {
+  const int n = static_cast<int>(bodies.size());
   for (const Row& r : rows) {
     const Vec3 J = r.jn * r.n.d + r.jt1 * r.t1.d + r.jt2 * r.t2.d;
     if (r.a < n && bodies[r.a].moves()) {
@@ -338,6 +332,46 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
       states[r.b].L -= r.rb.cross(J);
     }
   }
+}
+
+}  // namespace
+
+void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyInfo>& bodies,
+                   std::vector<BodyState>& states, const SolverSettings& settings,
+                   ContactCache& cache) {
+  if (contacts.empty()) {
+    if (settings.passes) *settings.passes = 0;
+    if (settings.normalImpulses) settings.normalImpulses->clear();
+    cache.impulses.clear();
+    cache.dt = settings.dt;
+    return;
+  }
+  // Scratch reused from step to step (per thread: ensembles step worlds on several). Passed on
+  // by reference: in code that other threads run, the name of a thread_local would denote that
+  // thread's own (empty) copy.
+  static thread_local SolverScratch scratch;
+  SolverScratch& w = scratch;
+  prepareMotion(bodies, states, w.motion);
+  prepareRows(contacts, bodies, states, settings, w.motion, w.rows);
+  const int islands = groupIslands(contacts, bodies, w);
+  const int passes = solveIslands(islands, w, cache, settings);
+  if (settings.passes) *settings.passes = passes;
+
+  // Only resting contacts seed the next step: an impact's impulse belongs to its own step, and
+  // re-applied while the bodies separate it would throw them apart.
+  cache.dt = settings.dt;
+  cache.impulses.clear();
+  for (const Row& r : w.rows)
+    if (r.target == 0.0) cache.impulses.push_back({r.key, r.jn, r.jt1, r.jt2});
+  std::sort(cache.impulses.begin(), cache.impulses.end(),
+            [](const CachedImpulse& x, const CachedImpulse& y) { return x.key < y.key; });
+
+  if (settings.normalImpulses) {
+    settings.normalImpulses->assign(contacts.size(), 0.0);
+    for (const Row& r : w.rows)
+      (*settings.normalImpulses)[static_cast<std::size_t>(r.contact)] = r.jn;
+  }
+  applyImpulses(w.rows, bodies, states);
 }
 
 }  // namespace vf
