@@ -109,9 +109,14 @@ void reducePair(const std::vector<Contact>& cs, std::size_t begin, std::size_t e
   // Patches in narrow-phase order: a contact joins the first patch whose first contact's normal
   // is within 60 degrees of its own. Each patch's depth-weighted normal sum is accumulated on the
   // way, in the patch's order.
+  // The sum of the patch that took the last contact is kept in `running` (consecutive contacts
+  // mostly share a patch) and stored when another patch takes one: the same additions in the
+  // same order, without a store and reload of the sum per contact.
   s.heads.clear();
   s.sums.clear();
   s.patchOf.resize(end - begin);
+  std::size_t current = 0;
+  Vec3 running = Vec3::Zero();
   for (std::size_t i = begin; i < end; ++i) {
     const Contact& c = cs[i];
     std::size_t k = 0;
@@ -120,9 +125,15 @@ void reducePair(const std::vector<Contact>& cs, std::size_t begin, std::size_t e
       s.heads.push_back(static_cast<int>(i));
       s.sums.push_back(Vec3::Zero());
     }
+    if (k != current) {
+      s.sums[current] = running;
+      running = s.sums[k];
+      current = k;
+    }
     s.patchOf[i - begin] = static_cast<int>(k);
-    s.sums[k] += std::max(c.depth, 0.0) * c.normal;
+    running += std::max(c.depth, 0.0) * c.normal;
   }
+  s.sums[current] = running;
   s.kept.clear();
   for (std::size_t k = 0; k < s.heads.size(); ++k) {
     s.members.clear();
