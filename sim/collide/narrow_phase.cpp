@@ -58,6 +58,14 @@ struct NodeRef {
   Vec3 center;  // world for descendAlone; body a's frame in TreeTreeDescent
 };
 
+// World centre of leaf i of a sphere-tree collider, by the expression the world-frame descent
+// (descendAlone) uses, so that every place that tests a leaf on its own gets the same bits (a
+// one-level tree's root leaf stands at the body origin).
+Vec3 leafWorldCenter(const Collider& c, std::uint32_t i) {
+  const SphereTree& tree = *c.tree;
+  return tree.leafLevel() == 0 ? c.x : Vec3(c.x + c.R * tree.leaves().centers[i]);
+}
+
 // Body-body descent. The inner tests run in body a's frame: a's node centres are the tree's
 // own (no transform), b's are carried into a's frame by the relative pose, so half the centre
 // transforms of a world-frame descent are saved. They are widened by `slack_`, so they may let
@@ -188,14 +196,8 @@ class TreeTreeDescent {
       }
   }
 
-  // World centres of leaves, by the expressions a world-frame descent uses (a one-level tree's
-  // root leaf stands at the body origin).
-  Vec3 leafWorldA(std::uint32_t i) const {
-    return ta_.leafLevel() == 0 ? a_.x : Vec3(a_.x + a_.R * ta_.leaves().centers[i]);
-  }
-  Vec3 leafWorldB(std::uint32_t j) const {
-    return tb_.leafLevel() == 0 ? b_.x : Vec3(b_.x + b_.R * tb_.leaves().centers[j]);
-  }
+  Vec3 leafWorldA(std::uint32_t i) const { return leafWorldCenter(a_, i); }
+  Vec3 leafWorldB(std::uint32_t j) const { return leafWorldCenter(b_, j); }
 
   // The exact test of a leaf pair, and its contact, in world coordinates; while candidates
   // are built, a pair within the margin is kept as one.
@@ -302,9 +304,6 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector
     c.depth = leafRadius - h;
     out.push_back(c);
   };
-  auto leafCenter = [&](std::uint32_t i) {
-    return leafLevel == 0 ? a.x : Vec3(a.x + a.R * tree.leaves().centers[i]);
-  };
   // Temporal coherence (PairCandidates): a leaf's height is h0 + m . c, so it moved by at
   // most |dh0| + |dm| times the bounding radius since a pose.
   double margin = 0;
@@ -321,7 +320,7 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector
     if (memo->served) {
       for (std::uint32_t i : memo->leaves) {
         ++tests;
-        const Vec3 center = leafCenter(i);
+        const Vec3 center = leafWorldCenter(a, i);
         const double h = height(center);
         if (h < leafRadius) emit(i, center, h);
       }
@@ -340,7 +339,7 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector
   }
   // A leaf: the exact test, and while candidates are built, the margin's.
   auto leaf = [&](std::uint32_t i) {
-    const Vec3 center = leafCenter(i);
+    const Vec3 center = leafWorldCenter(a, i);
     const double h = height(center);
     if (margin > 0 && h < leafRadius + margin) memo->leaves.push_back(i);
     if (h < leafRadius) emit(i, center, h);
@@ -484,9 +483,7 @@ std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
     std::uint64_t tests = 0;
     for (std::uint32_t i : memo->leaves) {
       ++tests;
-      // The centre by descendAlone's own expression, so the same bits.
-      leaf(NodeRef{leafLevel, i, leafLevel == 0 ? a.x : Vec3(a.x + a.R * tree.leaves().centers[i])},
-           leafRadius);
+      leaf(NodeRef{leafLevel, i, leafWorldCenter(a, i)}, leafRadius);
     }
     return tests;
   }
