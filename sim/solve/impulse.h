@@ -24,6 +24,10 @@ struct SolverSettings {
   // Stop before `iterations` passes once a pass changes no accumulated impulse: every later
   // pass would repeat it, so the result is the same. Off only to test that claim.
   bool stopWhenConverged = true;
+  // Patch blocks (an extension, used with contact reduction): before the rows of a patch
+  // (2-4 consecutive contacts of one body pair with the same normal), their normal impulses
+  // are solved together as one small linear system. See impulse.cpp.
+  bool patchBlocks = false;
   // Approach speeds below this get no restitution: the speed gravity adds in a step or two.
   // Without it a resting body would bounce by eps g dt every step (visible jitter).
   double restingSpeed = 0;
