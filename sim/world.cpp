@@ -163,7 +163,10 @@ void World::foldStepHash() {
 
 double World::stableStep() const {
   if (std::isnan(stableStepCache_))
-    stableStepCache_ = vf::stableStep(bodies_, states_, def_.gravity, def_.maxStep);
+    stableStepCache_ = def_.clearanceStep
+                           ? clearanceStep(bodies_, states_, def_.gravity, def_.maxStep,
+                                           def_.groundHeight, def_.terrain.get())
+                           : vf::stableStep(bodies_, states_, def_.gravity, def_.maxStep);
   return stableStepCache_;
 }
 

@@ -10,7 +10,8 @@ class App;
 
 namespace vf::cli {
 
-// voxfall simulate SCENE [--csv FILE] [--summary FILE] [--level N] [--step S|auto] [--quiet]
+// voxfall simulate SCENE [--csv FILE] [--summary FILE] [--level N] [--step S|auto|clearance]
+// [--quiet]
 void addSimulateCommand(CLI::App& app, int& exitCode);
 // voxfall render SCENE [-o OUT] [--frames A:B] [--size WxH] [--fps N] [--level N] [--crf N]
 void addRenderCommand(CLI::App& app, int& exitCode);

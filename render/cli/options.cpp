@@ -25,11 +25,12 @@ void addPhysicsOptions(CLI::App& command, SceneOverrides& o, const std::string& 
       ->check(CLI::Range(kMinLevel, kMaxLevel));
   command
       .add_option("--step", o.step,
-                  "time step: 'auto' (eq. 20) or seconds, e.g. 0.005 or 1/120 (overrides the "
-                  "scene)" +
+                  "time step: 'auto' (eq. 20), 'clearance' (eq. 17 only where a body could "
+                  "touch something within the step) or seconds, e.g. 0.005 or 1/120 (overrides "
+                  "the scene)" +
                       what)
       ->check(CLI::Validator([](std::string& text) { return checkStepOption(text); }, "", "STEP"))
-      ->type_name("S|auto");
+      ->type_name("S|auto|clearance");
   command
       .add_option("--collider", o.collider,
                   "contact method: voxel (sphere trees) or polygon (the paper's comparison "

@@ -19,8 +19,9 @@ namespace vf::cli {
 // -y (overwrite existing outputs) and -n (never overwrite, exit instead), ffmpeg's flags.
 void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite);
 
-// --level N, --step S|auto, --collider voxel|polygon, --max-steps N, --max-speed V and --repair
-// (sim/scene/scene.h's SceneOverrides), for the commands that simulate; `what` ends their help
+// --level N, --step S|auto|clearance, --collider voxel|polygon, --max-steps N, --max-speed V and
+// --repair (sim/scene/scene.h's SceneOverrides), for the commands that simulate; `what` ends their
+// help
 // ("" or e.g. " (scenes only)").
 void addPhysicsOptions(CLI::App& command, SceneOverrides& overrides, const std::string& what = "");
 

@@ -205,6 +205,7 @@ WorldDef sceneWorldDef(const SceneSpec& spec) {
   WorldDef def;
   def.gravity = spec.gravity;
   def.fixedStep = spec.autoStep ? 0 : spec.fixedStep;
+  def.clearanceStep = spec.autoStep && spec.clearanceStep;
   def.groundHeight = spec.groundPlane;
   def.terrain = loadSceneTerrain(spec);
   def.terrainEdge = spec.terrainEdge;

@@ -324,15 +324,20 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
   if (const auto* n = t.get("level"))
     spec.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
   if (const auto* n = t.get("step")) {
-    const std::string valid = "'step' must be \"auto\" (eq. 20) or a fixed step in seconds > 0";
+    const std::string valid =
+        "'step' must be \"auto\" (eq. 20), \"clearance\" (eq. 17 only where a body could "
+        "touch something within the step) or a fixed step in seconds > 0";
     if (const auto* s = n->as_string()) {
-      if (s->get() != "auto") r.fail(*n, valid + ", got \"" + s->get() + "\"");
+      if (s->get() != "auto" && s->get() != "clearance")
+        r.fail(*n, valid + ", got \"" + s->get() + "\"");
       spec.autoStep = true;
+      spec.clearanceStep = s->get() == "clearance";
       spec.fixedStep = 0;
     } else if (n->is_number()) {
       const double v = r.number(*n, "step");
       if (!(v > 0)) r.fail(*n, valid + ", got " + formatNumber(v));
       spec.autoStep = false;
+      spec.clearanceStep = false;
       spec.fixedStep = v;
     } else {
       r.fail(*n, valid + ", got " + typeName(*n));

@@ -40,20 +40,23 @@ std::optional<double> parseStepSeconds(const std::string& text) {
 }  // namespace
 
 std::string checkStepOption(const std::string& text) {
-  if (text == "auto" || parseStepSeconds(text)) return "";
-  return "expected 'auto' (eq. 20) or a fixed step in seconds > 0 (e.g. 0.005 or 1/120), got '" +
+  if (text == "auto" || text == "clearance" || parseStepSeconds(text)) return "";
+  return "expected 'auto' (eq. 20), 'clearance' (eq. 17 only where a body could touch something "
+         "within the step) or a fixed step in seconds > 0 (e.g. 0.005 or 1/120), got '" +
          text + "'";
 }
 
 void applyStepOverride(SceneSpec& spec, const std::string& text) {
-  if (text == "auto") {
+  if (text == "auto" || text == "clearance") {
     spec.autoStep = true;
+    spec.clearanceStep = text == "clearance";
     spec.fixedStep = 0;
     return;
   }
   const auto v = parseStepSeconds(text);
   if (!v) throw InputError("", "--step: " + checkStepOption(text));
   spec.autoStep = false;
+  spec.clearanceStep = false;
   spec.fixedStep = *v;
 }
 

@@ -15,6 +15,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/collide/contact.h"
+#include "sim/shape/heightfield.h"
+
 namespace vf {
 
 double chooseStep(double remaining, double fixedStep, double stable, double minStep, bool& lands,
@@ -56,6 +59,94 @@ double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodySta
     dt = v > 0 ? radius / v : maxStep;
   if (!(dt > 0)) dt = maxStep;  // non-finite speeds: the integrator freezes such bodies
   return std::min(dt, maxStep);
+}
+
+// The clearance rule (an extension; the paper's rule is stableStep above). Eq. 17 makes every
+// leaf sphere move less than its radius r in a step, so that a contact is found before it is
+// deeper than r (two bodies: r_a + r_b) and nothing passes through anything. A body in flight,
+// far from everything, need not obey it: while the fastest rock of a thousand falls off the
+// cliff, eq. 20 makes every rock take its short steps. Here each moving body i gets
+//   budget D_i: how far its fastest point moves in a step of maxStep (speed s_i = |v| + (l/2)|w|
+//     as in eq. 18 but per body, plus gravity's |g| maxStep);
+//   clearance c_i <= D_i, bounded by its bounding sphere's (radius R_i about the centre of mass,
+//     enclosing every leaf sphere whatever the rotation) distance to the floor plane, to the
+//     terrain (the sphere of radius R_i + c_i about x_i lies above Heightfield::surfaceBoundNear
+//     over the square of half-side R_i + D_i, so no leaf inside it touches the surface or the
+//     border wall: the containment argument of the terrain descent), and, for another body j
+//     whose bounding sphere lies within reach, its share of their gap g_ij: c_i <= g_ij D_i /
+//     (D_i + D_j), so c_i + c_j <= g_ij; bodies that do not move (asleep, static) have D = 0
+//     and leave the whole gap to the other. For bodies farther apart along x than
+//     R_i + D_i + R_j + D_j, g_ij > D_i + D_j >= c_i + c_j anyway (the sweep below skips them);
+// and moves at most max(r_i, c_i) in the step. If two bodies i and j start g_ij apart, they end
+// at most max(r_i, c_i) + max(r_j, c_j) - g_ij <= r_i + r_j deep in each other (c_i + c_j <=
+// g_ij), and a body against the floor or the terrain at most r_i: the bounds eq. 17 gives.
+// A body whose bounding sphere touches something (gap <= 0) gets c_i = 0: eq. 17, per body,
+// which is never shorter than the paper's eq. 20 (maxima over bodies). The same state gives
+// the same step (sorted with ties broken by id), whatever the thread count.
+double clearanceStep(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
+                     const Vec3& gravity, double maxStep, const std::optional<double>& groundHeight,
+                     const Heightfield* terrain) {
+  const double g = gravity.norm();
+  struct Reach {
+    double lo, hi;  // x interval of the bounding sphere grown by the budget
+    double speed = 0, radius = 0, reach = 0, budget = 0, clearance = 0;
+    int id = 0;
+  };
+  std::vector<Reach> xs;
+  xs.reserve(bodies.size());
+  for (int i = 0; i < static_cast<int>(bodies.size()); ++i) {
+    const BodyInfo& b = bodies[i];
+    if (!b.active) continue;
+    const Shape& s = *b.shape;
+    const BodyState& y = states[i];
+    Reach r;
+    r.id = i;
+    const double R = s.tree->boundingRadius;
+    r.reach = R + roundingSlack(y.x, R);
+    if (b.moves()) {
+      r.speed = velocityOf(b, y).norm() + 0.5 * s.diameter * angularVelocityOf(b, y).norm();
+      r.radius = std::ldexp(s.diameter, -(s.tree->leafLevel() + 1));
+      r.budget = (r.speed + g * maxStep) * maxStep;
+      if (!std::isfinite(r.budget)) r.budget = 0;  // the integrator freezes such bodies
+      r.clearance = r.budget;
+      if (groundHeight) r.clearance = std::min(r.clearance, y.x.z() - r.reach - *groundHeight);
+      if (terrain) {
+        const double top = terrain->surfaceBoundNear(y.x.x(), y.x.y(), r.reach + r.budget);
+        r.clearance = std::min(r.clearance, y.x.z() - r.reach - top);  // -inf: no terrain there
+      }
+      r.clearance = std::max(r.clearance, 0.0);
+    }
+    r.lo = y.x.x() - r.reach - r.budget;
+    r.hi = y.x.x() + r.reach + r.budget;
+    xs.push_back(r);
+  }
+  std::sort(xs.begin(), xs.end(), [](const Reach& u, const Reach& v) {
+    return u.lo < v.lo || (u.lo == v.lo && u.id < v.id);
+  });
+  for (std::size_t i = 0; i < xs.size(); ++i)
+    for (std::size_t j = i + 1; j < xs.size() && xs[j].lo <= xs[i].hi; ++j) {
+      Reach& a = xs[i];
+      Reach& b = xs[j];
+      const double total = a.budget + b.budget;
+      if (total == 0) continue;  // neither moves
+      const double gap = (states[a.id].x - states[b.id].x).norm() - a.reach - b.reach;
+      if (gap <= 0) {
+        a.clearance = b.clearance = 0;
+        continue;
+      }
+      a.clearance = std::min(a.clearance, gap * (a.budget / total));
+      b.clearance = std::min(b.clearance, gap * (b.budget / total));
+    }
+  double dt = maxStep;
+  for (const Reach& r : xs) {
+    if (r.budget == 0) continue;
+    const double move = std::max(r.radius, r.clearance);
+    // As stableStep: the positive root of g dt^2 + s dt - move = 0, or move / s for g = 0.
+    const double step = g > 0 ? 2 * move / (r.speed + std::sqrt(r.speed * r.speed + 4 * g * move))
+                              : (r.speed > 0 ? move / r.speed : maxStep);
+    if (step > 0) dt = std::min(dt, step);
+  }
+  return dt;
 }
 
 }  // namespace vf

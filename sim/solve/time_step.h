@@ -1,16 +1,27 @@
 // The step-size rule of section 4 (eqs. 17-20).
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "sim/core/body.h"
 
 namespace vf {
 
+class Heightfield;  // sim/shape/heightfield.h
+
 // The largest step at which no leaf sphere of a moving body moves more than its own radius
 // (eq. 17), for the current state, capped at maxStep. See time_step.cpp for the details.
 double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
                   const Vec3& gravity, double maxStep);
+
+// The clearance rule, an extension (`[simulation] step = "clearance"`): eq. 17 asked only of
+// bodies that could touch something within the step; a body farther than that from everything
+// may move up to its share of the distance. Never shorter than stableStep. Needs the floor
+// plane (z = groundHeight, if any) and the terrain (if any). See time_step.cpp.
+double clearanceStep(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
+                     const Vec3& gravity, double maxStep, const std::optional<double>& groundHeight,
+                     const Heightfield* terrain);
 
 // The length of the next step towards `remaining` seconds ahead: the rule (the fixed step if
 // fixedStep > 0, else `stable`, the eq.-20 step, raised to minStep if a runaway body asks for

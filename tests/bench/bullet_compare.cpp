@@ -71,11 +71,13 @@ double penetration(const vf::World& world, const std::vector<char>& active,
   return std::max(d.maxPenetrationBodyBody, d.maxPenetrationBodyGround);
 }
 
-vf::SceneSpec sceneAt(const std::string& name, int level, bool extensions) {
+// `clearance`: the clearance step rule (solve/time_step.h, an extension) instead of eq. 20.
+vf::SceneSpec sceneAt(const std::string& name, int level, bool extensions, bool clearance = false) {
   vf::SceneSpec spec = vf::loadScene(scenePath(name));
   spec.level = level;
   for (vf::ShapeSpec& s : spec.shapes) s.level.reset();
   spec.contactReduction = spec.sleep = extensions;
+  spec.clearanceStep = clearance;
   return spec;
 }
 
@@ -287,26 +289,32 @@ int main(int argc, char** argv) {
   const int rounds = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   const char* scenes[] = {"cubes", "blocks", "stack", "crosses", "cliff"};
   std::printf(
-      "| scene | voxfall Lv4 paper (ms/sim s) | voxfall Lv4 +reduction+sleep | Bullet 1/60 s |"
-      " paper / Bullet | ext / Bullet | deepest: Bullet, voxfall paper, voxfall ext (mm) |\n");
-  std::printf("|---|---|---|---|---|---|---|\n");
+      "| scene | voxfall Lv4 paper (ms/sim s) | voxfall Lv4 +reduction+sleep | ext + clearance "
+      "step | Bullet 1/60 s | paper / Bullet | ext / Bullet | ext + clearance / Bullet | deepest: "
+      "Bullet, voxfall paper, ext, ext + clearance (mm) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (const char* name : scenes) {
     const vf::SceneSpec paper = sceneAt(name, 4, false);
     const vf::SceneSpec ext = sceneAt(name, 4, true);
+    const vf::SceneSpec clear = sceneAt(name, 4, true, true);
     std::vector<std::vector<Spawn>> spawns;
     const Outcome pv = runVoxfall(paper, true, &spawns);
     const Outcome ev = runVoxfall(ext, true, nullptr);
+    const Outcome cv = runVoxfall(clear, true, nullptr);
     const Outcome bb = runBullet(paper, spawns, true);
-    std::vector<double> tp{pv.cpuPerSimSecond}, te{ev.cpuPerSimSecond}, tb{bb.cpuPerSimSecond};
+    std::vector<double> tp{pv.cpuPerSimSecond}, te{ev.cpuPerSimSecond}, tc{cv.cpuPerSimSecond},
+        tb{bb.cpuPerSimSecond};
     for (int r = 1; r < rounds; ++r) {  // interleaved rounds
       tp.push_back(runVoxfall(paper, false, nullptr).cpuPerSimSecond);
       te.push_back(runVoxfall(ext, false, nullptr).cpuPerSimSecond);
+      tc.push_back(runVoxfall(clear, false, nullptr).cpuPerSimSecond);
       tb.push_back(runBullet(paper, spawns, false).cpuPerSimSecond);
     }
-    const double p = median(tp), e = median(te), b = median(tb);
-    std::printf("| %s | %.1f | %.1f | %.1f | %.2fx | %.2fx | %.0f, %.1f, %.1f |\n", name, 1e3 * p,
-                1e3 * e, 1e3 * b, p / b, e / b, 1e3 * bb.maxPenetration, 1e3 * pv.maxPenetration,
-                1e3 * ev.maxPenetration);
+    const double p = median(tp), e = median(te), c = median(tc), b = median(tb);
+    std::printf(
+        "| %s | %.1f | %.1f | %.1f | %.1f | %.2fx | %.2fx | %.2fx | %.0f, %.1f, %.1f, %.1f |\n",
+        name, 1e3 * p, 1e3 * e, 1e3 * c, 1e3 * b, p / b, e / b, c / b, 1e3 * bb.maxPenetration,
+        1e3 * pv.maxPenetration, 1e3 * ev.maxPenetration, 1e3 * cv.maxPenetration);
     std::fflush(stdout);
   }
   return 0;

@@ -17,6 +17,7 @@
 //     per simulated second, scene building excluded: the figure to read on a shared machine),
 //     cpu_us_per_rock_step (the same per rock and step: flat if the cost is linear in the
 //     rocks at a given step) and pairs_per_step. Run with --benchmark_repetitions=3 for medians.
+//   RockfallClearance/<n>/<threads>: the same with `step = "clearance"` (solve/time_step.h).
 //   TreeBuild/<level>: voxel sphere tree of a 100k-triangle closed mesh (a bumpy sphere);
 //   TreeBuild1M/7: of a 1M-triangle one at level 7, with the tree's memory.
 //   DiagnosticsBuild1M: what the true-mesh diagnostics build for the same mesh (the triangle
@@ -120,11 +121,13 @@ void runScene(benchmark::State& state, const std::string& name) {
 
 // n rocks released at t = 0 over the cliff terrain, one per 0.8 m grid cell (48 x 29 cells)
 // and layer by layer upwards, each dropped 0.3 m onto what lies below it (drop_height).
-void rockfall(benchmark::State& state) {
+// With `clearance`, the clearance step rule (an extension) instead of eq. 20.
+void rockfall(benchmark::State& state, bool clearance) {
   vf::SceneSpec spec = vf::loadScene(scenePath("cliff"));
   spec.level = 3;
   spec.duration = 4.0;
   spec.contactReduction = spec.sleep = true;
+  spec.clearanceStep = clearance;
   spec.emitters.resize(1);
   vf::EmitterSpec& e = spec.emitters[0];
   e.count = static_cast<int>(state.range(0));
@@ -269,7 +272,7 @@ BENCHMARK_CAPTURE(runScene, crosses6, std::string("crosses"))
     ->Args({6, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK(rockfall)
+BENCHMARK_CAPTURE(rockfall, eq20, false)
     ->Name("Rockfall")
     ->Args({100, 1})
     ->Args({100, 2})
@@ -280,6 +283,16 @@ BENCHMARK(rockfall)
     ->Args({3000, 1})
     ->Args({3000, 2})
     ->Args({10000, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+BENCHMARK_CAPTURE(rockfall, clearance, true)
+    ->Name("RockfallClearance")
+    ->Args({100, 1})
+    ->Args({300, 1})
+    ->Args({1000, 1})
+    ->Args({1000, 2})
+    ->Args({3000, 2})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);

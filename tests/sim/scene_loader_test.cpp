@@ -170,6 +170,22 @@ TEST_F(SceneTest, WrongTypes) {
   expectError("[shapes]\ncube = 3\n", "3", "'shapes.cube' must be a table");
 }
 
+TEST_F(SceneTest, ClearanceStepIsAnAutomaticRule) {
+  const SceneSpec spec = loadScene(write("scene.toml", "[simulation]\nstep = \"clearance\"\n"));
+  EXPECT_TRUE(spec.autoStep);
+  EXPECT_TRUE(spec.clearanceStep);
+  EXPECT_TRUE(sceneWorldDef(spec).clearanceStep);
+  SceneSpec fixed = spec;
+  applyStepOverride(fixed, "1/100");  // `--step 1/100` replaces the rule
+  EXPECT_FALSE(fixed.clearanceStep);
+  EXPECT_FALSE(sceneWorldDef(fixed).clearanceStep);
+  SceneSpec eq20 = spec;
+  applyStepOverride(eq20, "auto");
+  EXPECT_FALSE(eq20.clearanceStep);
+  applyStepOverride(eq20, "clearance");
+  EXPECT_TRUE(eq20.clearanceStep && eq20.autoStep);
+}
+
 TEST_F(SceneTest, IntegersAreNumbers) {
   const std::string path =
       write("scene.toml", "[simulation]\nduration = 3\nstep = 1\ngravity = [0, 0, -10]\n");
@@ -189,7 +205,8 @@ TEST_F(SceneTest, ImpossibleValues) {
   expectError("[simulation]\nlevel = 0\n", "0", "'level' must be an integer from 1 to 10, got 0");
   expectError("[simulation]\nlevel = 11\n", "11",
               "'level' must be an integer from 1 to 10, got 11");
-  expectError("[simulation]\nstep = 0\n", "0", "'step' must be \"auto\" (eq. 20) or a fixed step");
+  expectError("[simulation]\nstep = 0\n", "0",
+              "'step' must be \"auto\" (eq. 20), \"clearance\" (eq. 17 only where");
   expectError("[simulation]\nstep = -0.01\n", "-0.01", "got -0.01");
   expectError("[simulation]\nstep = \"fast\"\n", "\"fast\"", "got \"fast\"");
   expectError("[simulation]\ngravity = [0, 0, -inf]\n", "-inf", "'gravity[2]' must be a finite");
@@ -329,6 +346,7 @@ TEST_F(SceneTest, DefaultsAndNormalisation) {
   EXPECT_EQ(spec.name, "my_scene");
   EXPECT_EQ(spec.path, path);
   EXPECT_TRUE(spec.autoStep);
+  EXPECT_FALSE(spec.clearanceStep);  // eq. 20, the paper's rule
   EXPECT_EQ(spec.level, 4);
   EXPECT_FALSE(spec.groundPlane.has_value());
   EXPECT_FALSE(spec.camera.given);

@@ -144,22 +144,25 @@ WorldDef pileWorld(int threads, bool extensions) {
   return def;
 }
 
+// The state hash of the pile of 40 boxes in `def` at every tenth of a second, `tenths` of them.
+std::vector<std::uint64_t> pileHashes(const WorldDef& def, int tenths) {
+  World world(def);
+  addPileOf40Boxes(world);
+  std::vector<std::uint64_t> hashes;
+  for (int k = 1; k <= tenths; ++k) {
+    world.advanceTo(0.1 * k);
+    hashes.push_back(world.stateHash());
+  }
+  return hashes;
+}
+
 // Threads share the narrow phase and the solver's islands and merge in a fixed order: a pile of
 // 40 boxes (enough collider pairs and contacts for threads) gives the same state hash at every
 // tenth of a second with 1, 2 and 3 threads, with and without the extensions that reorder work
 // (reduction, sleeping).
 TEST(World, StateHashDoesNotDependOnTheThreadCount) {
   for (const bool extensions : {false, true}) {
-    auto run = [&](int threads) {
-      World world(pileWorld(threads, extensions));
-      addPileOf40Boxes(world);
-      std::vector<std::uint64_t> hashes;
-      for (int k = 1; k <= 20; ++k) {
-        world.advanceTo(0.1 * k);
-        hashes.push_back(world.stateHash());
-      }
-      return hashes;
-    };
+    auto run = [&](int threads) { return pileHashes(pileWorld(threads, extensions), 20); };
     const auto one = run(1);
     EXPECT_EQ(run(2), one) << (extensions ? "with" : "without") << " reduction and sleep";
     EXPECT_EQ(run(3), one) << (extensions ? "with" : "without") << " reduction and sleep";
@@ -194,6 +197,85 @@ TEST(World, CoherenceChangesNoBitOfTheTrajectory) {
     EXPECT_EQ(run(true, 2, unused), plain) << "two threads";
     EXPECT_GT(served, plain.size()) << "candidates served fewer pair tests than there were steps";
   }
+}
+
+// The clearance rule (WorldDef::clearanceStep, solve/time_step.h) keeps the bounds eq. 17
+// gives while taking long steps in flight. Two experiments, each from ten starting points 3 cm
+// apart, so that the last step before the impact ends at ten different distances (a rule that
+// let a body step through its clearance would land some of them deep; checked by disabling the
+// floor's and the pairs' bounds in turn):
+//  - a box thrown down at 20 m/s from about 3 m, spinning, alone over the floor (eq. 20 at
+//    level 3: steps of 1.26 ms; 1/60 s would carry it 0.33 m, 13 leaf radii);
+//  - two boxes flying at each other at 20 m/s each, about 3 m apart, 2 m above the floor.
+// Checked after every step by the true-mesh diagnostics: no mesh deeper in the floor than one
+// leaf radius r, nor in another body than r_a + r_b = 2 r (a mesh vertex lies inside its leaf
+// sphere, so the mesh is no deeper than the leaf spheres, which eq. 17 keeps within that bound
+// per step). The impacts happen (the falling box bounces, the flying ones turn back); the first
+// step, everything far apart, is the cap, 1/60 s, over ten times eq. 20's; each run takes
+// fewer steps than with eq. 20.
+TEST(World, ClearanceStepKeepsEq17BoundsWithFewerSteps) {
+  auto s = test::boxShape(0.3, 0.2, 0.2, 800, 3);
+  const double r = std::ldexp(s->diameter, -4);  // eq. 19 at level 3
+  struct Outcome {
+    double deepestFloor = 0, deepestBody = 0, firstStep = 0, turned = 0;
+    std::uint64_t steps = 0;
+  };
+  auto run = [&](bool clearance, bool pair, double offset) {
+    WorldDef def;
+    def.groundHeight = 0.0;
+    def.clearanceStep = clearance;
+    World world(def);
+    if (pair) {
+      BodyDef a = test::bodyAt(s, Vec3(0, 0, 2));
+      a.velocity = Vec3(20, 0, 0);
+      BodyDef b = test::bodyAt(s, Vec3(3 + offset, 0.02, 2));
+      b.velocity = Vec3(-20, 0, 0);
+      world.addBody(a);
+      world.addBody(b);
+    } else {
+      BodyDef b = test::bodyAt(s, Vec3(0, 0, 3 + offset));
+      b.velocity = Vec3(0, 0, -20);
+      b.angularVelocity = Vec3(1, 2, 0);
+      world.addBody(b);
+    }
+    Outcome o;
+    while (world.time() < 0.3) {
+      world.stepNext();
+      if (o.firstStep == 0) o.firstStep = world.lastStep().dt;
+      const Diagnostics d = world.measure();
+      o.deepestFloor = std::max(o.deepestFloor, d.maxPenetrationBodyGround);
+      o.deepestBody = std::max(o.deepestBody, d.maxPenetrationBodyBody);
+      // Turned back: the falling box moving up, the first flyer moving to -x.
+      o.turned = std::max(o.turned, pair ? -world.velocity(0).x() : world.velocity(0).z());
+    }
+    o.steps = world.totals().steps;
+    return o;
+  };
+  for (const bool pair : {false, true})
+    for (int k = 0; k < 10; ++k) {
+      SCOPED_TRACE(std::string(pair ? "flying pair" : "falling box") + ", offset " +
+                   std::to_string(0.03 * k));
+      const Outcome eq20 = run(false, pair, 0.03 * k), clear = run(true, pair, 0.03 * k);
+      EXPECT_LT(clear.deepestFloor, r);
+      EXPECT_LT(clear.deepestBody, 2 * r);
+      EXPECT_GT(clear.turned, 1.0) << "no impact";
+      EXPECT_NEAR(clear.firstStep, 1.0 / 60, 1e-15);
+      EXPECT_GT(clear.firstStep, 10 * eq20.firstStep);
+      EXPECT_LT(clear.steps, eq20.steps);
+    }
+}
+
+// The clearance rule decides from the state alone: the pile of 40 boxes gives the same state
+// hashes on 1 and 2 threads with it, and not those of eq. 20 (the rule is in use).
+TEST(World, ClearanceStepStateHashDoesNotDependOnTheThreadCount) {
+  auto run = [&](int threads, bool clearance) {
+    WorldDef def = pileWorld(threads, true);
+    def.clearanceStep = clearance;
+    return pileHashes(def, 10);
+  };
+  const auto one = run(1, true);
+  EXPECT_EQ(run(2, true), one);
+  EXPECT_NE(run(1, false), one);
 }
 
 }  // namespace
