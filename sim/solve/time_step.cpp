@@ -110,10 +110,6 @@ double clearanceStep(const std::vector<BodyInfo>& bodies, const std::vector<Body
       if (!std::isfinite(r.budget)) r.budget = 0;  // the integrator freezes such bodies
       r.clearance = r.budget;
       if (groundHeight) r.clearance = std::min(r.clearance, y.x.z() - r.reach - *groundHeight);
-      if (terrain) {
-        const double top = terrain->surfaceBoundNear(y.x.x(), y.x.y(), r.reach + r.budget);
-        r.clearance = std::min(r.clearance, y.x.z() - r.reach - top);  // -inf: no terrain there
-      }
       r.clearance = std::max(r.clearance, 0.0);
     }
     r.lo = y.x.x() - r.reach - r.budget;
@@ -129,13 +125,35 @@ double clearanceStep(const std::vector<BodyInfo>& bodies, const std::vector<Body
       Reach& b = xs[j];
       const double total = a.budget + b.budget;
       if (total == 0) continue;  // neither moves
-      const double gap = (states[a.id].x - states[b.id].x).norm() - a.reach - b.reach;
+      // Skipped where the pair changes no step: both already move by their radii (a body moves
+      // max(r, c), and c only shrinks), or they are at least D_a + D_b apart (shares >= budgets).
+      if (a.clearance <= a.radius && b.clearance <= b.radius) continue;
+      const double far = a.reach + b.reach + total;
+      const double d2 = (states[a.id].x - states[b.id].x).squaredNorm();
+      if (d2 >= far * far) continue;
+      const double gap = std::sqrt(d2) - a.reach - b.reach;
       if (gap <= 0) {
         a.clearance = b.clearance = 0;
         continue;
       }
       a.clearance = std::min(a.clearance, gap * (a.budget / total));
       b.clearance = std::min(b.clearance, gap * (b.budget / total));
+    }
+  // The terrain last, and only where it can matter: a body moves max(r, c), so once c <= r
+  // nothing lowers its step; and the surface under the centre is below the bound over any
+  // square about it, so a centre less than R + r above it settles c <= r without the bound.
+  if (terrain)
+    for (Reach& r : xs) {
+      if (r.clearance <= r.radius) continue;
+      const Vec3& x = states[r.id].x;
+      if (x.z() - r.reach - terrain->heightAt(x.x(), x.y()) < r.radius) {  // NaN: no data
+        r.clearance = 0;
+        continue;
+      }
+      // Above every sample (the bound is capped by the samples, plus its 1e-9 m): no change.
+      if (x.z() - r.reach - r.clearance > terrain->zMax + 1e-9) continue;
+      const double top = terrain->surfaceBoundNear(x.x(), x.y(), r.reach + r.budget);
+      r.clearance = std::max(std::min(r.clearance, x.z() - r.reach - top), 0.0);  // -inf: none
     }
   double dt = maxStep;
   for (const Reach& r : xs) {
