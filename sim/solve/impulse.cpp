@@ -80,12 +80,12 @@ struct Row {  // one contact, prepared
   int patch = -1;                   // first row of a patch: its index in the patch list
 };
 
-// A patch block (SolverSettings::patchBlocks): the rows [first, first + count) of one body pair
-// share the normal; `inverse` is the pseudo-inverse of their normal block K (count x count,
-// top left), K_ij = the normal velocity at point i per unit normal impulse at point j.
 // Rounding allowance of a patch block's impulses, relative to the largest (see solveIsland).
 constexpr double kZeroShare = 1e-9;
 
+// A patch block (SolverSettings::patchBlocks): the rows [first, first + count) of one body pair
+// share the normal; `inverse` is the pseudo-inverse of their normal block K (count x count,
+// top left), K_ij = the normal velocity at point i per unit normal impulse at point j.
 struct Patch {
   Eigen::Matrix4d inverse;
   int count = 0;
@@ -224,13 +224,16 @@ void preparePatches(std::vector<Row>& rows, const std::vector<Motion>& motion,
     if (m >= 2 && m <= 4) {
       const Motion& A = motion[rows[first].a];
       const Motion& B = motion[rows[first].b];
-      Eigen::Matrix4d K = Eigen::Matrix4d::Identity();  // unused rows and columns: identity
+      Eigen::Matrix4d K = Eigen::Matrix4d::Zero();
       for (std::size_t i = 0; i < m; ++i)
         for (std::size_t j = 0; j < m; ++j) {
           const Axis& x = rows[first + i].n;
           const Axis& y = rows[first + j].n;
           K(i, j) = A.invMass + B.invMass + x.raXd.dot(y.dwA) + x.rbXd.dot(y.dwB);
         }
+      // Unused rows and columns: K(0, 0) on the diagonal, the block's own scale, so that the
+      // cut-off below is relative to the block whatever the bodies' masses.
+      for (std::size_t i = m; i < 4; ++i) K(i, i) = K(0, 0);
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(K);
       const Eigen::Vector4d lambda = eigen.eigenvalues();
       // Directions K does not move (up to rounding of its entries) are left out.
