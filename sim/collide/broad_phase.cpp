@@ -25,20 +25,14 @@ void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>
     const double reach = r + roundingSlack(states[i].x, r);
     xs.push_back({states[i].x.x() - reach, states[i].x.x() + reach, reach, i});
   }
-  std::sort(xs.begin(), xs.end(), [](const Interval& u, const Interval& v) {
-    return u.lo < v.lo || (u.lo == v.lo && u.id < v.id);
-  });
   const std::size_t first = pairs.size();
-  for (std::size_t i = 0; i < xs.size(); ++i) {
-    const int a = xs[i].id;
-    for (std::size_t j = i + 1; j < xs.size() && xs[j].lo <= xs[i].hi; ++j) {
-      const int b = xs[j].id;
-      if (bodies[a].isStatic && bodies[b].isStatic) continue;
-      const double reach = xs[i].reach + xs[j].reach;
-      if ((states[a].x - states[b].x).squaredNorm() < reach * reach)
-        pairs.push_back({std::min(a, b), std::max(a, b)});
-    }
-  }
+  sweepAlongX(xs, [&](const Interval& u, const Interval& v) {
+    const int a = u.id, b = v.id;
+    if (bodies[a].isStatic && bodies[b].isStatic) return;
+    const double reach = u.reach + v.reach;
+    if ((states[a].x - states[b].x).squaredNorm() < reach * reach)
+      pairs.push_back({std::min(a, b), std::max(a, b)});
+  });
   std::sort(
       pairs.begin() + static_cast<std::ptrdiff_t>(first), pairs.end(),
       [](const BodyPair& u, const BodyPair& v) { return u.a < v.a || (u.a == v.a && u.b < v.b); });

@@ -1,6 +1,7 @@
 // Broad phase: body pairs whose bounding spheres overlap (fig. 3, step 1).
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "sim/collide/contact.h"
@@ -14,5 +15,19 @@ namespace vf {
 // generated in a fixed order.
 void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
                std::vector<BodyPair>& pairs);
+
+// The sweep itself, for any x intervals: sorts `spans` (each with members lo, hi and id) by
+// (lo, id) and calls visit(u, v) for every two spans whose intervals overlap, u sorted before
+// v. The calls and their order depend on the spans alone. findPairs and the clearance step rule
+// (solve/time_step.cpp, intervals grown by how far a body can move) sweep with it.
+template <class Span, class Visit>
+void sweepAlongX(std::vector<Span>& spans, Visit&& visit) {
+  std::sort(spans.begin(), spans.end(), [](const Span& u, const Span& v) {
+    return u.lo < v.lo || (u.lo == v.lo && u.id < v.id);
+  });
+  for (std::size_t i = 0; i < spans.size(); ++i)
+    for (std::size_t j = i + 1; j < spans.size() && spans[j].lo <= spans[i].hi; ++j)
+      visit(spans[i], spans[j]);
+}
 
 }  // namespace vf

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/collide/broad_phase.h"
 #include "sim/collide/contact.h"
 #include "sim/shape/heightfield.h"
 
@@ -116,29 +117,23 @@ double clearanceStep(const std::vector<BodyInfo>& bodies, const std::vector<Body
     r.hi = y.x.x() + r.reach + r.budget;
     xs.push_back(r);
   }
-  std::sort(xs.begin(), xs.end(), [](const Reach& u, const Reach& v) {
-    return u.lo < v.lo || (u.lo == v.lo && u.id < v.id);
-  });
-  for (std::size_t i = 0; i < xs.size(); ++i)
-    for (std::size_t j = i + 1; j < xs.size() && xs[j].lo <= xs[i].hi; ++j) {
-      Reach& a = xs[i];
-      Reach& b = xs[j];
-      const double total = a.budget + b.budget;
-      if (total == 0) continue;  // neither moves
-      // Skipped where the pair changes no step: both already move by their radii (a body moves
-      // max(r, c), and c only shrinks), or they are at least D_a + D_b apart (shares >= budgets).
-      if (a.clearance <= a.radius && b.clearance <= b.radius) continue;
-      const double far = a.reach + b.reach + total;
-      const double d2 = (states[a.id].x - states[b.id].x).squaredNorm();
-      if (d2 >= far * far) continue;
-      const double gap = std::sqrt(d2) - a.reach - b.reach;
-      if (gap <= 0) {
-        a.clearance = b.clearance = 0;
-        continue;
-      }
-      a.clearance = std::min(a.clearance, gap * (a.budget / total));
-      b.clearance = std::min(b.clearance, gap * (b.budget / total));
+  sweepAlongX(xs, [&](Reach& a, Reach& b) {
+    const double total = a.budget + b.budget;
+    if (total == 0) return;  // neither moves
+    // Skipped where the pair changes no step: both already move by their radii (a body moves
+    // max(r, c), and c only shrinks), or they are at least D_a + D_b apart (shares >= budgets).
+    if (a.clearance <= a.radius && b.clearance <= b.radius) return;
+    const double far = a.reach + b.reach + total;
+    const double d2 = (states[a.id].x - states[b.id].x).squaredNorm();
+    if (d2 >= far * far) return;
+    const double gap = std::sqrt(d2) - a.reach - b.reach;
+    if (gap <= 0) {
+      a.clearance = b.clearance = 0;
+      return;
     }
+    a.clearance = std::min(a.clearance, gap * (a.budget / total));
+    b.clearance = std::min(b.clearance, gap * (b.budget / total));
+  });
   // The terrain last, and only where it can matter: a body moves max(r, c), so once c <= r
   // nothing lowers its step; and the surface under the centre is below the bound over any
   // square about it, so a centre less than R + r above it settles c <= r without the bound.
