@@ -605,6 +605,7 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
     std::vector<PairCandidates*> memo;
     std::vector<std::vector<Contact>> found;
     std::vector<std::uint64_t> tests;
+    std::vector<std::pair<std::uint64_t, PairCandidates>> kept;  // the cache's next pair list
   };
   static thread_local Scratch scratch;
   // The collider pairs of this step, in the order their contacts must come out.
@@ -622,23 +623,51 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
     for (std::size_t i = 0; i < bodies.size(); ++i)
       if (bodies[i].moves()) jobs.emplace_back(treeOf(static_cast<int>(i)), ground);
   }
-  // Each sphere-tree pair's candidates, looked up (or made) here, before any thread runs;
-  // pointers to unordered_map elements stay valid while others are inserted.
+  // Each sphere-tree pair's candidates, found (or made) here, before any thread runs. The
+  // body pairs' jobs come first, in the order of `pairs` (by a, then b), so the cache's sorted
+  // list is merged with them; ground jobs find theirs by body.
   std::vector<PairCandidates*>& memo = scratch.memo;
   memo.assign(jobs.size(), nullptr);
   if (candidates) {
-    for (auto& [key, entry] : candidates->pairs) entry.used = false;
-    for (std::size_t k = 0; k < jobs.size(); ++k) {
-      const Collider& a = jobs[k].first;
-      const Collider& b = jobs[k].second;
-      if (a.type != ColliderType::kSphereTree || b.type == ColliderType::kPolygon) continue;
-      // b: another body (its id + 1), the floor plane (0) or the terrain (all ones).
-      const std::uint32_t other = b.type == ColliderType::kHeightfield
-                                      ? 0xFFFFFFFFu
-                                      : static_cast<std::uint32_t>(b.body - kGround);
-      const std::uint64_t key = (static_cast<std::uint64_t>(a.body) << 32) | other;
-      memo[k] = &candidates->pairs[key];
+    auto treeJob = [&](std::size_t k) {
+      return jobs[k].first.type == ColliderType::kSphereTree &&
+             jobs[k].second.type != ColliderType::kPolygon;
+    };
+    std::vector<std::pair<std::uint64_t, PairCandidates>>& old = candidates->pairs;
+    std::vector<std::pair<std::uint64_t, PairCandidates>>& kept = scratch.kept;
+    kept.clear();
+    std::size_t k = 0, o = 0;
+    for (; k < jobs.size() && jobs[k].second.type != ColliderType::kPlane &&
+           jobs[k].second.type != ColliderType::kHeightfield;
+         ++k) {
+      if (!treeJob(k)) continue;
+      const std::uint64_t key = (static_cast<std::uint64_t>(jobs[k].first.body) << 32) |
+                                static_cast<std::uint32_t>(jobs[k].second.body);
+      while (o < old.size() && old[o].first < key) ++o;  // pairs gone since: dropped
+      if (o < old.size() && old[o].first == key)
+        kept.emplace_back(key, std::move(old[o++].second));
+      else
+        kept.emplace_back(key, PairCandidates{});
     }
+    old.swap(kept);  // complete now: pointers into it stay valid for this call
+    for (std::size_t k2 = 0, p = 0; k2 < k; ++k2)
+      if (treeJob(k2)) memo[k2] = &old[p++].second;
+    // Ground pairs by body; a body without a job this call (asleep, gone) starts afresh.
+    const std::size_t n = bodies.size();
+    candidates->plane.resize(n);
+    candidates->terrain.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+      candidates->plane[i].used = candidates->terrain[i].used = false;
+    for (; k < jobs.size(); ++k) {
+      if (!treeJob(k)) continue;
+      std::vector<PairCandidates>& ground =
+          jobs[k].second.type == ColliderType::kPlane ? candidates->plane : candidates->terrain;
+      memo[k] = &ground[static_cast<std::size_t>(jobs[k].first.body)];
+      memo[k]->used = true;
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      for (PairCandidates* c : {&candidates->plane[i], &candidates->terrain[i]})
+        if (!c->used && (c->holds || c->hasLast)) *c = PairCandidates{};
   }
   auto run = [&](std::size_t k, std::vector<Contact>& sink) -> std::uint64_t {
     const Collider& a = jobs[k].first;
@@ -675,11 +704,9 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
       total += tests[c];
     }
   }
-  if (candidates) {  // pairs that are gone start afresh if they meet again
+  if (candidates)
     for (const PairCandidates* m : memo)
       if (m) ++(m->served ? candidates->served : candidates->descents);
-    std::erase_if(candidates->pairs, [](const auto& entry) { return !entry.second.used; });
-  }
   return total;
 }
 

@@ -4,7 +4,6 @@
 
 #include <cstdint>
 #include <optional>
-#include <unordered_map>
 #include <vector>
 
 #include "sim/collide/contact.h"
@@ -94,10 +93,14 @@ struct PairCandidates {
   std::vector<std::uint32_t> leaves;  // candidate leaf pairs (a, b) in pairs, or leaves of a
                                       // (plane, terrain)
 };
+// The candidates of every sphere-tree pair that findContacts tested in its last call (a pair
+// it did not test, because it is gone or nothing in it moves, starts afresh when tested again).
 struct CandidateCache {
-  // Keyed by body a, body b (kGround + 1 for the plane) packed in 64 bits.
-  std::unordered_map<std::uint64_t, PairCandidates> pairs;
-  std::uint64_t descents = 0, served = 0;  // pair tests by descent; by candidates only
+  // Body pairs, sorted by key (body a in the high half, body b in the low): each call merges
+  // them with its own sorted pairs, so no pair is looked up by hashing.
+  std::vector<std::pair<std::uint64_t, PairCandidates>> pairs;
+  std::vector<PairCandidates> plane, terrain;  // each body's against the floor, the terrain
+  std::uint64_t descents = 0, served = 0;      // pair tests by descent; by candidates only
 };
 
 // Closest point of the triangle (a, b, c) to p.
