@@ -11,15 +11,15 @@ namespace vf {
 
 // Appends to `pairs` every pair (a < b) of active bodies, not both static, whose bounding
 // spheres (SphereTree::boundingRadius about the centre of mass, each widened by its
-// roundingSlack) overlap, found by sweep and prune along x. Ordered by (a, b), so contacts are
-// generated in a fixed order.
+// roundingSlack) overlap, found by sweep and prune along x within strips along y (and across
+// neighbouring strips). Ordered by (a, b), so contacts are generated in a fixed order.
 void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
                std::vector<BodyPair>& pairs);
 
 // The sweep itself, for any x intervals: sorts `spans` (each with members lo, hi and id) by
 // (lo, id) and calls visit(u, v) for every two spans whose intervals overlap, u sorted before
-// v. The calls and their order depend on the spans alone. findPairs and the clearance step rule
-// (solve/time_step.cpp, intervals grown by how far a body can move) sweep with it.
+// v. The calls and their order depend on the spans alone. The clearance step rule
+// (solve/time_step.cpp, intervals grown by how far a body can move) sweeps with it.
 template <class Span, class Visit>
 void sweepAlongX(std::vector<Span>& spans, Visit&& visit) {
   std::sort(spans.begin(), spans.end(), [](const Span& u, const Span& v) {

@@ -1,6 +1,6 @@
-// Sweep and prune (sim/collide/broad_phase.cpp) against the all-pairs bounding-sphere test it
-// replaced, on random clouds of bodies with inactive and static ones mixed in: the same pairs
-// in the same (a, b) order.
+// Sweep and prune (sim/collide/broad_phase.cpp, in strips along y) against the all-pairs
+// bounding-sphere test it replaced, on random clouds of bodies with inactive and static ones
+// mixed in: the same pairs in the same (a, b) order.
 #include "sim/collide/broad_phase.h"
 
 #include <gtest/gtest.h>
@@ -39,9 +39,15 @@ TEST(BroadPhase, SweepAndPruneFindsExactlyTheAllPairsResult) {
       bodies[i].shape = rng.uniform() < 0.8 ? small : large;
       bodies[i].active = rng.uniform() < 0.9;
       bodies[i].isStatic = rng.uniform() < 0.2;
-      // Some on a shared x so that interval ends tie.
+      // Some on a shared x so that interval ends tie; some on y values a strip width apart
+      // (twice the large box's reach, so on the strips' edges) or sharing one.
       const double x = rng.uniform() < 0.1 ? 1.0 : rng.uniform(0, 8);
-      states[i].x = Vec3(x, rng.uniform(0, 8), rng.uniform(0, 2));
+      const double strip = 2 * large->tree->boundingRadius;
+      const double u = rng.uniform();
+      const double y = u < 0.1   ? strip * static_cast<int>(rng.uniform(0, 5))
+                       : u < 0.2 ? strip * static_cast<int>(rng.uniform(0, 5)) - 1e-12
+                                 : rng.uniform(0, 8);
+      states[i].x = Vec3(x, y, rng.uniform(0, 2));
     }
     std::vector<BodyPair> sap;
     findPairs(bodies, states, sap);
