@@ -600,37 +600,42 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
                            const std::optional<double>& groundHeight, const Heightfield* terrain,
                            WorkerPool* pool, std::vector<Contact>& out,
                            CandidateCache* candidates) {
-  auto treeOf = [&](int i) {
-    const Shape& s = *bodies[i].shape;
-    return s.polyhedron ? polygonCollider(i, *s.polyhedron, states[i].x, states[i].q)
-                        : sphereTreeCollider(i, *s.tree, states[i].x, states[i].q);
-  };
   // Scratch reused from call to call (per thread: ensembles step worlds on several), so that
   // a step allocates nothing here once warm; for one rock on a terrain the allocations were
   // about 5 % of a step's instructions.
   struct Scratch {
-    std::vector<std::pair<Collider, Collider>> jobs;
+    std::vector<Collider> posed;  // each active body's collider, posed once per call
+    std::vector<std::pair<const Collider*, const Collider*>> jobs;
     std::vector<PairCandidates*> memo;
     std::vector<std::vector<Contact>> found;
     std::vector<std::uint64_t> tests;
     std::vector<std::pair<std::uint64_t, PairCandidates>> kept;  // the cache's next pair list
   };
   static thread_local Scratch scratch;
+  // Each body's collider once (a rock is in about three jobs a step, and a job holding two
+  // whole colliders took 320 bytes to write and to stride over).
+  std::vector<Collider>& posed = scratch.posed;
+  posed.resize(bodies.size());
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (!bodies[i].active) continue;
+    const Shape& s = *bodies[i].shape;
+    const int id = static_cast<int>(i);
+    posed[i] = s.polyhedron ? polygonCollider(id, *s.polyhedron, states[i].x, states[i].q)
+                            : sphereTreeCollider(id, *s.tree, states[i].x, states[i].q);
+  }
   // The collider pairs of this step, in the order their contacts must come out.
-  std::vector<std::pair<Collider, Collider>>& jobs = scratch.jobs;
+  std::vector<std::pair<const Collider*, const Collider*>>& jobs = scratch.jobs;
   jobs.clear();
   for (const BodyPair& p : pairs)  // a pair of which nothing moves (asleep, static) has no news
-    if (bodies[p.a].moves() || bodies[p.b].moves()) jobs.emplace_back(treeOf(p.a), treeOf(p.b));
-  if (groundHeight) {
-    const Collider ground = planeCollider(*groundHeight);
+    if (bodies[p.a].moves() || bodies[p.b].moves()) jobs.emplace_back(&posed[p.a], &posed[p.b]);
+  const Collider plane = groundHeight ? planeCollider(*groundHeight) : Collider{};
+  if (groundHeight)
     for (std::size_t i = 0; i < bodies.size(); ++i)
-      if (bodies[i].moves()) jobs.emplace_back(treeOf(static_cast<int>(i)), ground);
-  }
-  if (terrain) {
-    const Collider ground = heightfieldCollider(*terrain);
+      if (bodies[i].moves()) jobs.emplace_back(&posed[i], &plane);
+  const Collider field = terrain ? heightfieldCollider(*terrain) : Collider{};
+  if (terrain)
     for (std::size_t i = 0; i < bodies.size(); ++i)
-      if (bodies[i].moves()) jobs.emplace_back(treeOf(static_cast<int>(i)), ground);
-  }
+      if (bodies[i].moves()) jobs.emplace_back(&posed[i], &field);
   // Each sphere-tree pair's candidates, found (or made) here, before any thread runs. The
   // body pairs' jobs come first, in the order of `pairs` (by a, then b), so the cache's sorted
   // list is merged with them; ground jobs find theirs by body.
@@ -638,19 +643,19 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
   memo.assign(jobs.size(), nullptr);
   if (candidates) {
     auto treeJob = [&](std::size_t k) {
-      return jobs[k].first.type == ColliderType::kSphereTree &&
-             jobs[k].second.type != ColliderType::kPolygon;
+      return jobs[k].first->type == ColliderType::kSphereTree &&
+             jobs[k].second->type != ColliderType::kPolygon;
     };
     std::vector<std::pair<std::uint64_t, PairCandidates>>& old = candidates->pairs;
     std::vector<std::pair<std::uint64_t, PairCandidates>>& kept = scratch.kept;
     kept.clear();
     std::size_t k = 0, o = 0;
-    for (; k < jobs.size() && jobs[k].second.type != ColliderType::kPlane &&
-           jobs[k].second.type != ColliderType::kHeightfield;
+    for (; k < jobs.size() && jobs[k].second->type != ColliderType::kPlane &&
+           jobs[k].second->type != ColliderType::kHeightfield;
          ++k) {
       if (!treeJob(k)) continue;
-      const std::uint64_t key = (static_cast<std::uint64_t>(jobs[k].first.body) << 32) |
-                                static_cast<std::uint32_t>(jobs[k].second.body);
+      const std::uint64_t key = (static_cast<std::uint64_t>(jobs[k].first->body) << 32) |
+                                static_cast<std::uint32_t>(jobs[k].second->body);
       while (o < old.size() && old[o].first < key) ++o;  // pairs gone since: dropped
       if (o < old.size() && old[o].first == key)
         kept.emplace_back(key, std::move(old[o++].second));
@@ -669,8 +674,8 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
     for (; k < jobs.size(); ++k) {
       if (!treeJob(k)) continue;
       std::vector<PairCandidates>& ground =
-          jobs[k].second.type == ColliderType::kPlane ? candidates->plane : candidates->terrain;
-      memo[k] = &ground[static_cast<std::size_t>(jobs[k].first.body)];
+          jobs[k].second->type == ColliderType::kPlane ? candidates->plane : candidates->terrain;
+      memo[k] = &ground[static_cast<std::size_t>(jobs[k].first->body)];
       memo[k]->used = true;
     }
     for (std::size_t i = 0; i < n; ++i)
@@ -678,8 +683,8 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
         if (!c->used && (c->holds || c->hasLast)) *c = PairCandidates{};
   }
   auto run = [&](std::size_t k, std::vector<Contact>& sink) -> std::uint64_t {
-    const Collider& a = jobs[k].first;
-    const Collider& b = jobs[k].second;
+    const Collider& a = *jobs[k].first;
+    const Collider& b = *jobs[k].second;
     if (!memo[k]) return collide(a, b, sink);
     if (b.type == ColliderType::kPlane) return collideTreePlane(a, b, sink, memo[k]);
     if (b.type == ColliderType::kHeightfield) return collideTreeHeightfield(a, b, sink, memo[k]);
