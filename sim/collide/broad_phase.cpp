@@ -41,9 +41,10 @@ void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>
   // the strip index from ever putting two of them two strips apart.
   const double width = 2 * widest * (1 + 1e-9);
   if (width > 0 && std::isfinite(width))
-    for (Interval& v : xs)
-      v.strip = static_cast<std::int64_t>(
-          std::min(std::floor((states[v.id].x.y() - yMin) / width), 1e15));
+    for (Interval& v : xs) {
+      const double strip = std::floor((states[v.id].x.y() - yMin) / width);  // >= 0
+      v.strip = strip < 1e15 ? static_cast<std::int64_t>(strip) : std::int64_t{1000000000000000};
+    }
   std::sort(xs.begin(), xs.end(), [](const Interval& u, const Interval& v) {
     return u.strip < v.strip ||
            (u.strip == v.strip && (u.lo < v.lo || (u.lo == v.lo && u.id < v.id)));

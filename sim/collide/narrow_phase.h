@@ -61,7 +61,8 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
 //
 // `candidates`, when given, carries leaf-pair candidates of sphere-tree pairs (body-body,
 // body-plane and body-terrain) from step to step (temporal coherence): the contacts are the
-// same, found for less.
+// same, found for less. It expects `pairs` sorted by (a, b), as findPairs gives them (pairs
+// out of that order would still get exact contacts, but would lose their candidates).
 struct CandidateCache;
 class WorkerPool;
 std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
