@@ -8,7 +8,7 @@
 
 namespace vf {
 
-class Heightfield;  // sim/shape/heightfield.h
+struct Heightfield;  // sim/shape/heightfield.h
 
 // The largest step at which no leaf sphere of a moving body moves more than its own radius
 // (eq. 17), for the current state, capped at maxStep. See time_step.cpp for the details.
