@@ -18,6 +18,7 @@
 //     cpu_us_per_rock_step (the same per rock and step: flat if the cost is linear in the
 //     rocks at a given step) and pairs_per_step. Run with --benchmark_repetitions=3 for medians.
 //   RockfallClearance/<n>/<threads>: the same with `step = "clearance"` (solve/time_step.h).
+//   SceneClearance/crosses/<level>/1/1: the crosses with the extensions and the clearance step.
 //   TreeBuild/<level>: voxel sphere tree of a 100k-triangle closed mesh (a bumpy sphere);
 //   TreeBuild1M/7: of a 1M-triangle one at level 7, with the tree's memory.
 //   DiagnosticsBuild1M: what the true-mesh diagnostics build for the same mesh (the triangle
@@ -110,11 +111,13 @@ double runSpec(benchmark::State& state, vf::SceneSpec spec) {
   return cpu;
 }
 
-void runScene(benchmark::State& state, const std::string& name) {
+// `clearance`: the clearance step rule (solve/time_step.h) instead of eq. 20.
+void runScene(benchmark::State& state, const std::string& name, bool clearance = false) {
   vf::SceneSpec spec = vf::loadScene(scenePath(name));
   spec.level = static_cast<int>(state.range(0));
   for (vf::ShapeSpec& shape : spec.shapes) shape.level.reset();  // as `--level` does
   spec.contactReduction = spec.sleep = state.range(1) != 0;
+  spec.clearanceStep = clearance;
   spec.threads = static_cast<int>(state.range(2));
   runSpec(state, spec);
 }
@@ -269,6 +272,13 @@ BENCHMARK_CAPTURE(runScene, crosses2, std::string("crosses"))
     ->UseRealTime();
 BENCHMARK_CAPTURE(runScene, crosses6, std::string("crosses"))
     ->Name("Scene/crosses")
+    ->Args({6, 1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+// The crosses with the extensions and the clearance step (issue 9's level-6 goal names no rule).
+BENCHMARK_CAPTURE(runScene, crossesClearance, std::string("crosses"), true)
+    ->Name("SceneClearance/crosses")
+    ->Args({4, 1, 1})
     ->Args({6, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
