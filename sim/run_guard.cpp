@@ -140,7 +140,7 @@ double estimatedSteps(const World& world, int id, double duration) {
   const double atRest = duration / d.maxStep;
   if (world.isStatic(id)) return atRest;
   const Shape& s = world.shape(id);
-  const double r = std::ldexp(s.diameter, -(s.tree->leafLevel() + 1));  // eq. 19
+  const double r = s.stepRadius();  // eq. 19
   const double v = world.velocity(id).norm() + 0.5 * s.diameter * world.angularVelocity(id).norm();
   // 1 / dt = (v(t) + g dt) / r (eq. 17 with the speed at the end of the step, dt <= maxStep).
   const double g = d.gravity.norm();

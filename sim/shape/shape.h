@@ -2,6 +2,7 @@
 // Built once, immutable, shared by every body that uses it (shared_ptr<const Shape>).
 #pragma once
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,6 +40,10 @@ struct Shape {
   std::shared_ptr<const MeshBvh> bvh;
   std::shared_ptr<const SideGrid> sides;
   SampleClusters surfaceSamples;
+
+  // r of eq. 19, l / 2^(Lv + 1): how far the step rules (eq. 17) let a point of the body move
+  // in a step.
+  double stepRadius() const { return std::ldexp(diameter, -(tree->leafLevel() + 1)); }
 };
 
 // Builds a shape from a validated mesh in file coordinates: scales it, computes mass

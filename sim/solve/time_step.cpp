@@ -35,6 +35,20 @@ double chooseStep(double remaining, double fixedStep, double stable, double minS
   return lands ? remaining : remaining / n;
 }
 
+namespace {
+
+// The step in which a point starting at `speed` under gravity g moves `distance`: the positive
+// root of g dt^2 + speed dt - distance = 0 (written to avoid cancellation), or distance / speed
+// for g = 0; maxStep when that is not a positive number (nothing moves, or non-finite speeds,
+// whose bodies the integrator freezes). Not capped at maxStep.
+double stepToMove(double distance, double speed, double g, double maxStep) {
+  const double dt = g > 0 ? 2 * distance / (speed + std::sqrt(speed * speed + 4 * g * distance))
+                          : (speed > 0 ? distance / speed : maxStep);
+  return dt > 0 ? dt : maxStep;
+}
+
+}  // namespace
+
 double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
                   const Vec3& gravity, double maxStep) {
   double radius = INFINITY;  // eq. 19, smallest over moving bodies
@@ -45,21 +59,12 @@ double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodySta
     if (!b.moves()) continue;
     const Shape& s = *b.shape;
     const BodyState& y = states[i];
-    radius = std::min(radius, std::ldexp(s.diameter, -(s.tree->leafLevel() + 1)));
+    radius = std::min(radius, s.stepRadius());
     speed = std::max(speed, velocityOf(b, y).norm());
     rimSpeed = std::max(rimSpeed, 0.5 * s.diameter * angularVelocityOf(b, y).norm());
   }
   if (!std::isfinite(radius)) return maxStep;  // nothing moves
-  const double v = speed + rimSpeed;
-  const double g = gravity.norm();
-  // Positive root of g dt^2 + v dt - r = 0 (written to avoid cancellation), or r / v for g = 0.
-  double dt;
-  if (g > 0)
-    dt = 2 * radius / (v + std::sqrt(v * v + 4 * g * radius));
-  else
-    dt = v > 0 ? radius / v : maxStep;
-  if (!(dt > 0)) dt = maxStep;  // non-finite speeds: the integrator freezes such bodies
-  return std::min(dt, maxStep);
+  return std::min(stepToMove(radius, speed + rimSpeed, gravity.norm(), maxStep), maxStep);
 }
 
 // The clearance rule (an extension; the paper's rule is stableStep above). Eq. 17 makes every
@@ -106,7 +111,7 @@ double clearanceStep(const std::vector<BodyInfo>& bodies, const std::vector<Body
     r.reach = R + roundingSlack(y.x, R);
     if (b.moves()) {
       r.speed = velocityOf(b, y).norm() + 0.5 * s.diameter * angularVelocityOf(b, y).norm();
-      r.radius = std::ldexp(s.diameter, -(s.tree->leafLevel() + 1));
+      r.radius = s.stepRadius();
       r.budget = (r.speed + g * maxStep) * maxStep;
       if (!std::isfinite(r.budget)) r.budget = 0;  // the integrator freezes such bodies
       r.clearance = r.budget;
@@ -153,11 +158,7 @@ double clearanceStep(const std::vector<BodyInfo>& bodies, const std::vector<Body
   double dt = maxStep;
   for (const Reach& r : xs) {
     if (r.budget == 0) continue;
-    const double move = std::max(r.radius, r.clearance);
-    // As stableStep: the positive root of g dt^2 + s dt - move = 0, or move / s for g = 0.
-    const double step = g > 0 ? 2 * move / (r.speed + std::sqrt(r.speed * r.speed + 4 * g * move))
-                              : (r.speed > 0 ? move / r.speed : maxStep);
-    if (step > 0) dt = std::min(dt, step);
+    dt = std::min(dt, stepToMove(std::max(r.radius, r.clearance), r.speed, g, maxStep));
   }
   return dt;
 }
