@@ -20,9 +20,8 @@ namespace vf::cli {
 void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite);
 
 // --level N, --step S|auto|clearance, --collider voxel|polygon, --max-steps N, --max-speed V and
-// --repair (sim/scene/scene.h's SceneOverrides), for the commands that simulate; `what` ends their
-// help
-// ("" or e.g. " (scenes only)").
+// --repair (sim/scene/scene.h's SceneOverrides), for the commands that simulate; `what` ends
+// their help ("" or e.g. " (scenes only)").
 void addPhysicsOptions(CLI::App& command, SceneOverrides& overrides, const std::string& what = "");
 
 // --threads N for the commands that step one scene (SceneOverrides::threads; an ensemble runs

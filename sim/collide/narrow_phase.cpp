@@ -121,7 +121,6 @@ class TreeTreeDescent {
   // ones (margin_ > 0). See PairCandidates (narrow_phase.h).
   bool planCandidates() {
     PairCandidates& m = *memo_;
-    m.used = true;
     // How far any leaf centre of b may have moved relative to a since a pose (the Frobenius
     // norm bounds the spectral one).
     auto moved = [&](const Mat3& R, const Vec3& t) {
@@ -308,7 +307,6 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector
   // most |dh0| + |dm| times the bounding radius since a pose.
   double margin = 0;
   if (memo) {
-    memo->used = true;
     auto moved = [&](const Vec3& mm, double hh) {
       return std::abs(h0 - hh) + (m - mm).norm() * tree.boundingRadius;
     };
@@ -475,7 +473,6 @@ std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
   };
   if (!memo) return descendAlone(a, mayTouch, leaf);
 
-  memo->used = true;
   const int leafLevel = tree.leafLevel();
   const double leafRadius = tree.leaves().radius;
   // How far any leaf centre (within the bounding radius of the origin) moved since a pose.
@@ -665,22 +662,21 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
     old.swap(kept);  // complete now: pointers into it stay valid for this call
     for (std::size_t k2 = 0, p = 0; k2 < k; ++k2)
       if (treeJob(k2)) memo[k2] = &old[p++].second;
-    // Ground pairs by body; a body without a job this call (asleep, gone) starts afresh.
+    // Ground pairs by body. Only moving bodies have ground jobs: a body that does not move
+    // this call (asleep, gone) starts afresh when it moves again.
     const std::size_t n = bodies.size();
     candidates->plane.resize(n);
     candidates->terrain.resize(n);
-    for (std::size_t i = 0; i < n; ++i)
-      candidates->plane[i].used = candidates->terrain[i].used = false;
     for (; k < jobs.size(); ++k) {
       if (!treeJob(k)) continue;
       std::vector<PairCandidates>& ground =
           jobs[k].second->type == ColliderType::kPlane ? candidates->plane : candidates->terrain;
       memo[k] = &ground[static_cast<std::size_t>(jobs[k].first->body)];
-      memo[k]->used = true;
     }
     for (std::size_t i = 0; i < n; ++i)
-      for (PairCandidates* c : {&candidates->plane[i], &candidates->terrain[i]})
-        if (!c->used && (c->holds || c->hasLast)) *c = PairCandidates{};
+      if (!bodies[i].moves())
+        for (PairCandidates* c : {&candidates->plane[i], &candidates->terrain[i]})
+          if (c->holds || c->hasLast) *c = PairCandidates{};
   }
   auto run = [&](std::size_t k, std::vector<Contact>& sink) -> std::uint64_t {
     const Collider& a = *jobs[k].first;

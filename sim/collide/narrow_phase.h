@@ -82,7 +82,6 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
 // candidate (against the terrain, why: collideTreeHeightfield in narrow_phase.cpp).
 // Depends on the states only (never on timing or threads), like everything in a step.
 struct PairCandidates {
-  bool used = false;    // touched by the current findContacts call
   bool served = false;  // the current call tested only the candidates
   bool holds = false;   // candidates valid for poses near the build pose
   bool hasLast = false;
