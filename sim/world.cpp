@@ -17,7 +17,6 @@
 #include <cmath>
 
 #include "sim/collide/broad_phase.h"
-#include "sim/collide/contact_reduction.h"
 #include "sim/collide/narrow_phase.h"
 #include "sim/core/error.h"
 #include "sim/core/hash.h"
@@ -72,7 +71,6 @@ void RunStats::add(const StepStats& s) {
   secondsStepSize += s.secondsStepSize;
   secondsPairs += s.secondsPairs;
   secondsContacts += s.secondsContacts;
-  secondsReduce += s.secondsReduce;
   secondsSolve += s.secondsSolve;
   secondsIntegrate += s.secondsIntegrate;
   secondsSleep += s.secondsSleep;
@@ -189,27 +187,28 @@ void World::stepToward(double target) {
   s.pairs = pairs_.size();
   s.secondsPairs = clock.lap();
 
-  contacts_.clear();
+  // Contacts, reduced per collider pair by the narrow phase if asked (contact_reduction.h).
   const std::uint64_t served0 = candidates_.served, descents0 = candidates_.descents;
-  s.sphereTests = findContacts(bodies_, states_, pairs_, def_.groundHeight, def_.terrain.get(),
-                               pool_.get(), contacts_, def_.coherence ? &candidates_ : nullptr);
+  auto contacts = [&] {
+    contacts_.clear();
+    const ContactCounts n =
+        findContacts(bodies_, states_, pairs_, def_.groundHeight, def_.terrain.get(), pool_.get(),
+                     contacts_, def_.coherence ? &candidates_ : nullptr, def_.contactReduction);
+    s.sphereTests += n.sphereTests;
+    s.leafContacts = n.leafContacts;
+  };
+  contacts();
   // Woken bodies start from rest with this step's gravity, and their own contacts (skipped
   // while they slept) are found again with everyone else's, in the usual order; repeated while
   // those wake further islands.
   for (std::vector<int> woken; def_.sleep && !(woken = wakeTouched(contacts_, bodies_)).empty();) {
     for (int i : woken) states_[i].P = (s.dt / bodies_[i].invMass) * def_.gravity;
-    contacts_.clear();
-    s.sphereTests += findContacts(bodies_, states_, pairs_, def_.groundHeight, def_.terrain.get(),
-                                  pool_.get(), contacts_, def_.coherence ? &candidates_ : nullptr);
+    contacts();
   }
   s.pairsByCandidates = candidates_.served - served0;
   s.pairsByDescent = candidates_.descents - descents0;
-  s.leafContacts = contacts_.size();
-  s.secondsContacts = clock.lap();
-
-  if (def_.contactReduction) reduceContacts(contacts_);
   s.contacts = contacts_.size();
-  s.secondsReduce = clock.lap();
+  s.secondsContacts = clock.lap();
 
   SolverSettings solver;
   solver.material = def_.contact;

@@ -93,7 +93,7 @@ struct StepStats {
   double dt = 0;
   std::uint64_t pairs = 0;         // body pairs whose bounding spheres overlap
   std::uint64_t sphereTests = 0;   // sphere-sphere and sphere-plane tests in the narrow phase
-  std::uint64_t leafContacts = 0;  // colliding leaf pairs the narrow phase found
+  std::uint64_t leafContacts = 0;  // colliding leaf pairs the narrow phase found (before reduction)
   std::uint64_t contacts = 0;      // contacts handed to the solver (after reduction, if on)
   std::uint64_t solverPasses = 0;  // passes the solver made over the contacts
   // Sphere-tree collider pairs (body-body, body-plane) whose contacts came from last steps'
@@ -104,8 +104,9 @@ struct StepStats {
   std::uint64_t floored = 0;              // 1 if eq. 20 asked for less than WorldDef::minStep
   std::uint64_t overlappingReleases = 0;  // bodies released into another body's spheres
   // One timer per stage, in step order (0 unless WorldDef::stageTimes).
-  double secondsStepSize = 0, secondsPairs = 0, secondsContacts = 0, secondsReduce = 0,
-         secondsSolve = 0, secondsIntegrate = 0, secondsSleep = 0, secondsRelease = 0;
+  // secondsContacts includes the contact reduction, made in the narrow phase.
+  double secondsStepSize = 0, secondsPairs = 0, secondsContacts = 0, secondsSolve = 0,
+         secondsIntegrate = 0, secondsSleep = 0, secondsRelease = 0;
 };
 
 // Totals over a run.
@@ -118,8 +119,8 @@ struct RunStats {
   std::uint64_t solverPasses = 0;
   std::uint64_t pairsByCandidates = 0, pairsByDescent = 0;
   std::uint64_t sleepingBodySteps = 0;  // sum over steps of the bodies asleep
-  double secondsStepSize = 0, secondsPairs = 0, secondsContacts = 0, secondsReduce = 0,
-         secondsSolve = 0, secondsIntegrate = 0, secondsSleep = 0, secondsRelease = 0;
+  double secondsStepSize = 0, secondsPairs = 0, secondsContacts = 0, secondsSolve = 0,
+         secondsIntegrate = 0, secondsSleep = 0, secondsRelease = 0;
   void add(const StepStats& s);
 };
 

@@ -37,56 +37,58 @@ double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
 }
 
-// Scratch space reused over the pairs of one call, so that a step allocates once, not per pair
-// and patch (at level 6 a step has thousands of leaf contacts in a few pairs).
-struct Scratch {
-  std::vector<int> patchOf;           // patch of each contact of the pair, in narrow-phase order
-  std::vector<int> heads;             // first contact of each patch (its normal decides membership)
-  std::vector<Vec3> sums;             // each patch's sum of max(depth, 0) * normal
-  std::vector<int> members;           // the contacts of the patch being reduced, in order
-  std::vector<Eigen::Vector2d> flat;  // their points in the patch plane
-  std::vector<Contact> kept;          // the pair's output, before it is written back in place
-};
-
-// Writes the representatives of one patch (members.size() > kContactsPerPatch), in the order
-// chosen, into kept; `n` is the patch normal. Points are compared in 2-D coordinates of the
-// patch plane, computed once.
-void spanningSubset(const std::vector<Contact>& cs, Scratch& s, const Vec3& n) {
-  Vec3 t1, t2;  // any basis of the plane: only distances and areas in it matter
+// Any basis (t1, t2) of the plane with normal n: only distances and areas in it matter.
+void planeBasis(const Vec3& n, Vec3& t1, Vec3& t2) {
   t1 = (std::abs(n.x()) < 0.57 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
   t2 = n.cross(t1);
-  const std::size_t m = s.members.size();
-  s.flat.resize(m);
-  std::size_t deepest = 0;
-  double deepestDepth = cs[s.members[0]].depth;
+}
+
+// The patch normal: the depth-weighted sum of the leaf normals, normalised (`first`, the
+// patch's first normal, if the sum vanishes).
+Vec3 patchNormal(const Vec3& sum, const Vec3& first) {
+  return sum.norm() > 0 ? Vec3(sum.normalized()) : first;
+}
+
+// Chooses the representatives of a patch of m > kContactsPerPatch points (in narrow-phase
+// order) with normal n, whose deepest point is `deepest` (the first of the deepest); writes
+// their indices, in the order chosen, to keep and returns how many. `flat` is scratch.
+int spanningSubset(const Vec3* points, std::size_t m, std::size_t deepest, const Vec3& n,
+                   std::vector<Eigen::Vector2d>& flat, std::size_t keep[kContactsPerPatch]) {
+  Vec3 t1, t2;
+  planeBasis(n, t1, t2);
+  // The points in the plane, and on the way the one farthest from the deepest: a pass saved.
+  flat.resize(m);
+  const Eigen::Vector2d p0(points[deepest].dot(t1), points[deepest].dot(t2));
+  std::size_t i1 = m;
+  double top = 0;
   for (std::size_t k = 0; k < m; ++k) {
-    const Contact& c = cs[s.members[k]];
-    s.flat[k] = Eigen::Vector2d(c.point.dot(t1), c.point.dot(t2));
-    if (c.depth > deepestDepth) deepest = k, deepestDepth = c.depth;  // ties: narrow-phase order
+    flat[k] = Eigen::Vector2d(points[k].dot(t1), points[k].dot(t2));
+    const double sc = (flat[k] - p0).squaredNorm();
+    if (sc > top && k != deepest) top = sc, i1 = k;
   }
-  std::size_t keep[4] = {deepest, m, m, m};
+  keep[0] = deepest;
+  keep[1] = keep[2] = keep[3] = m;
   int kept = 1;
-  // The contact (not kept yet) with the largest positive score, or m if none scores > 0.
+  // The point (not kept yet) with the largest positive score, or m if none scores > 0; ties go
+  // to the first in narrow-phase order.
   auto best = [&](auto score) {
     std::size_t arg = m;
     double top = 0;
     for (std::size_t k = 0; k < m; ++k) {
-      const double sc = score(s.flat[k]);
+      const double sc = score(flat[k]);
       if (sc > top && k != keep[0] && k != keep[1] && k != keep[2]) top = sc, arg = k;
     }
     return arg;
   };
-  const Eigen::Vector2d p0 = s.flat[deepest];
-  const std::size_t i1 = best([&](const Eigen::Vector2d& p) { return (p - p0).squaredNorm(); });
   if (i1 < m) {
     keep[kept++] = i1;
-    const Eigen::Vector2d p1 = s.flat[i1];
+    const Eigen::Vector2d p1 = flat[i1];
     const std::size_t i2 = best([&, e = Eigen::Vector2d(p1 - p0)](const Eigen::Vector2d& p) {
       return std::abs(cross2(e, p - p0));
     });
     if (i2 < m) {
       keep[kept++] = i2;
-      const Eigen::Vector2d p2 = s.flat[i2];
+      const Eigen::Vector2d p2 = flat[i2];
       // Farthest outside the triangle: the largest area added beyond one of its edges.
       const double side = cross2(p1 - p0, p2 - p0) > 0 ? 1.0 : -1.0;
       const Eigen::Vector2d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;  // the triangle's edges
@@ -97,14 +99,22 @@ void spanningSubset(const std::vector<Contact>& cs, Scratch& s, const Vec3& n) {
       if (i3 < m) keep[kept++] = i3;
     }
   }
-  for (int k = 0; k < kept; ++k) {
-    Contact c = cs[s.members[keep[k]]];
-    c.normal = n;
-    s.kept.push_back(c);
-  }
+  return kept;
 }
 
-// The representatives of the pair's contacts cs[begin, end) into s.kept.
+// Scratch space reused over the pairs of one thread, so that a step allocates once, not per
+// pair and patch (at level 6 a step has thousands of leaf contacts in a few pairs).
+struct Scratch {
+  std::vector<int> patchOf;           // patch of each contact of the pair, in narrow-phase order
+  std::vector<int> heads;             // first contact of each patch (its normal decides membership)
+  std::vector<Vec3> sums;             // each patch's sum of max(depth, 0) * normal
+  std::vector<int> members;           // the contacts of the patch being reduced, in order
+  std::vector<Vec3> points;           // their points
+  std::vector<Eigen::Vector2d> flat;  // their points in the patch plane
+  std::vector<Contact> kept;          // the pair's output, before it is written back in place
+};
+
+// The representatives of one pair's contacts cs[begin, end) into s.kept.
 void reducePair(const std::vector<Contact>& cs, std::size_t begin, std::size_t end, Scratch& s) {
   // Patches in narrow-phase order: a contact joins the first patch whose first contact's normal
   // is within 60 degrees of its own. Each patch's depth-weighted normal sum is accumulated on the
@@ -149,29 +159,97 @@ void reducePair(const std::vector<Contact>& cs, std::size_t begin, std::size_t e
       for (int i : s.members) s.kept.push_back(cs[i]);
       continue;
     }
-    const Vec3& sum = s.sums[k];
-    const Vec3 n = sum.norm() > 0 ? Vec3(sum.normalized()) : cs[s.members[0]].normal;
-    spanningSubset(cs, s, n);
+    const std::size_t m = s.members.size();
+    s.points.resize(m);
+    std::size_t deepest = 0;
+    for (std::size_t j = 0; j < m; ++j) {
+      const Contact& c = cs[s.members[j]];
+      s.points[j] = c.point;
+      if (c.depth > cs[s.members[deepest]].depth) deepest = j;  // ties: narrow-phase order
+    }
+    const Vec3 n = patchNormal(s.sums[k], cs[s.members[0]].normal);
+    std::size_t keep[kContactsPerPatch];
+    const int kept = spanningSubset(s.points.data(), m, deepest, n, s.flat, keep);
+    for (int j = 0; j < kept; ++j) {
+      Contact c = cs[s.members[keep[j]]];
+      c.normal = n;
+      s.kept.push_back(c);
+    }
   }
+}
+
+Scratch& scratch() {
+  static thread_local Scratch s;  // per thread: the narrow phase's workers reduce their pairs
+  return s;
 }
 
 }  // namespace
 
+void reducePairContacts(std::vector<Contact>& contacts, std::size_t begin) {
+  if (contacts.size() - begin <= 1) return;  // nothing to choose
+  Scratch& s = scratch();
+  reducePair(contacts, begin, contacts.size(), s);
+  // A pair's representatives are no more than its contacts.
+  std::copy(s.kept.begin(), s.kept.end(), contacts.begin() + static_cast<std::ptrdiff_t>(begin));
+  contacts.resize(begin + s.kept.size());
+}
+
 void reduceContacts(std::vector<Contact>& contacts) {
   // In place: a pair's representatives are no more than its contacts, so they are written at or
   // before where the pair began, after all of its contacts have been read.
-  static thread_local Scratch scratch;
+  Scratch& s = scratch();
   std::size_t write = 0;
   for (std::size_t begin = 0; begin < contacts.size();) {
     std::size_t end = begin + 1;
     while (end < contacts.size() && contacts[end].a == contacts[begin].a &&
            contacts[end].b == contacts[begin].b)
       ++end;
-    reducePair(contacts, begin, end, scratch);
-    for (const Contact& c : scratch.kept) contacts[write++] = c;
+    reducePair(contacts, begin, end, s);
+    for (const Contact& c : s.kept) contacts[write++] = c;
     begin = end;
   }
   contacts.resize(write);
+}
+
+void PlanePatch::start(const Vec3& normal) {
+  normal_ = normal;
+  points_.clear();
+  depths_.clear();
+  leaves_.clear();
+}
+
+void PlanePatch::finish(int a, int b, std::vector<Contact>& out) {
+  const std::size_t m = points_.size();
+  auto contact = [&](std::size_t k, const Vec3& n) {
+    Contact c;
+    c.a = a;
+    c.b = b;
+    c.point = points_[k];
+    c.normal = n;
+    c.depth = depths_[k];
+    c.leafA = leaves_[k];
+    out.push_back(c);
+  };
+  if (m <= static_cast<std::size_t>(kContactsPerPatch)) {  // as they are, deepest first
+    std::size_t order[kContactsPerPatch];
+    for (std::size_t k = 0; k < m; ++k) order[k] = k;
+    std::stable_sort(order, order + m,
+                     [&](std::size_t x, std::size_t y) { return depths_[x] > depths_[y]; });
+    for (std::size_t k = 0; k < m; ++k) contact(order[k], normal_);
+    return;
+  }
+  // The patch sum (the same additions, in the same order, as reducePair's) and the first of
+  // the deepest contacts.
+  Vec3 sum = Vec3::Zero();
+  std::size_t deepest = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    sum += std::max(depths_[k], 0.0) * normal_;
+    if (depths_[k] > depths_[deepest]) deepest = k;
+  }
+  const Vec3 n = patchNormal(sum, normal_);
+  std::size_t keep[kContactsPerPatch];
+  const int kept = spanningSubset(points_.data(), m, deepest, n, flat_, keep);
+  for (int k = 0; k < kept; ++k) contact(keep[k], n);
 }
 
 }  // namespace vf

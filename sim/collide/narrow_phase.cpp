@@ -25,6 +25,7 @@
 #include <cmath>
 #include <utility>
 
+#include "sim/collide/contact_reduction.h"
 #include "sim/collide/polygon_contact.h"
 #include "sim/core/error.h"
 #include "sim/core/worker_pool.h"
@@ -61,7 +62,7 @@ struct NodeRef {
 // World centre of leaf i of a sphere-tree collider, by the expression the world-frame descent
 // (descendAlone) uses, so that every place that tests a leaf on its own gets the same bits (a
 // one-level tree's root leaf stands at the body origin).
-Vec3 leafWorldCenter(const Collider& c, std::uint32_t i) {
+inline __attribute__((always_inline)) Vec3 leafWorldCenter(const Collider& c, std::uint32_t i) {
   const SphereTree& tree = *c.tree;
   return tree.leafLevel() == 0 ? c.x : Vec3(c.x + c.R * tree.leaves().centers[i]);
 }
@@ -283,8 +284,12 @@ Contact groundContact(const Collider& a, const Collider& ground, const NodeRef& 
 // roundingSlack; leaves are tested and emitted from their world centres by the world-frame
 // expressions, so the contacts are exactly the leaves whose world centre is less than a radius
 // above the plane, in the children's order.
-std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector<Contact>& out,
-                               PairCandidates* memo) {
+// `emit(leaf, point, depth)` takes each contact: stored whole (collideTreePlane), or handed to a
+// PlanePatch that reduces them as they come (collideTreePlanePatch); a template, so that each
+// is inlined into the leaf loops.
+template <class Emit>
+std::uint64_t treePlaneDescent(const Collider& a, const Collider& p, PairCandidates* memo,
+                               Emit emitContact) {
   const SphereTree& tree = *a.tree;
   auto height = [&](const Vec3& c) { return p.normal.dot(c) - p.offset; };
   std::uint64_t tests = 1;
@@ -294,14 +299,7 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector
   const int leafLevel = tree.leafLevel();
   const double leafRadius = tree.leaves().radius;
   auto emit = [&](std::uint32_t leaf, const Vec3& center, double h) {
-    Contact c;
-    c.a = a.body;
-    c.b = p.body;
-    c.leafA = leaf;
-    c.normal = p.normal;
-    c.point = center - h * p.normal;
-    c.depth = leafRadius - h;
-    out.push_back(c);
+    emitContact(leaf, Vec3(center - h * p.normal), leafRadius - h);
   };
   // Temporal coherence (PairCandidates): a leaf's height is h0 + m . c, so it moved by at
   // most |dh0| + |dm| times the bounding radius since a pose.
@@ -365,8 +363,30 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector
   return tests;
 }
 
+std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector<Contact>& out,
+                               PairCandidates* memo) {
+  return treePlaneDescent(a, p, memo, [&](std::uint32_t leaf, const Vec3& point, double depth) {
+    Contact c;
+    c.a = a.body;
+    c.b = p.body;
+    c.leafA = leaf;
+    c.normal = p.normal;
+    c.point = point;
+    c.depth = depth;
+    out.push_back(c);
+  });
+}
+
 std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector<Contact>& out) {
   return collideTreePlane(a, p, out, nullptr);
+}
+
+// The same contacts handed to `patch` (started by the caller, who finishes it).
+std::uint64_t collideTreePlanePatch(const Collider& a, const Collider& p, PairCandidates* memo,
+                                    PlanePatch& patch) {
+  return treePlaneDescent(a, p, memo, [&](std::uint32_t leaf, const Vec3& point, double depth) {
+    patch.add(point, depth, leaf);
+  });
 }
 
 // Sphere tree against terrain. A node may touch unless its sphere lies entirely above the
@@ -592,11 +612,11 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
   return fn(a, b, out);
 }
 
-std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
+ContactCounts findContacts(const std::vector<BodyInfo>& bodies,
                            const std::vector<BodyState>& states, const std::vector<BodyPair>& pairs,
                            const std::optional<double>& groundHeight, const Heightfield* terrain,
-                           WorkerPool* pool, std::vector<Contact>& out,
-                           CandidateCache* candidates) {
+                           WorkerPool* pool, std::vector<Contact>& out, CandidateCache* candidates,
+                           bool reduce) {
   // Scratch reused from call to call (per thread: ensembles step worlds on several), so that
   // a step allocates nothing here once warm; for one rock on a terrain the allocations were
   // about 5 % of a step's instructions.
@@ -605,7 +625,7 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
     std::vector<std::pair<const Collider*, const Collider*>> jobs;
     std::vector<PairCandidates*> memo;
     std::vector<std::vector<Contact>> found;
-    std::vector<std::uint64_t> tests;
+    std::vector<ContactCounts> counts;
     std::vector<std::pair<std::uint64_t, PairCandidates>> kept;  // the cache's next pair list
   };
   static thread_local Scratch scratch;
@@ -678,13 +698,31 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
         for (PairCandidates* c : {&candidates->plane[i], &candidates->terrain[i]})
           if (c->holds || c->hasLast) *c = PairCandidates{};
   }
-  auto run = [&](std::size_t k, std::vector<Contact>& sink) -> std::uint64_t {
+  // One job's contacts appended to sink, reduced if asked: each collider pair on its own, by
+  // the thread that found them. A sphere tree on the plane is reduced as its contacts come
+  // (PlanePatch: the same representatives, without storing every leaf contact).
+  auto collideJob = [&](const Collider& a, const Collider& b, PairCandidates* m,
+                        std::vector<Contact>& sink) -> std::uint64_t {
+    if (!m) return collide(a, b, sink);
+    if (b.type == ColliderType::kPlane) return collideTreePlane(a, b, sink, m);
+    if (b.type == ColliderType::kHeightfield) return collideTreeHeightfield(a, b, sink, m);
+    return TreeTreeDescent(a, b, sink, m).run();
+  };
+  auto run = [&](std::size_t k, std::vector<Contact>& sink, ContactCounts& counts) {
     const Collider& a = *jobs[k].first;
     const Collider& b = *jobs[k].second;
-    if (!memo[k]) return collide(a, b, sink);
-    if (b.type == ColliderType::kPlane) return collideTreePlane(a, b, sink, memo[k]);
-    if (b.type == ColliderType::kHeightfield) return collideTreeHeightfield(a, b, sink, memo[k]);
-    return TreeTreeDescent(a, b, sink, memo[k]).run();
+    if (reduce && a.type == ColliderType::kSphereTree && b.type == ColliderType::kPlane) {
+      static thread_local PlanePatch patch;
+      patch.start(b.normal);
+      counts.sphereTests += collideTreePlanePatch(a, b, memo[k], patch);
+      counts.leafContacts += patch.size();
+      patch.finish(a.body, b.body, sink);
+      return;
+    }
+    const std::size_t begin = sink.size();
+    counts.sphereTests += collideJob(a, b, memo[k], sink);
+    counts.leafContacts += sink.size() - begin;
+    if (reduce) reducePairContacts(sink, begin);
   };
   // Blocks of consecutive jobs, each into its own list, run by the pool's threads; the lists
   // are appended in block order, so the contacts are exactly the serial ones in the serial
@@ -694,23 +732,24 @@ std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
       pool ? std::max(
                  1, std::min<int>(pool->threads(), static_cast<int>(jobs.size() / kJobsPerThread)))
            : 1;
-  std::uint64_t total = 0;
+  ContactCounts total;
   if (workers == 1) {
-    for (std::size_t k = 0; k < jobs.size(); ++k) total += run(k, out);
+    for (std::size_t k = 0; k < jobs.size(); ++k) run(k, out, total);
   } else {
     const int blocks = std::min<int>(static_cast<int>(jobs.size()), workers * kBlocksPerThread);
     std::vector<std::vector<Contact>>& found = scratch.found;
     if (found.size() < static_cast<std::size_t>(blocks)) found.resize(blocks);
     for (std::vector<Contact>& f : found) f.clear();
-    std::vector<std::uint64_t>& tests = scratch.tests;
-    tests.assign(blocks, 0);
+    std::vector<ContactCounts>& counts = scratch.counts;
+    counts.assign(blocks, ContactCounts{});
     pool->run(blocks, [&](int c) {
       const std::size_t begin = jobs.size() * c / blocks, end = jobs.size() * (c + 1) / blocks;
-      for (std::size_t k = begin; k < end; ++k) tests[c] += run(k, found[c]);
+      for (std::size_t k = begin; k < end; ++k) run(k, found[c], counts[c]);
     });
     for (int c = 0; c < blocks; ++c) {
       out.insert(out.end(), found[c].begin(), found[c].end());
-      total += tests[c];
+      total.sphereTests += counts[c].sphereTests;
+      total.leafContacts += counts[c].leafContacts;
     }
   }
   if (candidates)

@@ -57,7 +57,9 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
 // shape has a polyhedron collides by the polygon method, else by its sphere tree. Pairs of
 // which neither body moves (static or asleep) are skipped. The threads of `pool` (none: the
 // calling thread alone) share the work; the contacts and their order do not depend on it.
-// Returns the sphere tests.
+// With `reduce` each collider pair's contacts are replaced by their representatives
+// (contact_reduction.h) by the thread that found them. Returns the sphere tests and the leaf
+// contacts found (before any reduction).
 //
 // `candidates`, when given, carries leaf-pair candidates of sphere-tree pairs (body-body,
 // body-plane and body-terrain) from step to step (temporal coherence): the contacts are the
@@ -65,11 +67,14 @@ std::uint64_t collide(const Collider& a, const Collider& b, std::vector<Contact>
 // out of that order would still get exact contacts, but would lose their candidates).
 struct CandidateCache;
 class WorkerPool;
-std::uint64_t findContacts(const std::vector<BodyInfo>& bodies,
+struct ContactCounts {
+  std::uint64_t sphereTests = 0, leafContacts = 0;
+};
+ContactCounts findContacts(const std::vector<BodyInfo>& bodies,
                            const std::vector<BodyState>& states, const std::vector<BodyPair>& pairs,
                            const std::optional<double>& groundHeight, const Heightfield* terrain,
                            WorkerPool* pool, std::vector<Contact>& out,
-                           CandidateCache* candidates = nullptr);
+                           CandidateCache* candidates = nullptr, bool reduce = false);
 
 // Temporal coherence of the sphere-tree descents. When a pair moved little relative to itself
 // in the last step, the descent is run once with every test widened by a margin m and keeps

@@ -13,8 +13,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 
+#include "sim/collide/broad_phase.h"
 #include "sim/collide/narrow_phase.h"
+#include "sim/core/prng.h"
+#include "sim/core/worker_pool.h"
 #include "tests/support/test_world.h"
 
 namespace vf {
@@ -128,6 +132,130 @@ TEST(ContactReduction, PairsReducedInPlaceAsIfEachWereAlone) {
   ASSERT_EQ(all.size(), expected.size());
   ASSERT_LT(all.size(), 30u) << "the large pairs were reduced";
   for (std::size_t i = 0; i < all.size(); ++i) EXPECT_TRUE(same(all[i], expected[i])) << i;
+}
+
+// Bits, so that rounding counts: the patch and the pair reduction must agree exactly.
+bool identical(const Contact& x, const Contact& y) {
+  return x.a == y.a && x.b == y.b && x.leafA == y.leafA && x.leafB == y.leafB &&
+         std::memcmp(x.point.data(), y.point.data(), sizeof(Vec3)) == 0 &&
+         std::memcmp(x.normal.data(), y.normal.data(), sizeof(Vec3)) == 0 &&
+         std::memcmp(&x.depth, &y.depth, sizeof(double)) == 0;
+}
+
+// PlanePatch (the reduction made while a body's plane contacts are found) must give what
+// reducing the stored contacts gives, bit for bit, in the cases where its shortcuts could
+// differ: a box lying exactly level (every bottom leaf equally deep: the first must win the
+// ties), tilted about two axes (one deepest corner), on an edge, on a corner (a patch of a few
+// contacts: kept as they are, deepest first; stable among equal depths, checked by hand), and
+// at 20 random poses sunk into the floor. Oracle: reduceContacts on the same contacts.
+TEST(ContactReduction, PlanePatchGivesTheStoredContactsReduction) {
+  auto s = test::boxShape(0.4, 0.3, 0.2, 800, 4);
+  const double rest = test::restOffset(*s);
+  struct Pose {
+    Quat q;
+    double z;
+  };
+  std::vector<Pose> poses = {
+      {Quat::Identity(), rest - 0.003},
+      {Quat(Eigen::AngleAxisd(0.01, Vec3(1, 1, 0).normalized())), rest - 0.004},
+      {Quat(Eigen::AngleAxisd(0.3, Vec3::UnitX())), 0},               // on an edge
+      {Quat(Eigen::AngleAxisd(0.5, Vec3(1, 1, 0).normalized())), 0},  // on a corner
+  };
+  // Edge and corner poses: lowered until the lowest leaf is just under the floor.
+  for (Pose& p : poses)
+    if (p.z == 0) {
+      const Mat3 R = p.q.toRotationMatrix();
+      double low = INFINITY;
+      for (const Vec3& c : s->tree->leaves().centers) low = std::min(low, (R * c).z());
+      p.z = -low + s->tree->leaves().radius - 1e-4;
+    }
+  Prng rng(7);
+  for (int k = 0; k < 20; ++k)
+    poses.push_back(
+        {Quat(Eigen::AngleAxisd(rng.uniform(0, 0.4),
+                                Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), 0.2).normalized())),
+         rest - rng.uniform(0, 0.01)});
+  std::size_t smallPatches = 0, largePatches = 0;
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    const Collider box = sphereTreeCollider(3, *s->tree, Vec3(0.1, -0.2, poses[k].z), poses[k].q);
+    const Collider floor = planeCollider(0.0);
+    std::vector<Contact> all;
+    collide(box, floor, all);
+    ASSERT_FALSE(all.empty()) << "pose " << k;
+    (all.size() <= kContactsPerPatch ? smallPatches : largePatches)++;
+    std::vector<Contact> expected = all;
+    reduceContacts(expected);
+    PlanePatch patch;
+    patch.start(floor.normal);
+    for (const Contact& c : all) patch.add(c.point, c.depth, c.leafA);
+    EXPECT_EQ(patch.size(), all.size());
+    std::vector<Contact> got;
+    patch.finish(3, kGround, got);
+    ASSERT_EQ(got.size(), expected.size()) << "pose " << k;
+    for (std::size_t i = 0; i < got.size(); ++i)
+      EXPECT_TRUE(identical(got[i], expected[i])) << "pose " << k << ", contact " << i;
+  }
+  EXPECT_GE(smallPatches, 1u) << "the corner";
+  EXPECT_GE(largePatches, 2u);
+  // A small patch with equal depths (stable order among them), made by hand.
+  std::vector<Contact> few;
+  const double depths[] = {0.01, 0.02, 0.02, 0.01};
+  for (int i = 0; i < 4; ++i)
+    few.push_back(contactAt(5, kGround, Vec3(0.1 * i, 0.05 * i, 0), Vec3::UnitZ(), depths[i],
+                            static_cast<std::uint32_t>(10 + i)));
+  std::vector<Contact> expected = few;
+  reduceContacts(expected);
+  PlanePatch patch;
+  patch.start(Vec3::UnitZ());
+  for (const Contact& c : few) patch.add(c.point, c.depth, c.leafA);
+  std::vector<Contact> got;
+  patch.finish(5, kGround, got);
+  ASSERT_EQ(got.size(), 4u);
+  for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(identical(got[i], expected[i])) << i;
+  EXPECT_EQ(got[0].leafA, 11u);
+  EXPECT_EQ(got[1].leafA, 12u);
+}
+
+// The narrow phase reduces each collider pair as it goes (findContacts with reduce), on its
+// worker threads: the result must be the reduction of the unreduced contacts, pair by pair,
+// for body-body pairs and bodies on the floor alike, with one thread and with two. A pile of
+// boxes resting on the floor and on each other gives both kinds, large patches and small.
+TEST(ContactReduction, NarrowPhaseReducesEachPairAsTheStoredContactsWouldBe) {
+  auto s = test::boxShape(0.4, 0.3, 0.2, 800, 3);
+  const double rest = test::restOffset(*s);
+  const int n = 40;
+  std::vector<BodyInfo> bodies(n);
+  std::vector<BodyState> states(n);
+  Prng rng(11);
+  for (int i = 0; i < n; ++i) {
+    bodies[i].shape = s;
+    bodies[i].invMass = 1 / s->mass;
+    // Two layers in a row along x: the lower ones on the floor, the upper ones sunk into them.
+    const int col = i / 2;
+    const bool upper = i % 2 == 1;
+    states[i].x = Vec3(0.39 * col, rng.uniform(-0.01, 0.01),
+                       rest - 0.002 + (upper ? 0.2 - 0.003 : 0) + rng.uniform(-0.001, 0.001));
+    states[i].q = Quat(Eigen::AngleAxisd(
+        rng.uniform(0, 0.02), Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), 1).normalized()));
+  }
+  std::vector<BodyPair> pairs;
+  findPairs(bodies, states, pairs);
+  ASSERT_GT(pairs.size(), 20u);
+  std::vector<Contact> plain;
+  findContacts(bodies, states, pairs, 0.0, nullptr, nullptr, plain);
+  std::vector<Contact> expected = plain;
+  reduceContacts(expected);
+  ASSERT_LT(expected.size(), plain.size() / 4) << "large patches were reduced";
+  WorkerPool two(2);
+  for (WorkerPool* pool : {static_cast<WorkerPool*>(nullptr), &two}) {
+    std::vector<Contact> reduced;
+    const ContactCounts counts =
+        findContacts(bodies, states, pairs, 0.0, nullptr, pool, reduced, nullptr, true);
+    EXPECT_EQ(counts.leafContacts, plain.size());
+    ASSERT_EQ(reduced.size(), expected.size());
+    for (std::size_t i = 0; i < reduced.size(); ++i)
+      EXPECT_TRUE(identical(reduced[i], expected[i])) << i;
+  }
 }
 
 }  // namespace
