@@ -5,7 +5,7 @@
 // the steps are estimated as if it fell freely for the whole run: with dt = r / (v + g t + g dt)
 // (eq. 20 with gravity's increment, r = l / 2^(Lv+1)), the count is the integral of 1 / dt,
 // at most T (v + g T / 2 + g maxStep) / r, bounded by T / maxStep below and T / minStep above
-// (the world's step bounds), or T / fixedStep for a fixed step. A body that lands moves slower than
+// (the world's step bounds), or T / the fixed step. A body that lands moves slower than
 // in free fall, so this is an upper bound for rock fall; a run whose estimate exceeds
 // RunLimits::maxSteps is refused before any step, naming the body and what to change. A body that
 // starts faster than RunLimits::maxSpeed is refused too.
@@ -136,7 +136,7 @@ std::optional<Runaway> RunGuard::check(const std::vector<BodyInfo>& bodies,
 
 double estimatedSteps(const World& world, int id, double duration) {
   const WorldDef& d = world.def();
-  if (d.fixedStep > 0) return std::ceil(duration / d.fixedStep);
+  if (d.step.isFixed()) return std::ceil(duration / d.step.seconds);
   const double atRest = duration / d.maxStep;
   if (world.isStatic(id)) return atRest;
   const Shape& s = world.shape(id);
@@ -192,8 +192,8 @@ void checkRunLength(const World& world, double duration, const RunLimits& limits
   const Shape& s = world.shape(worst);
   const double speed =
       world.velocity(worst).norm() + 0.5 * s.diameter * world.angularVelocity(worst).norm();
-  const std::string what = world.def().fixedStep > 0
-                               ? "the fixed step of " + number(world.def().fixedStep) + " s"
+  const std::string what = world.def().step.isFixed()
+                               ? "the fixed step of " + number(world.def().step.seconds) + " s"
                                : "a " + number(s.diameter) + " m body at level " +
                                      std::to_string(s.tree->leafLevel()) + " starting at " +
                                      number(speed) + " m/s (eq. 20)";

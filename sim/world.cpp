@@ -161,7 +161,7 @@ void World::foldStepHash() {
 
 double World::stableStep() const {
   if (std::isnan(stableStepCache_))
-    stableStepCache_ = def_.clearanceStep
+    stableStepCache_ = def_.step.isClearance()
                            ? clearanceStep(bodies_, states_, def_.gravity, def_.maxStep,
                                            def_.groundHeight, def_.terrain.get())
                            : vf::stableStep(bodies_, states_, def_.gravity, def_.maxStep);
@@ -263,8 +263,9 @@ World::StepPlan World::planStep(double target) const {
   // Step size: eq. 20 (or the fixed step), split so that `target` is reached in equal steps
   // none longer than the rule (solve/time_step.cpp). No target (infinity): the rule's step.
   StepPlan plan;
-  plan.dt = chooseStep(target - time_, def_.fixedStep, def_.fixedStep > 0 ? 0.0 : stableStep(),
-                       def_.minStep, plan.lands, plan.floored);
+  const double fixed = def_.step.isFixed() ? def_.step.seconds : 0.0;
+  plan.dt = chooseStep(target - time_, fixed, fixed > 0 ? 0.0 : stableStep(), def_.minStep,
+                       plan.lands, plan.floored);
   return plan;
 }
 

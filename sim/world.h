@@ -24,6 +24,7 @@
 #include "sim/solve/ground_law.h"
 #include "sim/solve/rotation_update.h"
 #include "sim/solve/sleep.h"
+#include "sim/solve/time_step.h"
 
 namespace vf {
 
@@ -47,11 +48,8 @@ struct BodyDef {
 };
 
 struct WorldDef {
-  Vec3 gravity = Vec3(0, 0, -9.81);  // m/s^2
-  double fixedStep = 0;              // s; 0 selects the eq.-20 rule every step
-  // With fixedStep 0: the clearance rule instead of eq. 20 (an extension that changes
-  // trajectories: solve/time_step.h, clearanceStep; scene `step = "clearance"`).
-  bool clearanceStep = false;
+  Vec3 gravity = Vec3(0, 0, -9.81);    // m/s^2
+  StepRule step;                       // eq. 20 every step unless told otherwise (time_step.h)
   double maxStep = 1.0 / 60.0;         // s; upper bound of the eq.-20 step (bodies at rest)
   double minStep = 1e-6;               // s; floor of the eq.-20 step, so a runaway body (speeds
                                        // over ~1e4 m/s) cannot stall a run; counted in stats

@@ -64,8 +64,7 @@ double median(std::vector<double> v) {
 RunResult runScene(const std::string& scenesDir, const RunConfig& c) {
   SceneSpec spec = loadScene((fs::path(scenesDir) / (c.scene + ".toml")).string());
   applyLevelOverride(spec, c.level);
-  spec.autoStep = c.step <= 0;
-  spec.fixedStep = c.step > 0 ? c.step : 0;
+  spec.step = c.step > 0 ? StepRule::fixed(c.step) : StepRule::eq20();
   spec.collider = c.collider;
   spec.stageTimes = true;  // compute time = the stages' timers
   RunResult r;

@@ -144,11 +144,9 @@ struct SceneSpec {
   std::string path;  // the scene file as given
   std::string name;  // file stem: default output out/<name>.mp4
   // [simulation]
-  double duration = 2.0;       // s
-  int level = 4;               // voxel level Lv
-  bool autoStep = true;        // eq. 20
-  double fixedStep = 0;        // s, when !autoStep
-  bool clearanceStep = false;  // `step = "clearance"`: the clearance rule (an extension)
+  double duration = 2.0;  // s
+  int level = 4;          // voxel level Lv
+  StepRule step;          // `step = "auto" | "clearance" | seconds`
   Vec3 gravity = Vec3(0, 0, -9.81);
   double fps = 30;
   ColliderMethod collider = ColliderMethod::kVoxel;  // collider = "voxel" | "polygon"

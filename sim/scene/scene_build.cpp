@@ -204,8 +204,7 @@ std::shared_ptr<const Heightfield> loadSceneTerrain(const SceneSpec& spec) {
 WorldDef sceneWorldDef(const SceneSpec& spec) {
   WorldDef def;
   def.gravity = spec.gravity;
-  def.fixedStep = spec.autoStep ? 0 : spec.fixedStep;
-  def.clearanceStep = spec.autoStep && spec.clearanceStep;
+  def.step = spec.step;
   def.groundHeight = spec.groundPlane;
   def.terrain = loadSceneTerrain(spec);
   def.terrainEdge = spec.terrainEdge;

@@ -330,15 +330,11 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
     if (const auto* s = n->as_string()) {
       if (s->get() != "auto" && s->get() != "clearance")
         r.fail(*n, valid + ", got \"" + s->get() + "\"");
-      spec.autoStep = true;
-      spec.clearanceStep = s->get() == "clearance";
-      spec.fixedStep = 0;
+      spec.step = s->get() == "auto" ? StepRule::eq20() : StepRule::clearance();
     } else if (n->is_number()) {
       const double v = r.number(*n, "step");
       if (!(v > 0)) r.fail(*n, valid + ", got " + formatNumber(v));
-      spec.autoStep = false;
-      spec.clearanceStep = false;
-      spec.fixedStep = v;
+      spec.step = StepRule::fixed(v);
     } else {
       r.fail(*n, valid + ", got " + typeName(*n));
     }

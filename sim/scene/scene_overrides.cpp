@@ -48,16 +48,12 @@ std::string checkStepOption(const std::string& text) {
 
 void applyStepOverride(SceneSpec& spec, const std::string& text) {
   if (text == "auto" || text == "clearance") {
-    spec.autoStep = true;
-    spec.clearanceStep = text == "clearance";
-    spec.fixedStep = 0;
+    spec.step = text == "auto" ? StepRule::eq20() : StepRule::clearance();
     return;
   }
   const auto v = parseStepSeconds(text);
   if (!v) throw InputError("", "--step: " + checkStepOption(text));
-  spec.autoStep = false;
-  spec.clearanceStep = false;
-  spec.fixedStep = *v;
+  spec.step = StepRule::fixed(*v);
 }
 
 void applyColliderOverride(SceneSpec& spec, const std::string& method) {

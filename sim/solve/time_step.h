@@ -10,6 +10,20 @@ namespace vf {
 
 struct Heightfield;  // sim/shape/heightfield.h
 
+// Which rule sets each step's length (scene key `[simulation] step`): eq. 20, the paper's; the
+// clearance rule, an extension that changes trajectories (clearanceStep below); or a fixed step.
+struct StepRule {
+  enum class Kind { kEq20, kClearance, kFixed };
+  Kind kind = Kind::kEq20;
+  double seconds = 0;  // the fixed step, s (kFixed only)
+
+  static StepRule eq20() { return {}; }
+  static StepRule clearance() { return {Kind::kClearance, 0}; }
+  static StepRule fixed(double s) { return {Kind::kFixed, s}; }
+  bool isFixed() const { return kind == Kind::kFixed; }
+  bool isClearance() const { return kind == Kind::kClearance; }
+};
+
 // The largest step at which no leaf sphere of a moving body moves more than its own radius
 // (eq. 17), for the current state, capped at maxStep. See time_step.cpp for the details.
 double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,

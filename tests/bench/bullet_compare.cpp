@@ -77,7 +77,7 @@ vf::SceneSpec sceneAt(const std::string& name, int level, bool extensions, bool 
   spec.level = level;
   for (vf::ShapeSpec& s : spec.shapes) s.level.reset();
   spec.contactReduction = spec.sleep = extensions;
-  spec.clearanceStep = clearance;
+  spec.step = clearance ? vf::StepRule::clearance() : vf::StepRule::eq20();
   return spec;
 }
 

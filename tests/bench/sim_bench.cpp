@@ -116,7 +116,7 @@ void runScene(benchmark::State& state, const std::string& name, bool clearance =
   spec.level = static_cast<int>(state.range(0));
   for (vf::ShapeSpec& shape : spec.shapes) shape.level.reset();  // as `--level` does
   spec.contactReduction = spec.sleep = state.range(1) != 0;
-  spec.clearanceStep = clearance;
+  spec.step = clearance ? vf::StepRule::clearance() : vf::StepRule::eq20();
   spec.threads = static_cast<int>(state.range(2));
   runSpec(state, spec);
 }
@@ -129,7 +129,7 @@ void rockfall(benchmark::State& state, bool clearance) {
   spec.level = 3;
   spec.duration = 4.0;
   spec.contactReduction = spec.sleep = true;
-  spec.clearanceStep = clearance;
+  spec.step = clearance ? vf::StepRule::clearance() : vf::StepRule::eq20();
   spec.emitters.resize(1);
   vf::EmitterSpec& e = spec.emitters[0];
   e.count = static_cast<int>(state.range(0));

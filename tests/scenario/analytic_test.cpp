@@ -25,7 +25,7 @@ constexpr double kG = 9.81;
 
 TEST(Scenario, FreeFallMatchesTheDiscreteSolutionExactly) {
   WorldDef def;
-  def.fixedStep = 1.0 / 240;
+  def.step = StepRule::fixed(1.0 / 240);
   World world(def);
   auto s = test::boxShape(0.2, 0.2, 0.2, 800, 3);
   BodyDef b;
@@ -39,7 +39,7 @@ TEST(Scenario, FreeFallMatchesTheDiscreteSolutionExactly) {
   const double T = world.time();
   EXPECT_NEAR(T, 1.0, 1e-12);
   EXPECT_EQ(world.totals().steps, 240u);
-  const double dt = def.fixedStep;
+  const double dt = def.step.seconds;
   // Closed form of the discrete scheme (see top); only rounding separates them.
   EXPECT_NEAR(world.state(0).x.z(), 10 + 2 * T - kG * T * T / 2 - kG * T * dt / 2, 1e-9);
   EXPECT_NEAR(world.state(0).x.x(), 1 * T, 1e-12);
@@ -84,7 +84,7 @@ TEST_P(WithAndWithoutReduction, BoxDroppedFlatReboundsToEpsSquaredOfItsDropHeigh
   WorldDef def;
   def.groundHeight = 0.0;
   def.contact.restitutionBodyGround = eps;
-  def.fixedStep = dt;
+  def.step = StepRule::fixed(dt);
   def.contactReduction = GetParam();
   World world(def);
   auto s = test::boxShape(0.3, 0.3, 0.2, 800, 4);
@@ -151,7 +151,7 @@ TEST(Scenario, TorqueFreeSpinKeepsAngularMomentumAndEnergy) {
   auto run = [](double dt, Vec3& L0, Vec3& L1, double& E0, double& E1, double& wMax) {
     WorldDef def;
     def.gravity = Vec3::Zero();
-    def.fixedStep = dt;
+    def.step = StepRule::fixed(dt);
     World world(def);
     BodyDef b;
     b.shape = test::boxShape(0.1, 0.2, 0.4, 800, 2);  // three distinct principal moments
@@ -199,7 +199,7 @@ TEST(Scenario, MidpointRotationKeepsTheTumblingBoxsEnergyWithinOnePercent) {
   auto run = [](RotationUpdate rotation, double& E0, double& E1, Vec3& L0, Vec3& L1) {
     WorldDef def;
     def.gravity = Vec3::Zero();
-    def.fixedStep = 1e-3;
+    def.step = StepRule::fixed(1e-3);
     def.rotation = rotation;
     World world(def);
     BodyDef b;
@@ -230,7 +230,7 @@ TEST(Scenario, MidpointRotationKeepsTheTumblingBoxsEnergyWithinOnePercent) {
 TEST(Scenario, SpinAboutPrincipalAxisTurnsAtTheRightRate) {
   WorldDef def;
   def.gravity = Vec3::Zero();
-  def.fixedStep = 1e-3;
+  def.step = StepRule::fixed(1e-3);
   World world(def);
   BodyDef b;
   b.shape = test::boxShape(0.1, 0.2, 0.4, 800, 2);
@@ -240,7 +240,7 @@ TEST(Scenario, SpinAboutPrincipalAxisTurnsAtTheRightRate) {
   world.advanceTo(1.0);
   const Quat q = world.state(0).q;
   const double angle = 2 * std::atan2(q.vec().norm(), q.w());
-  EXPECT_NEAR(angle, w * 1.0, w * 1.0 * std::pow(w * def.fixedStep, 2) / 12 + 1e-12);
+  EXPECT_NEAR(angle, w * 1.0, w * 1.0 * std::pow(w * def.step.seconds, 2) / 12 + 1e-12);
   EXPECT_NEAR(q.vec().normalized().z(), 1.0, 1e-12);
 }
 
@@ -251,7 +251,7 @@ TEST(Scenario, ThinFastBodyDoesNotTunnelAtTheEq20Step) {
   auto shoot = [](double fixedStep, int& tunnelledFrames, double& deepest) {
     WorldDef def;
     def.gravity = Vec3::Zero();
-    def.fixedStep = fixedStep;
+    def.step = StepRule::fixed(fixedStep);
     def.maxStep = 1.0 / 30;
     World world(def);
     auto plate = test::boxShape(0.4, 0.4, 0.01, 800, 4);
@@ -337,7 +337,7 @@ TEST(Scenario, BoxOnTerrainInclineSlidesOrSticksAsCoulombSays) {
   auto slide = [&](double mu) {
     WorldDef def;
     def.terrain = terrain;
-    def.fixedStep = dt;
+    def.step = StepRule::fixed(dt);
     def.contact.frictionBodyGround = mu;
     def.contact.restitutionBodyGround = 0;
     World world(def);

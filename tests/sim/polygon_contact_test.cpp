@@ -116,7 +116,7 @@ TEST(PolygonContact, BoxDroppedOnTheFloorReboundsToEpsSquaredOfItsHeight) {
   WorldDef def;
   def.groundHeight = 0.0;
   def.contact.restitutionBodyGround = eps;
-  def.fixedStep = dt;
+  def.step = StepRule::fixed(dt);
   World world(def);
   auto box = std::make_shared<Shape>(*test::boxShape(0.3, 0.3, c, 800, 2));
   box->polyhedron = std::make_shared<const ConvexPolyhedron>(boxPolyhedron(0.3, 0.3, c));

@@ -52,7 +52,7 @@ TEST(RunGuard, ABodyStartingAtAbsurdSpeedIsRefusedBeforeTheRun) {
 
 TEST(RunGuard, AFixedStepNeedingTooManyStepsIsRefused) {
   WorldDef def;
-  def.fixedStep = 1e-7;  // 2 s / 1e-7 s = 2e7 steps > 1e7
+  def.step = StepRule::fixed(1e-7);  // 2 s / 1e-7 s = 2e7 steps > 1e7
   World world(def);
   world.addBody(bodyAt(test::boxShape(0.2, 0.2, 0.2, 800, 2), Vec3(0, 0, 1)));
   const std::string msg = refusal(world, 2.0, RunLimits{});

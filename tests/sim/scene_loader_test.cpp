@@ -171,19 +171,20 @@ TEST_F(SceneTest, WrongTypes) {
 }
 
 TEST_F(SceneTest, ClearanceStepIsAnAutomaticRule) {
+  using Kind = StepRule::Kind;
   const SceneSpec spec = loadScene(write("scene.toml", "[simulation]\nstep = \"clearance\"\n"));
-  EXPECT_TRUE(spec.autoStep);
-  EXPECT_TRUE(spec.clearanceStep);
-  EXPECT_TRUE(sceneWorldDef(spec).clearanceStep);
+  EXPECT_EQ(spec.step.kind, Kind::kClearance);
+  EXPECT_EQ(sceneWorldDef(spec).step.kind, Kind::kClearance);
   SceneSpec fixed = spec;
   applyStepOverride(fixed, "1/100");  // `--step 1/100` replaces the rule
-  EXPECT_FALSE(fixed.clearanceStep);
-  EXPECT_FALSE(sceneWorldDef(fixed).clearanceStep);
+  EXPECT_EQ(fixed.step.kind, Kind::kFixed);
+  EXPECT_EQ(fixed.step.seconds, 0.01);
+  EXPECT_EQ(sceneWorldDef(fixed).step.kind, Kind::kFixed);
   SceneSpec eq20 = spec;
   applyStepOverride(eq20, "auto");
-  EXPECT_FALSE(eq20.clearanceStep);
+  EXPECT_EQ(eq20.step.kind, Kind::kEq20);
   applyStepOverride(eq20, "clearance");
-  EXPECT_TRUE(eq20.clearanceStep && eq20.autoStep);
+  EXPECT_EQ(eq20.step.kind, Kind::kClearance);
 }
 
 TEST_F(SceneTest, IntegersAreNumbers) {
@@ -191,8 +192,8 @@ TEST_F(SceneTest, IntegersAreNumbers) {
       write("scene.toml", "[simulation]\nduration = 3\nstep = 1\ngravity = [0, 0, -10]\n");
   const SceneSpec spec = loadScene(path);
   EXPECT_EQ(spec.duration, 3.0);
-  EXPECT_FALSE(spec.autoStep);
-  EXPECT_EQ(spec.fixedStep, 1.0);
+  EXPECT_EQ(spec.step.kind, StepRule::Kind::kFixed);
+  EXPECT_EQ(spec.step.seconds, 1.0);
   EXPECT_EQ(spec.gravity, Vec3(0, 0, -10));
 }
 
@@ -345,8 +346,7 @@ TEST_F(SceneTest, DefaultsAndNormalisation) {
   const SceneSpec spec = loadScene(path);
   EXPECT_EQ(spec.name, "my_scene");
   EXPECT_EQ(spec.path, path);
-  EXPECT_TRUE(spec.autoStep);
-  EXPECT_FALSE(spec.clearanceStep);  // eq. 20, the paper's rule
+  EXPECT_EQ(spec.step.kind, StepRule::Kind::kEq20);  // the paper's rule
   EXPECT_EQ(spec.level, 4);
   EXPECT_FALSE(spec.groundPlane.has_value());
   EXPECT_FALSE(spec.camera.given);
@@ -409,7 +409,7 @@ TEST(ShippedScenes, CubesIsExample1) {
   EXPECT_EQ(spec.name, "cubes");
   EXPECT_EQ(spec.duration, 2.0);
   EXPECT_EQ(spec.level, 4);
-  EXPECT_TRUE(spec.autoStep);
+  EXPECT_EQ(spec.step.kind, StepRule::Kind::kEq20);
   EXPECT_EQ(spec.gravity, Vec3(0, 0, -9.81));
   EXPECT_EQ(spec.contact.restitutionBodyBody, 0.5);
   EXPECT_EQ(spec.contact.restitutionBodyGround, 0.3);
@@ -434,7 +434,7 @@ TEST(ShippedScenes, BlocksIsExample2) {
   EXPECT_EQ(spec.name, "blocks");
   EXPECT_EQ(spec.duration, 5.0);
   EXPECT_EQ(spec.level, 4);
-  EXPECT_TRUE(spec.autoStep);
+  EXPECT_EQ(spec.step.kind, StepRule::Kind::kEq20);
   EXPECT_EQ(spec.contact.frictionBodyGround, 0.8);
   ASSERT_EQ(spec.emitters.size(), 1u);
   const EmitterSpec& e = spec.emitters[0];

@@ -71,7 +71,7 @@ TEST(World, DropHeightReleasesThatFarAboveWhatLiesBelow) {
 
 TEST(World, AdvanceToNeverShortensAStepToMeetAFrame) {
   WorldDef def;
-  def.fixedStep = 0.1;
+  def.step = StepRule::fixed(0.1);
   World world(def);
   world.addBody(test::bodyAt(test::boxShape(0.2, 0.2, 0.2, 800, 2), Vec3(0, 0, 5)));
   world.advanceTo(0.25);
@@ -83,7 +83,7 @@ TEST(World, AdvanceToNeverShortensAStepToMeetAFrame) {
 
 TEST(World, StatesBetweenStepsAreFreeMotionOfACopy) {
   WorldDef def;
-  def.fixedStep = 0.1;
+  def.step = StepRule::fixed(0.1);
   World world(def);
   const Vec3 x0(0, 0, 5), v0(1, 2, 3), w0(0, 0, 2);
   BodyDef b = test::bodyAt(test::boxShape(0.2, 0.2, 0.2, 800, 2), x0);
@@ -199,7 +199,7 @@ TEST(World, CoherenceChangesNoBitOfTheTrajectory) {
   }
 }
 
-// The clearance rule (WorldDef::clearanceStep, solve/time_step.h) keeps the bounds eq. 17
+// The clearance rule (StepRule::clearance(), solve/time_step.h) keeps the bounds eq. 17
 // gives while taking long steps in flight. Two experiments, each from ten starting points 3 cm
 // apart, so that the last step before the impact ends at ten different distances (a rule that
 // let a body step through its clearance would land some of them deep; checked by disabling the
@@ -223,7 +223,7 @@ TEST(World, ClearanceStepKeepsEq17BoundsWithFewerSteps) {
   auto run = [&](bool clearance, bool pair, double offset) {
     WorldDef def;
     def.groundHeight = 0.0;
-    def.clearanceStep = clearance;
+    def.step = clearance ? StepRule::clearance() : StepRule::eq20();
     World world(def);
     if (pair) {
       BodyDef a = test::bodyAt(s, Vec3(0, 0, 2));
@@ -270,7 +270,7 @@ TEST(World, ClearanceStepKeepsEq17BoundsWithFewerSteps) {
 TEST(World, ClearanceStepStateHashDoesNotDependOnTheThreadCount) {
   auto run = [&](int threads, bool clearance) {
     WorldDef def = pileWorld(threads, true);
-    def.clearanceStep = clearance;
+    def.step = clearance ? StepRule::clearance() : StepRule::eq20();
     return pileHashes(def, 10);
   };
   const auto one = run(1, true);
