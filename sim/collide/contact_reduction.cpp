@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace vf {
 namespace {
@@ -49,53 +50,111 @@ Vec3 patchNormal(const Vec3& sum, const Vec3& first) {
   return sum.norm() > 0 ? Vec3(sum.normalized()) : first;
 }
 
+// The bounding box, in the patch plane, of kGroup consecutive points.
+struct Box2 {
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  void extend(const Eigen::Vector2d& p) {
+    x0 = std::min(x0, p.x()), x1 = std::max(x1, p.x());
+    y0 = std::min(y0, p.y()), y1 = std::max(y1, p.y());
+  }
+};
+constexpr std::size_t kGroup = 16;
+
+// The range [lo, hi] over a box of the signed area cross2(e, p - q) (linear in p: its extremes
+// are at corners), widened by far more than the rounding of any of its evaluations in the box
+// (relative 1e-9 of the sizes of its two products), so that every computed value at a point in
+// the box lies inside.
+void crossRange(const Eigen::Vector2d& e, const Eigen::Vector2d& q, const Box2& b, double& lo,
+                double& hi) {
+  const double dx0 = b.x0 - q.x(), dx1 = b.x1 - q.x(), dy0 = b.y0 - q.y(), dy1 = b.y1 - q.y();
+  const double c00 = e.x() * dy0 - e.y() * dx0, c01 = e.x() * dy1 - e.y() * dx0;
+  const double c10 = e.x() * dy0 - e.y() * dx1, c11 = e.x() * dy1 - e.y() * dx1;
+  const double slack = 1e-9 * (std::abs(e.x()) * std::max(std::abs(dy0), std::abs(dy1)) +
+                               std::abs(e.y()) * std::max(std::abs(dx0), std::abs(dx1)));
+  lo = std::min(std::min(c00, c01), std::min(c10, c11)) - slack;
+  hi = std::max(std::max(c00, c01), std::max(c10, c11)) + slack;
+}
+
 // Chooses the representatives of a patch of m > kContactsPerPatch points (in narrow-phase
 // order) with normal n, whose deepest point is `deepest` (the first of the deepest); writes
-// their indices, in the order chosen, to keep and returns how many. `flat` is scratch.
+// their indices, in the order chosen, to keep and returns how many. `flat` and `boxes` are
+// scratch.
 int spanningSubset(const Vec3* points, std::size_t m, std::size_t deepest, const Vec3& n,
-                   std::vector<Eigen::Vector2d>& flat, std::size_t keep[kContactsPerPatch]) {
+                   std::vector<Eigen::Vector2d>& flat, std::vector<Box2>& boxes,
+                   std::size_t keep[kContactsPerPatch]) {
   Vec3 t1, t2;
   planeBasis(n, t1, t2);
-  // The points in the plane, and on the way the one farthest from the deepest: a pass saved.
+  // The points in the plane, and on the way the one farthest from the deepest (a pass saved)
+  // and the boxes of groups of kGroup consecutive points.
   flat.resize(m);
+  boxes.resize((m + kGroup - 1) / kGroup);
   const Eigen::Vector2d p0(points[deepest].dot(t1), points[deepest].dot(t2));
   std::size_t i1 = m;
   double top = 0;
-  for (std::size_t k = 0; k < m; ++k) {
-    flat[k] = Eigen::Vector2d(points[k].dot(t1), points[k].dot(t2));
-    const double sc = (flat[k] - p0).squaredNorm();
-    if (sc > top && k != deepest) top = sc, i1 = k;
+  for (std::size_t g = 0; g < boxes.size(); ++g) {
+    Box2 box;  // in registers while its group is read
+    const std::size_t end = std::min(m, (g + 1) * kGroup);
+    for (std::size_t k = g * kGroup; k < end; ++k) {
+      flat[k] = Eigen::Vector2d(points[k].dot(t1), points[k].dot(t2));
+      box.extend(flat[k]);
+      const double sc = (flat[k] - p0).squaredNorm();
+      if (sc > top && k != deepest) top = sc, i1 = k;
+    }
+    boxes[g] = box;
   }
   keep[0] = deepest;
   keep[1] = keep[2] = keep[3] = m;
   int kept = 1;
   // The point (not kept yet) with the largest positive score, or m if none scores > 0; ties go
-  // to the first in narrow-phase order.
-  auto best = [&](auto score) {
+  // to the first in narrow-phase order. `bound(box)` is at least the score of every point in
+  // the box as computed, so a group whose bound is not above the best score so far holds no
+  // point that would replace it: skipping it gives the full scan's answer, bit for bit. The
+  // narrow phase gives a patch's points in sphere-tree order, so a group is a small cluster
+  // and few groups reach the extremes these scores look for.
+  auto best = [&](auto score, auto bound) {
     std::size_t arg = m;
     double top = 0;
-    for (std::size_t k = 0; k < m; ++k) {
-      const double sc = score(flat[k]);
-      if (sc > top && k != keep[0] && k != keep[1] && k != keep[2]) top = sc, arg = k;
+    for (std::size_t g = 0; g < boxes.size(); ++g) {
+      if (bound(boxes[g]) <= top) continue;
+      const std::size_t end = std::min(m, (g + 1) * kGroup);
+      for (std::size_t k = g * kGroup; k < end; ++k) {
+        const double sc = score(flat[k]);
+        if (sc > top && k != keep[0] && k != keep[1] && k != keep[2]) top = sc, arg = k;
+      }
     }
     return arg;
   };
   if (i1 < m) {
     keep[kept++] = i1;
     const Eigen::Vector2d p1 = flat[i1];
-    const std::size_t i2 = best([&, e = Eigen::Vector2d(p1 - p0)](const Eigen::Vector2d& p) {
-      return std::abs(cross2(e, p - p0));
-    });
+    const Eigen::Vector2d e = p1 - p0;
+    const std::size_t i2 =
+        best([&](const Eigen::Vector2d& p) { return std::abs(cross2(e, p - p0)); },
+             [&](const Box2& b) {
+               double lo, hi;
+               crossRange(e, p0, b, lo, hi);
+               return std::max(std::abs(lo), std::abs(hi));
+             });
     if (i2 < m) {
       keep[kept++] = i2;
       const Eigen::Vector2d p2 = flat[i2];
       // Farthest outside the triangle: the largest area added beyond one of its edges.
       const double side = cross2(p1 - p0, p2 - p0) > 0 ? 1.0 : -1.0;
       const Eigen::Vector2d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;  // the triangle's edges
-      const std::size_t i3 = best([&](const Eigen::Vector2d& p) {
-        return -side *
-               std::min(std::min(cross2(e0, p - p0), cross2(e1, p - p1)), cross2(e2, p - p2));
-      });
+      const std::size_t i3 = best(
+          [&](const Eigen::Vector2d& p) {
+            return -side *
+                   std::min(std::min(cross2(e0, p - p0), cross2(e1, p - p1)), cross2(e2, p - p2));
+          },
+          [&](const Box2& b) {
+            // side > 0: -min(c) is at most -min(lo); side < 0: min(c) is at most min(hi).
+            double lo[3], hi[3];
+            crossRange(e0, p0, b, lo[0], hi[0]);
+            crossRange(e1, p1, b, lo[1], hi[1]);
+            crossRange(e2, p2, b, lo[2], hi[2]);
+            return side > 0 ? -std::min(std::min(lo[0], lo[1]), lo[2])
+                            : std::min(std::min(hi[0], hi[1]), hi[2]);
+          });
       if (i3 < m) keep[kept++] = i3;
     }
   }
@@ -111,6 +170,7 @@ struct Scratch {
   std::vector<int> members;           // the contacts of the patch being reduced, in order
   std::vector<Vec3> points;           // their points
   std::vector<Eigen::Vector2d> flat;  // their points in the patch plane
+  std::vector<Box2> boxes;            // and the boxes of groups of them
   std::vector<Contact> kept;          // the pair's output, before it is written back in place
 };
 
@@ -169,7 +229,7 @@ void reducePair(const std::vector<Contact>& cs, std::size_t begin, std::size_t e
     }
     const Vec3 n = patchNormal(s.sums[k], cs[s.members[0]].normal);
     std::size_t keep[kContactsPerPatch];
-    const int kept = spanningSubset(s.points.data(), m, deepest, n, s.flat, keep);
+    const int kept = spanningSubset(s.points.data(), m, deepest, n, s.flat, s.boxes, keep);
     for (int j = 0; j < kept; ++j) {
       Contact c = cs[s.members[keep[j]]];
       c.normal = n;
@@ -248,7 +308,8 @@ void PlanePatch::finish(int a, int b, std::vector<Contact>& out) {
   }
   const Vec3 n = patchNormal(sum, normal_);
   std::size_t keep[kContactsPerPatch];
-  const int kept = spanningSubset(points_.data(), m, deepest, n, flat_, keep);
+  const int kept =
+      spanningSubset(points_.data(), m, deepest, n, scratch().flat, scratch().boxes, keep);
   for (int k = 0; k < kept; ++k) contact(keep[k], n);
 }
 

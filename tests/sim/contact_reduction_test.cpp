@@ -258,5 +258,116 @@ TEST(ContactReduction, NarrowPhaseReducesEachPairAsTheStoredContactsWouldBe) {
   }
 }
 
+// The representatives of one patch (contacts of one pair, all within 60 degrees of the first's
+// normal, more than kContactsPerPatch of them) by the reduction's definition, scanning every
+// point four times: the oracle for contact_reduction.cpp, which skips groups of points that
+// cannot win a scan.
+std::vector<Contact> plainReduction(const std::vector<Contact>& cs) {
+  Vec3 sum = Vec3::Zero();
+  for (const Contact& c : cs) sum += std::max(c.depth, 0.0) * c.normal;
+  const Vec3 n = sum.norm() > 0 ? Vec3(sum.normalized()) : cs[0].normal;
+  const Vec3 t1 = (std::abs(n.x()) < 0.57 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
+  const Vec3 t2 = n.cross(t1);
+  const std::size_t m = cs.size();
+  std::vector<Eigen::Vector2d> q(m);
+  std::size_t deepest = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    q[k] = Eigen::Vector2d(cs[k].point.dot(t1), cs[k].point.dot(t2));
+    if (cs[k].depth > cs[deepest].depth) deepest = k;
+  }
+  auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() * b.y() - a.y() * b.x();
+  };
+  std::vector<std::size_t> keep = {deepest};
+  auto best = [&](auto score) {
+    std::size_t arg = m;
+    double top = 0;
+    for (std::size_t k = 0; k < m; ++k)
+      if (score(q[k]) > top && std::find(keep.begin(), keep.end(), k) == keep.end())
+        top = score(q[k]), arg = k;
+    return arg;
+  };
+  const Eigen::Vector2d p0 = q[deepest];
+  const std::size_t i1 = best([&](const Eigen::Vector2d& p) { return (p - p0).squaredNorm(); });
+  if (i1 < m) {
+    keep.push_back(i1);
+    const Eigen::Vector2d p1 = q[i1];
+    const std::size_t i2 =
+        best([&](const Eigen::Vector2d& p) { return std::abs(cross(p1 - p0, p - p0)); });
+    if (i2 < m) {
+      keep.push_back(i2);
+      const Eigen::Vector2d p2 = q[i2];
+      const double side = cross(p1 - p0, p2 - p0) > 0 ? 1.0 : -1.0;
+      const std::size_t i3 = best([&](const Eigen::Vector2d& p) {
+        return -side * std::min(std::min(cross(p1 - p0, p - p0), cross(p2 - p1, p - p1)),
+                                cross(p0 - p2, p - p2));
+      });
+      if (i3 < m) keep.push_back(i3);
+    }
+  }
+  std::vector<Contact> out;
+  for (std::size_t k : keep) {
+    out.push_back(cs[k]);
+    out.back().normal = n;
+  }
+  return out;
+}
+
+// The reduction's scans skip groups of points whose bounding box proves that none of them
+// beats the best so far; that must never change the choice. 300 random patches against the
+// plain four scans, bit for bit: regular grids (ties everywhere: equal distances, equal
+// areas, equal depths) in row order and shuffled, scattered points, points on a circle (every
+// one equally far from its centre), with normals tilted up to 40 degrees, 5 to 600 points.
+TEST(ContactReduction, PrunedScansChooseWhatThePlainScansChoose) {
+  Prng rng(2026);
+  int grids = 0, circles = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Vec3 n =
+        Vec3(rng.uniform(-0.6, 0.6), rng.uniform(-0.6, 0.6), 1).normalized();  // <= 40 deg
+    const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
+    const int kind = trial % 3;
+    std::vector<Vec3> pts;
+    if (kind == 0) {  // a grid, as a face's leaves lie
+      const int nx = 2 + static_cast<int>(rng.uniform(0, 24)),
+                ny = 3 + static_cast<int>(rng.uniform(0, 24));
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) pts.push_back(Vec3(1, 2, 3) + 0.02 * i * u + 0.02 * j * v);
+      ++grids;
+    } else if (kind == 1) {  // scattered
+      const int count = 5 + static_cast<int>(rng.uniform(0, 400));
+      for (int i = 0; i < count; ++i)
+        pts.push_back(rng.uniform(-0.5, 0.5) * u + rng.uniform(-0.2, 0.2) * v);
+    } else {  // on a circle, and its centre
+      const int count = 5 + static_cast<int>(rng.uniform(0, 64));
+      for (int i = 0; i < count; ++i) {
+        const double a = 2 * M_PI * i / count;
+        pts.push_back(0.3 * std::cos(a) * u + 0.3 * std::sin(a) * v);
+      }
+      pts.push_back(Vec3::Zero());
+      ++circles;
+    }
+    if (trial % 2 == 1)  // shuffled: groups of consecutive points are then spread out
+      for (std::size_t i = pts.size() - 1; i > 0; --i)
+        std::swap(pts[i],
+                  pts[static_cast<std::size_t>(rng.uniform(0, static_cast<double>(i + 1)))]);
+    std::vector<Contact> cs;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      // Depths from a few values (ties), the circle's centre deepest.
+      const double depth =
+          kind == 2 && pts[i] == Vec3::Zero() ? 0.01 : 0.001 * static_cast<int>(rng.uniform(1, 4));
+      cs.push_back(contactAt(0, kGround, pts[i], n, depth, static_cast<std::uint32_t>(i)));
+    }
+    if (cs.size() <= static_cast<std::size_t>(kContactsPerPatch)) continue;
+    const std::vector<Contact> expected = plainReduction(cs);
+    std::vector<Contact> got = cs;
+    reduceContacts(got);
+    ASSERT_EQ(got.size(), expected.size()) << "trial " << trial;
+    for (std::size_t i = 0; i < got.size(); ++i)
+      ASSERT_TRUE(identical(got[i], expected[i])) << "trial " << trial << ", contact " << i;
+  }
+  EXPECT_EQ(grids, 100);
+  EXPECT_EQ(circles, 100);
+}
+
 }  // namespace
 }  // namespace vf
