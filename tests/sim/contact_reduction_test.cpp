@@ -320,7 +320,7 @@ std::vector<Contact> plainReduction(const std::vector<Contact>& cs) {
 // one equally far from its centre), with normals tilted up to 40 degrees, 5 to 600 points.
 TEST(ContactReduction, PrunedScansChooseWhatThePlainScansChoose) {
   Prng rng(2026);
-  int grids = 0, circles = 0;
+  int compared[3] = {0, 0, 0};  // patches of each kind with more than kContactsPerPatch points
   for (int trial = 0; trial < 300; ++trial) {
     const Vec3 n =
         Vec3(rng.uniform(-0.6, 0.6), rng.uniform(-0.6, 0.6), 1).normalized();  // <= 40 deg
@@ -332,7 +332,6 @@ TEST(ContactReduction, PrunedScansChooseWhatThePlainScansChoose) {
                 ny = 3 + static_cast<int>(rng.uniform(0, 24));
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) pts.push_back(Vec3(1, 2, 3) + 0.02 * i * u + 0.02 * j * v);
-      ++grids;
     } else if (kind == 1) {  // scattered
       const int count = 5 + static_cast<int>(rng.uniform(0, 400));
       for (int i = 0; i < count; ++i)
@@ -344,7 +343,6 @@ TEST(ContactReduction, PrunedScansChooseWhatThePlainScansChoose) {
         pts.push_back(0.3 * std::cos(a) * u + 0.3 * std::sin(a) * v);
       }
       pts.push_back(Vec3::Zero());
-      ++circles;
     }
     if (trial % 2 == 1)  // shuffled: groups of consecutive points are then spread out
       for (std::size_t i = pts.size() - 1; i > 0; --i)
@@ -358,6 +356,7 @@ TEST(ContactReduction, PrunedScansChooseWhatThePlainScansChoose) {
       cs.push_back(contactAt(0, kGround, pts[i], n, depth, static_cast<std::uint32_t>(i)));
     }
     if (cs.size() <= static_cast<std::size_t>(kContactsPerPatch)) continue;
+    ++compared[kind];
     const std::vector<Contact> expected = plainReduction(cs);
     std::vector<Contact> got = cs;
     reduceContacts(got);
@@ -365,8 +364,8 @@ TEST(ContactReduction, PrunedScansChooseWhatThePlainScansChoose) {
     for (std::size_t i = 0; i < got.size(); ++i)
       ASSERT_TRUE(identical(got[i], expected[i])) << "trial " << trial << ", contact " << i;
   }
-  EXPECT_EQ(grids, 100);
-  EXPECT_EQ(circles, 100);
+  // Every kind was exercised with patches large enough to be reduced.
+  for (int kind = 0; kind < 3; ++kind) EXPECT_GE(compared[kind], 90) << "kind " << kind;
 }
 
 }  // namespace
