@@ -90,10 +90,14 @@ struct PairCandidates {
   bool served = false;  // the current call tested only the candidates
   bool holds = false;   // candidates valid for poses near the build pose
   bool hasLast = false;
-  Mat3 buildR, lastR;            // relative rotation (b in a's frame; plane: unused;
-                                 // terrain: the body's rotation)
-  Vec3 buildT, lastT;            // relative translation (plane: R^T n; terrain: the position)
-  double buildH = 0, lastH = 0;  // plane: height of the body origin
+  // The pose the candidates were built at and the last test's: the relative rotation (b in a's
+  // frame; plane: unused; terrain: the body's rotation), the relative translation (plane: R^T n;
+  // terrain: the position) and the height of the body origin (plane). Read only where `holds`
+  // or `hasLast` says they were set; initialised all the same, so that copying a fresh entry
+  // copies defined values (GCC warned of them).
+  Mat3 buildR = Mat3::Identity(), lastR = Mat3::Identity();
+  Vec3 buildT = Vec3::Zero(), lastT = Vec3::Zero();
+  double buildH = 0, lastH = 0;
   double margin = 0;
   std::vector<std::uint32_t> leaves;  // candidate leaf pairs (a, b) in pairs, or leaves of a
                                       // (plane, terrain)
