@@ -18,6 +18,9 @@
 //     cpu_us_per_rock_step (the same per rock and step: flat if the cost is linear in the
 //     rocks at a given step) and pairs_per_step. Run with --benchmark_repetitions=3 for medians.
 //   RockfallClearance/<n>/<threads>: the same with `step = "clearance"` (solve/time_step.h).
+//   RockfallWide/<n>/<threads>: Rockfall at a constant density: one layer of rocks on the cliff
+//     widened (mirrored copies along y) as far as the rocks need; the scale curve without the
+//     deepening pile. Up to 1,392 rocks it is Rockfall/<n> itself (the same checksum).
 //   SceneClearance/crosses/<level>/1/1: the crosses with the extensions and the clearance step.
 //   TreeBuild/<level>: voxel sphere tree of a 100k-triangle closed mesh (a bumpy sphere);
 //   TreeBuild1M/7: of a 1M-triangle one at level 7, with the tree's memory.
@@ -32,6 +35,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -121,30 +127,66 @@ void runScene(benchmark::State& state, const std::string& name, bool clearance =
   runSpec(state, spec);
 }
 
-// n rocks released at t = 0 over the cliff terrain, one per 0.8 m grid cell (48 x 29 cells)
-// and layer by layer upwards, each dropped 0.3 m onto what lies below it (drop_height).
-// With `clearance`, the clearance step rule (an extension) instead of eq. 20.
-void rockfall(benchmark::State& state, bool clearance) {
+// The cliff terrain widened along y to `copies` times its width, mirrored at every seam so
+// that the surface stays continuous (row j of the wide grid is row m(j) of the cliff, m folding
+// j back and forth over 0..ny-1); written as an ESRI ASCII grid with the cliff's header corner
+// and cell size, so one copy is the cliff itself, sample for sample. Returns the file's path.
+std::string widenedCliff(const std::string& cliffPath, int copies) {
+  const vf::Heightfield cliff = vf::loadDem(cliffPath);
+  const int period = 2 * (cliff.ny - 1);
+  const int ny = copies * (cliff.ny - 1) + 1;
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("voxfall_bench_cliff_x" + std::to_string(copies) + ".asc"))
+                               .string();
+  std::ofstream out(path);
+  out << "ncols " << cliff.nx << "\nnrows " << ny << "\nxllcorner 0\nyllcorner 0\ncellsize "
+      << cliff.cell << "\nNODATA_value -9999\n";
+  out.precision(17);
+  for (int row = 0; row < ny; ++row) {  // the file's first row is the northernmost
+    const int j = ny - 1 - row, m = j % period;
+    const int source = m < cliff.ny ? m : period - m;
+    for (int i = 0; i < cliff.nx; ++i)
+      out << cliff.at(i, source) << (i + 1 < cliff.nx ? ' ' : '\n');
+  }
+  if (!out.flush()) throw std::runtime_error("cannot write " + path);
+  return path;
+}
+
+// n rocks released at t = 0 over the cliff terrain, one per 0.8 m grid cell (48 along x, 29
+// along y on the cliff's 24 m) and layer by layer upwards, each dropped 0.3 m onto what lies
+// below it (drop_height); Lv 3, reduction and sleeping, 4 simulated seconds. With `clearance`,
+// the clearance step rule (an extension) instead of eq. 20. With `wide`, at a constant density
+// instead: one layer of rocks over as many widened copies of the cliff (above) as it needs, so
+// that a rock has the neighbourhood it has at 1,000 rocks whatever n is. Up to 1,392 rocks (one
+// copy) both are the same run (the same checksum); beyond, the plain one piles the rocks into
+// layers on the one cliff.
+void rockfall(benchmark::State& state, bool clearance, bool wide) {
+  constexpr int kRowsPerCopy = 29, kColumns = 48;
   vf::SceneSpec spec = vf::loadScene(scenePath("cliff"));
+  const int n = static_cast<int>(state.range(0));
+  const int copies = wide ? (n + kColumns * kRowsPerCopy - 1) / (kColumns * kRowsPerCopy) : 1;
+  if (wide) spec.terrainPath = widenedCliff(spec.terrainPath, copies);
   spec.level = 3;
   spec.duration = 4.0;
   spec.contactReduction = spec.sleep = true;
   spec.step = clearance ? vf::StepRule::clearance() : vf::StepRule::eq20();
   spec.emitters.resize(1);
   vf::EmitterSpec& e = spec.emitters[0];
-  e.count = static_cast<int>(state.range(0));
+  e.count = n;
   e.start = 0;
   e.interval = 0;
   e.positions.clear();
-  for (int j = 0; j < 29; ++j)
-    for (int i = 0; i < 48; ++i) e.positions.push_back(vf::Vec3(0.4 + 0.8 * i, 0.8 + 0.8 * j, 12));
+  for (int j = 0; j < kRowsPerCopy * copies; ++j)
+    for (int i = 0; i < kColumns; ++i)
+      e.positions.push_back(vf::Vec3(0.4 + 0.8 * i, 0.8 + 0.8 * j, 12));
   e.dropHeight = 0.3;
   e.velocity = vf::Vec3(0.5, 0, 0);
   spec.camera.followBody.reset();
   spec.threads = static_cast<int>(state.range(1));
   const double cpu = runSpec(state, spec);
-  state.counters["rocks"] = static_cast<double>(e.count);
-  state.counters["cpu_us_per_rock_step"] = 1e6 * cpu / (state.counters["steps"] * e.count);
+  state.counters["rocks"] = n;
+  if (wide) state.counters["copies"] = copies;
+  state.counters["cpu_us_per_rock_step"] = 1e6 * cpu / (state.counters["steps"] * n);
 }
 
 void loadDem(benchmark::State& state, const std::string& path) {
@@ -281,7 +323,7 @@ BENCHMARK_CAPTURE(runScene, crossesClearance, std::string("crosses"), true)
     ->Args({6, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK_CAPTURE(rockfall, eq20, false)
+BENCHMARK_CAPTURE(rockfall, eq20, false, false)
     ->Name("Rockfall")
     ->Args({100, 1})
     ->Args({100, 2})
@@ -295,13 +337,23 @@ BENCHMARK_CAPTURE(rockfall, eq20, false)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);
-BENCHMARK_CAPTURE(rockfall, clearance, true)
+BENCHMARK_CAPTURE(rockfall, clearance, true, false)
     ->Name("RockfallClearance")
     ->Args({100, 1})
     ->Args({300, 1})
     ->Args({1000, 1})
     ->Args({1000, 2})
     ->Args({3000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+BENCHMARK_CAPTURE(rockfall, wide, false, true)
+    ->Name("RockfallWide")
+    ->Args({100, 2})
+    ->Args({300, 2})
+    ->Args({1000, 2})
+    ->Args({3000, 2})
+    ->Args({10000, 2})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);
