@@ -129,8 +129,10 @@ void runScene(benchmark::State& state, const std::string& name, bool clearance =
 
 // The cliff terrain widened along y to `copies` times its width, mirrored at every seam so
 // that the surface stays continuous (row j of the wide grid is row m(j) of the cliff, m folding
-// j back and forth over 0..ny-1); written as an ESRI ASCII grid with the cliff's header corner
-// and cell size, so one copy is the cliff itself, sample for sample. Returns the file's path.
+// j back and forth over 0..ny-1); written as an ESRI ASCII grid with the header of
+// scenes/terrain/cliff.asc (corner 0, 0; its cell size), so that one copy is the cliff itself,
+// sample for sample (Rockfall and RockfallWide give the same checksum up to 1,392 rocks, which
+// checks it). Returns the file's path, in the temporary directory.
 std::string widenedCliff(const std::string& cliffPath, int copies) {
   const vf::Heightfield cliff = vf::loadDem(cliffPath);
   const int period = 2 * (cliff.ny - 1);
