@@ -8,7 +8,7 @@
 //   ground law (opt-in, rock fall: bounce, rolling)   solve/ground_law.cpp
 //   explicit Euler, renormalise q   solve/integrate.cpp
 //   sleeping islands          solve/sleep.cpp (optional)
-//   releases (emitters)       World::releaseBodies below
+//   releases (emitters)       solve/release.cpp (drop-height placement)
 // The diagnostics (World::measure) live in collide/penetration.cpp.
 #include "sim/world.h"
 
@@ -23,6 +23,7 @@
 #include "sim/solve/ground_law.h"
 #include "sim/solve/impulse.h"
 #include "sim/solve/integrate.h"
+#include "sim/solve/release.h"
 #include "sim/solve/sleep.h"
 #include "sim/solve/time_step.h"
 
@@ -105,7 +106,7 @@ int World::addBody(const BodyDef& d) {
   const bool placeNow = b.active && b.dropHeight >= 0;
   bodies_.push_back(std::move(b));
   states_.push_back(y);
-  if (placeNow) placeAbove(bodyCount() - 1, d.dropHeight);
+  if (placeNow) liftForRelease(bodyCount() - 1);
   if (def_.terrain && bodies_.back().active && !d.isStatic)
     monitor_.onRelease(bodyCount() - 1, time_, bodies_, states_);
   return bodyCount() - 1;
@@ -269,65 +270,9 @@ World::StepPlan World::planStep(double target) const {
   return plan;
 }
 
-Eigen::AlignedBox3d World::worldBounds(int id) const {
-  Eigen::AlignedBox3d box;
-  const Mat3 R = states_[id].q.toRotationMatrix();
-  for (const Vec3& v : bodies_[id].shape->mesh.vertices) box.extend(states_[id].x + R * v);
-  return box;
-}
-
-void World::placeAbove(int id, double clearance) {
-  const auto footprint = [](const Eigen::AlignedBox3d& b) {
-    return Eigen::AlignedBox2d(b.min().head<2>(), b.max().head<2>());
-  };
-  const Eigen::AlignedBox3d box = worldBounds(id);
-  double top = -INFINITY;
-  if (def_.groundHeight) top = *def_.groundHeight;
-  if (def_.terrain) {  // the surface directly under the body, not the highest grid node near it
-    const Mat3 R = states_[id].q.toRotationMatrix();
-    std::vector<Vec3> pts;
-    for (const Vec3& v : bodies_[id].shape->mesh.vertices) pts.push_back(states_[id].x + R * v);
-    top = std::max(top, def_.terrain->surfaceUnder(pts, box.min().z()));
-  }
-  // What lies below is the pile: bodies that touched something in the last step (before the
-  // first step, every placed body). A body still falling from an earlier release touches
-  // nothing and does not lift this one, unless this one would be born inside it.
-  // A sleeping body rests on something, so it counts as touching.
-  std::vector<char> touching(bodyCount(), totals_.steps == 0 ? 1 : 0);
-  for (int j = 0; j < bodyCount(); ++j)
-    if (bodies_[j].sleeping) touching[j] = 1;
-  for (const Contact& c : contacts_) {
-    touching[c.a] = 1;
-    if (c.b != kGround) touching[c.b] = 1;
-  }
-  // Leaf spheres stick out of a mesh's bounding box by up to their radius, so boxes are
-  // compared grown by both bodies' leaf radii: a body placed clear of these boxes is clear of
-  // the spheres the narrow phase tests (no overlapping release).
-  const double ownPad = bodies_[id].shape->tree->leaves().radius;
-  std::vector<Eigen::AlignedBox3d> others(bodyCount());
-  for (int j = 0; j < bodyCount(); ++j) {
-    if (j == id || !bodies_[j].active) continue;
-    others[j] = worldBounds(j);
-    const Vec3 pad = Vec3::Constant(ownPad + bodies_[j].shape->tree->leaves().radius);
-    others[j] = Eigen::AlignedBox3d(others[j].min() - pad, others[j].max() + pad);
-    if (touching[j] && footprint(others[j]).intersects(footprint(box)))
-      top = std::max(top, others[j].max().z() - pad.z());
-  }
-  if (!std::isfinite(top)) return;
-  // Raise above airborne bodies the new one would overlap, until it overlaps none (each pass
-  // moves it above at least one more body, so this ends).
-  for (bool moved = true; moved;) {
-    moved = false;
-    const double lift = top + clearance - box.min().z();
-    const Eigen::AlignedBox3d placed(box.min() + Vec3(0, 0, lift), box.max() + Vec3(0, 0, lift));
-    for (int j = 0; j < bodyCount(); ++j)
-      if (j != id && bodies_[j].active && !touching[j] && others[j].intersects(placed) &&
-          others[j].max().z() > top) {
-        top = others[j].max().z();
-        moved = true;
-      }
-  }
-  states_[id].x.z() += top + clearance - box.min().z();
+void World::liftForRelease(int id) {
+  states_[id].x.z() += releaseLift(id, bodies_[id].dropHeight, bodies_, states_, contacts_,
+                                   totals_.steps == 0, {def_.groundHeight, def_.terrain.get()});
 }
 
 std::uint64_t World::releaseBodies() {
@@ -335,14 +280,8 @@ std::uint64_t World::releaseBodies() {
   for (int i = 0; i < bodyCount(); ++i) {
     BodyInfo& b = bodies_[i];
     if (b.active || b.releaseTime > time_ + kTimeTolerance) continue;
-    if (b.dropHeight >= 0) placeAbove(i, b.dropHeight);
-    const Collider mine = sphereTreeCollider(i, *b.shape->tree, states_[i].x, states_[i].q);
-    std::vector<Contact> found;
-    for (int j = 0; j < bodyCount() && found.empty(); ++j)
-      if (bodies_[j].active)
-        collide(mine, sphereTreeCollider(j, *bodies_[j].shape->tree, states_[j].x, states_[j].q),
-                found);
-    overlapping += found.empty() ? 0 : 1;
+    if (b.dropHeight >= 0) liftForRelease(i);
+    overlapping += overlapsActiveBody(i, bodies_, states_) ? 1 : 0;
     b.active = true;
     if (def_.terrain && !b.isStatic) monitor_.onRelease(i, time_, bodies_, states_);
   }

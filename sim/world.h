@@ -213,14 +213,12 @@ class World {
   };
   StepPlan planStep(double target) const;
   void foldStepHash();
-  // Activates bodies whose release time has come; returns how many of them were released
-  // overlapping an active body's leaf spheres (an emitter aimed into a pile).
+  // Activates bodies whose release time has come, each lifted by its drop height
+  // (solve/release.h); returns how many of them were released overlapping an active body's
+  // leaf spheres (an emitter aimed into a pile).
   std::uint64_t releaseBodies();
-  // Lifts body `id` so its lowest point is `clearance` above the highest point under it:
-  // floor, terrain, and bodies that touched something in the last step (and above any falling
-  // body it would otherwise be born inside).
-  void placeAbove(int id, double clearance);
-  Eigen::AlignedBox3d worldBounds(int id) const;  // of the body's mesh in its current pose
+  // Lifts body `id` by its drop height above what lies under it (releaseLift).
+  void liftForRelease(int id);
   double nextReleaseAfter(double t) const;
 
   WorldDef def_;
