@@ -96,11 +96,10 @@ std::optional<Runaway> RunGuard::check(const std::vector<BodyInfo>& bodies,
     };
     if (!y.x.allFinite() || !y.q.coeffs().allFinite() || !y.P.allFinite() || !y.L.allFinite())
       return stop("non-finite state", NAN, 0);
-    const Vec3 w = angularVelocityOf(b, y);
+    const Vec3 v = velocityOf(b, y), w = angularVelocityOf(b, y);
     // |v| + (l/2)|w|: the speed bound of a body's fastest point (eq. 18).
-    const double speed = (y.P * b.invMass).norm() + 0.5 * b.shape->diameter * w.norm();
+    const double speed = v.norm() + 0.5 * b.shape->diameter * w.norm();
     if (!(speed <= limits.maxSpeed)) return stop("speed", speed, limits.maxSpeed);
-    const Vec3 v = y.P * b.invMass;
     const double mass = 1 / b.invMass;
     const double kinetic = 0.5 * y.P.dot(v) + 0.5 * y.L.dot(w);
     const double pe = -mass * gravity.dot(y.x + dt * v);

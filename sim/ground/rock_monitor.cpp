@@ -13,7 +13,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "sim/world.h"
+#include "sim/shape/heightfield.h"
+#include "sim/shape/shape.h"
 
 namespace vf {
 

@@ -34,6 +34,8 @@ std::uint64_t integrate(const std::vector<BodyInfo>& bodies, std::vector<BodySta
     if (!b.moves()) continue;
     BodyState& y = states[i];
     const Vec3 w = angularVelocityOf(b, y);  // w = I(t)^-1 L, R from q by eq. 6
+    // dt (P / M), not dt * velocityOf(b, y): the same quantity rounded as the golden
+    // trajectories were pinned with ((dt / M) P).
     const Vec3 x = y.x + dt * b.invMass * y.P;
     Quat q;
     if (rotation == RotationUpdate::kMidpoint) {
