@@ -30,6 +30,7 @@
 //     Float64 GeoTIFF, and as an ESRI ASCII grid (VOXFALL_BENCH_ASCII_DEM, if set, names one,
 //     e.g. the AvaFrame original).
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -132,14 +133,16 @@ void runScene(benchmark::State& state, const std::string& name, bool clearance =
 // j back and forth over 0..ny-1); written as an ESRI ASCII grid with the header of
 // scenes/terrain/cliff.asc (corner 0, 0; its cell size), so that one copy is the cliff itself,
 // sample for sample (Rockfall and RockfallWide give the same checksum up to 1,392 rocks, which
-// checks it). Returns the file's path, in the temporary directory.
+// checks it). Returns the file's path, in the temporary directory (named by the process, so
+// that two benchmark runs do not share it; the caller removes it).
 std::string widenedCliff(const std::string& cliffPath, int copies) {
   const vf::Heightfield cliff = vf::loadDem(cliffPath);
   const int period = 2 * (cliff.ny - 1);
   const int ny = copies * (cliff.ny - 1) + 1;
-  const std::string path = (std::filesystem::temp_directory_path() /
-                            ("voxfall_bench_cliff_x" + std::to_string(copies) + ".asc"))
-                               .string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() /
+       ("voxfall_bench_cliff_x" + std::to_string(copies) + "_" + std::to_string(getpid()) + ".asc"))
+          .string();
   std::ofstream out(path);
   out << "ncols " << cliff.nx << "\nnrows " << ny << "\nxllcorner 0\nyllcorner 0\ncellsize "
       << cliff.cell << "\nNODATA_value -9999\n";
@@ -186,6 +189,7 @@ void rockfall(benchmark::State& state, bool clearance, bool wide) {
   spec.camera.followBody.reset();
   spec.threads = static_cast<int>(state.range(1));
   const double cpu = runSpec(state, spec);
+  if (wide) std::filesystem::remove(spec.terrainPath);
   state.counters["rocks"] = n;
   if (wide) state.counters["copies"] = copies;
   state.counters["cpu_us_per_rock_step"] = 1e6 * cpu / (state.counters["steps"] * n);
