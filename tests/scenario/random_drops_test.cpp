@@ -10,7 +10,12 @@
 //     dissipate, gravity conserves;
 //   - no mesh is inside another, or below the ground, by more than one leaf-voxel edge (eq. 20
 //     lets a leaf sphere move at most its radius per step).
-// A failure prints the drop's seed; rerun one drop with VOXFALL_DROP_SEED=N.
+// A failure prints the drop's seed; rerun one drop with VOXFALL_DROP_SEED=N. VOXFALL_DROP_COUNT=N
+// runs only the first N drops: the sanitizer tree (CMakePresets.json) runs 250, since ASan and
+// UBSan at -O1 make a drop about 40x slower (the thousand took 282 s there against 6.7 s in the
+// Release tree), and what they look for, memory errors and undefined behaviour, the first 250
+// exercise on the same code paths (every shape, the floor and the terrain, bodies meeting);
+// the normal tree still runs all 1,000 for the invariants.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -198,6 +203,10 @@ DropResult drop(std::uint64_t seed) {
 
 TEST(RandomDrops, ThousandSeededDropsKeepTheInvariants) {
   std::uint64_t first = 1, count = kDrops;
+  if (const char* s = std::getenv("VOXFALL_DROP_COUNT")) {
+    count = std::strtoull(s, nullptr, 10);
+    ASSERT_GT(count, 0u) << "VOXFALL_DROP_COUNT must be a positive number of drops";
+  }
   if (const char* s = std::getenv("VOXFALL_DROP_SEED")) {
     first = std::strtoull(s, nullptr, 10);
     count = 1;
@@ -215,9 +224,9 @@ TEST(RandomDrops, ThousandSeededDropsKeepTheInvariants) {
   }
   // The drops must exercise what the invariants are about: contacts with the ground in most,
   // bodies meeting bodies in many.
-  if (count == kDrops) {
-    EXPECT_GT(touched, kDrops / 2);
-    EXPECT_GT(met, kDrops / 4);
+  if (count >= 100) {
+    EXPECT_GT(touched, static_cast<int>(count / 2));
+    EXPECT_GT(met, static_cast<int>(count / 4));
   }
   std::printf("%d of %d drops touched something, %d had bodies meeting\n", touched,
               static_cast<int>(count), met);
