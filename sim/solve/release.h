@@ -1,8 +1,8 @@
-// Releases: emitter bodies join the world at their release time (the paper starts every body
-// at t = 0; its examples 2-4 throw or drop blocks one after another, which voxfall's emitters
-// write down), each optionally lifted so that it starts `drop_height` above what lies under
-// it. World::releaseBodies runs this after every step; placement is a function of the state
-// alone, so releases keep the trajectory deterministic.
+// Releases: bodies that join the world at their release time (the paper's examples 2-4 throw or
+// drop blocks one after another; voxfall's emitters write that down), each optionally lifted
+// so that it starts `drop_height` above what lies under it. World::addBody (a body released at
+// once) and World::releaseBodies (after every step) use this; placement is a function of the
+// state alone, so releases keep the trajectory deterministic.
 #pragma once
 
 #include <optional>
