@@ -308,8 +308,8 @@ void PlanePatch::finish(int a, int b, std::vector<Contact>& out) {
   }
   const Vec3 n = patchNormal(sum, normal_);
   std::size_t keep[kContactsPerPatch];
-  const int kept =
-      spanningSubset(points_.data(), m, deepest, n, scratch().flat, scratch().boxes, keep);
+  Scratch& s = scratch();
+  const int kept = spanningSubset(points_.data(), m, deepest, n, s.flat, s.boxes, keep);
   for (int k = 0; k < kept; ++k) contact(keep[k], n);
 }
 

@@ -13,7 +13,17 @@ namespace vf {
 
 namespace {
 
-// Bounds of the body's mesh in its current pose.
+// The body's mesh vertices in its current pose.
+std::vector<Vec3> worldVertices(const BodyInfo& b, const BodyState& y) {
+  const Mat3 R = y.q.toRotationMatrix();
+  std::vector<Vec3> pts;
+  pts.reserve(b.shape->mesh.vertices.size());
+  for (const Vec3& v : b.shape->mesh.vertices) pts.push_back(y.x + R * v);
+  return pts;
+}
+
+// Bounds of the body's mesh in its current pose (no allocation: every active body's bounds are
+// taken at every release).
 Eigen::AlignedBox3d meshBounds(const BodyInfo& b, const BodyState& y) {
   Eigen::AlignedBox3d box;
   const Mat3 R = y.q.toRotationMatrix();
@@ -32,15 +42,13 @@ double releaseLift(int id, double clearance, const std::vector<BodyInfo>& bodies
                    bool firstStep, const ReleaseGround& ground) {
   const int n = static_cast<int>(bodies.size());
   const BodyInfo& me = bodies[id];
-  const Eigen::AlignedBox3d box = meshBounds(me, states[id]);
+  const std::vector<Vec3> pts = worldVertices(me, states[id]);
+  Eigen::AlignedBox3d box;
+  for (const Vec3& p : pts) box.extend(p);
   double top = -INFINITY;
   if (ground.floorHeight) top = *ground.floorHeight;
-  if (ground.terrain) {  // the surface directly under the body, not the highest grid node near it
-    const Mat3 R = states[id].q.toRotationMatrix();
-    std::vector<Vec3> pts;
-    for (const Vec3& v : me.shape->mesh.vertices) pts.push_back(states[id].x + R * v);
+  if (ground.terrain)  // the surface directly under the body, not the highest grid node near it
     top = std::max(top, ground.terrain->surfaceUnder(pts, box.min().z()));
-  }
   // What lies below is the pile: bodies that touched something in the last step (before the
   // first step, every placed body). A body still falling from an earlier release touches
   // nothing and does not lift this one, unless this one would be born inside it.
