@@ -13,6 +13,8 @@
 // Time: thread CPU time spent stepping (no diagnostics), per simulated second; median over
 // interleaved rounds. Interpenetration: one checker for both, World::measure's true-mesh test
 // (collide/penetration.h), applied at every 1/60 s instant of an untimed identical run.
+// A second table splits each time into steps per simulated second (eq. 20's, or Bullet's 60)
+// and CPU time per step.
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
 #include <BulletCollision/Gimpact/btGImpactCollisionAlgorithm.h>
 #include <BulletCollision/Gimpact/btGImpactShape.h>
@@ -52,7 +54,8 @@ struct Spawn {
 
 struct Outcome {
   double cpuPerSimSecond = 0;
-  double maxPenetration = 0;  // m, body-body and body-ground
+  double stepsPerSimSecond = 0;  // the same in every round (the runs are deterministic)
+  double maxPenetration = 0;     // m, body-body and body-ground
 };
 
 // The shared checker: true-mesh interpenetration of the given poses.
@@ -91,6 +94,7 @@ Outcome runVoxfall(const vf::SceneSpec& spec, bool check, std::vector<std::vecto
     const double t0 = threadSeconds();
     for (int k = 1; k <= frames; ++k) built.world->advanceTo(k * kFrame);
     out.cpuPerSimSecond = (threadSeconds() - t0) / spec.duration;
+    out.stepsPerSimSecond = static_cast<double>(built.world->totals().steps) / spec.duration;
   }
   if (!check && spawns == nullptr) return out;
   vf::BuiltScene built = vf::buildScene(spec);
@@ -268,6 +272,7 @@ Outcome runBullet(const vf::SceneSpec& spec, const std::vector<std::vector<Spawn
       const double t0 = threadSeconds();
       scene.step();
       cpu += threadSeconds() - t0;
+      out.stepsPerSimSecond += 1 / spec.duration;  // one substep per 1/60 s frame
     }
     for (const Spawn& s : spawns[k]) scene.spawn(s);
     if (check)
@@ -283,6 +288,14 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// A row of the second table: where the time ratio comes from, steps per simulated second
+// times CPU time per step.
+struct StepRow {
+  std::string scene;
+  double steps[4];      // per simulated s: paper, ext, ext + clearance, Bullet
+  double usPerStep[4];  // median CPU us per step, the same order
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -293,6 +306,7 @@ int main(int argc, char** argv) {
       "step | Bullet 1/60 s | paper / Bullet | ext / Bullet | ext + clearance / Bullet | deepest: "
       "Bullet, voxfall paper, ext, ext + clearance (mm) |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
+  std::vector<StepRow> stepRows;
   for (const char* name : scenes) {
     const vf::SceneSpec paper = sceneAt(name, 4, false);
     const vf::SceneSpec ext = sceneAt(name, 4, true);
@@ -316,6 +330,22 @@ int main(int argc, char** argv) {
         name, 1e3 * p, 1e3 * e, 1e3 * c, 1e3 * b, p / b, e / b, c / b, 1e3 * bb.maxPenetration,
         1e3 * pv.maxPenetration, 1e3 * ev.maxPenetration, 1e3 * cv.maxPenetration);
     std::fflush(stdout);
+    StepRow row{
+        name,
+        {pv.stepsPerSimSecond, ev.stepsPerSimSecond, cv.stepsPerSimSecond, bb.stepsPerSimSecond},
+        {}};
+    const double times[4] = {p, e, c, b};
+    for (int i = 0; i < 4; ++i) row.usPerStep[i] = 1e6 * times[i] / row.steps[i];
+    stepRows.push_back(row);
   }
+  std::printf(
+      "\n| scene | steps per simulated s: paper, ext, ext + clearance, Bullet | CPU us per step: "
+      "paper, ext, ext + clearance, Bullet | ext / Bullet: steps, per step |\n");
+  std::printf("|---|---|---|---|\n");
+  for (const StepRow& r : stepRows)
+    std::printf("| %s | %.0f, %.0f, %.0f, %.0f | %.1f, %.1f, %.1f, %.1f | %.2fx, %.2fx |\n",
+                r.scene.c_str(), r.steps[0], r.steps[1], r.steps[2], r.steps[3], r.usPerStep[0],
+                r.usPerStep[1], r.usPerStep[2], r.usPerStep[3], r.steps[1] / r.steps[3],
+                r.usPerStep[1] / r.usPerStep[3]);
   return 0;
 }
