@@ -4,7 +4,9 @@
 # under ROOT/DIR (tests/data excluded) with `clang-format --dry-run --Werror` and lists the
 # files that differ. Fix them with `clang-format -i FILE`. One clang-format process for all
 # files (xargs): started once per file, its start-up made this the suite's slowest test (24 s).
-set -u
+# pipefail: a folder that find cannot read (a typo in the test's arguments) fails the check
+# instead of checking nothing.
+set -uo pipefail
 clang_format=$1
 root=$2
 shift 2
@@ -15,8 +17,9 @@ report=$(find "$@" \( -name '*.h' -o -name '*.cpp' \) -not -path '*/data/*' -pri
 # clang-format names each differing place "FILE:LINE:COL: ...clang-format-violations".
 files=$(printf '%s\n' "$report" | grep -- '-Wclang-format-violations' | sed 's/:[0-9]*:[0-9]*: .*//' |
   sort -u)
-if [ -z "$files" ]; then  # it failed for another reason (a bad .clang-format, a missing file)
-  printf '%s\n' "$report"
+if [ -z "$files" ]; then  # it failed for another reason (a bad .clang-format, a missing folder)
+  [ -n "$report" ] && printf '%s\n' "$report"
+  echo "could not check the sources under: $* (in $root)"
   exit 1
 fi
 while IFS= read -r file; do echo "not formatted: $file (run: clang-format -i $file)"; done <<<"$files"
