@@ -3,8 +3,11 @@
 // section 4). Selected by WorldDef::contactReduction / [simulation] contact_reduction.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "sim/collide/contact.h"
@@ -22,6 +25,35 @@ void reducePairContacts(std::vector<Contact>& contacts, std::size_t begin);
 
 // The same for every run of consecutive contacts with the same a and b, each as one pair.
 void reduceContacts(std::vector<Contact>& contacts);
+
+// The choice of a large patch's representatives, shared by the reductions above and the narrow
+// phase's reduction of a body's plane contacts from its candidates (narrow_phase.cpp).
+// Coordinates in the patch plane are taken in the basis patchPlaneBasis gives for the normal.
+void patchPlaneBasis(const Vec3& n, Vec3& t1, Vec3& t2);
+// A box in the patch plane bounding the coordinates of a group of points (groups of kPatchGroup
+// consecutive points where the reduction makes them; groups of candidates in the narrow phase).
+constexpr std::size_t kPatchGroup = 16;
+struct PatchBox {
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  void extend(const Eigen::Vector2d& p) {
+    x0 = std::min(x0, p.x()), x1 = std::max(x1, p.x());
+    y0 = std::min(y0, p.y()), y1 = std::max(y1, p.y());
+  }
+};
+// Chooses the representatives of a patch of m > kContactsPerPatch points (in narrow-phase
+// order) whose deepest point is `deepest` (the first of the deepest): that point; the one
+// farthest from it; the one that makes the largest triangle with these two; the one farthest
+// outside that triangle (each the first of equals, none if no point scores above zero). Writes
+// their indices, in that order, to keep and returns how many. flat[k] is point k's plane
+// coordinates; the points come in `groups` groups of consecutive points, group g holding
+// [groupBegin[g], groupBegin[g + 1]) and boxes[g] their coordinates. A group whose box cannot
+// beat the best point so far is skipped, which gives the full scan's choice bit for bit. With
+// `fill`, flat is filled lazily: flat[deepest] must be set; fill(g) must write group g's
+// coordinates (it may be called more than once for a group) and is called before they are read.
+int chooseRepresentatives(std::size_t m, std::size_t deepest, const Eigen::Vector2d* flat,
+                          const PatchBox* boxes, const std::size_t* groupBegin, std::size_t groups,
+                          const std::function<void(std::size_t)>& fill,
+                          std::size_t keep[kContactsPerPatch]);
 
 // The reduction of one collider pair whose contacts all share one normal (a sphere tree on the
 // floor plane), made as the contacts are found instead of after: the narrow phase hands each
@@ -46,7 +78,6 @@ class PlanePatch {
   std::vector<Vec3> points_;
   std::vector<double> depths_;
   std::vector<std::uint32_t> leaves_;
-  std::vector<Eigen::Vector2d> flat_;
 };
 
 }  // namespace vf

@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <type_traits>
 #include <utility>
 
 #include "sim/collide/contact_reduction.h"
@@ -88,9 +89,27 @@ class TreeTreeDescent {
     Rab_ = a_.R.transpose() * b_.R;
     tab_ = a_.R.transpose() * (b_.x - a_.x);
     if (memo_ && planCandidates()) {  // the candidates hold: test only them
+      // Most candidates of a resting pair do not touch (a leaf's neighbours within the margin
+      // beside the one it touches), so each is first tested as the inner tests are, in a's frame
+      // and widened by the rounding slack: a pair that misses there misses exactly too. The
+      // rest are decided by the leaf test itself. The descent stored a's leaf in the outer
+      // loop, so runs of candidates share it: its centres are computed once per run (the same
+      // expressions, the same bits).
+      const std::vector<Vec3>& centersA = ta_.leaves().centers;
+      const std::vector<Vec3>& centersB = tb_.leaves().centers;
+      const double reach = ta_.leaves().radius + tb_.leaves().radius + slack_;
+      std::uint32_t lastI = UINT32_MAX;
+      Vec3 wa = Vec3::Zero();
+      bool waSet = false;
       for (std::size_t k = 0; k < memo_->leaves.size(); k += 2) {
         const std::uint32_t i = memo_->leaves[k], j = memo_->leaves[k + 1];
-        emit(i, leafWorldA(i), j, leafWorldB(j));
+        if (i != lastI) lastI = i, waSet = false;
+        if ((centersA[i] - (tab_ + Rab_ * centersB[j])).squaredNorm() >= reach * reach) {
+          ++tests_;
+          continue;
+        }
+        if (!waSet) wa = leafWorldA(i), waSet = true;
+        emit(i, wa, j, leafWorldB(j));
       }
       return tests_;
     }
@@ -291,9 +310,12 @@ Contact groundContact(const Collider& a, const Collider& ground, const NodeRef& 
 // `emit(leaf, point, depth)` takes each contact: stored whole (collideTreePlane), or handed to a
 // PlanePatch that reduces them as they come (collideTreePlanePatch); a template, so that each
 // is inlined into the leaf loops.
-template <class Emit>
+// `serve(h0, m, slack)`, when the candidates hold, tests them instead of the default loop below
+// (h0: the body origin's height; m: R^T n; slack: the bound on the rounding of the body-frame
+// heights h0 + m.c) and returns the tests made; null: the default loop.
+template <class Emit, class Serve = std::nullptr_t>
 std::uint64_t treePlaneDescent(const Collider& a, const Collider& p, PairCandidates* memo,
-                               Emit emitContact) {
+                               Emit emitContact, Serve serve = nullptr) {
   const SphereTree& tree = *a.tree;
   auto height = [&](const Vec3& c) { return p.normal.dot(c) - p.offset; };
   std::uint64_t tests = 1;
@@ -317,6 +339,9 @@ std::uint64_t treePlaneDescent(const Collider& a, const Collider& p, PairCandida
         *memo, memo->holds ? moved(memo->buildT, memo->buildH) : INFINITY,
         memo->hasLast ? moved(memo->lastT, memo->lastH) : INFINITY, candidateMargin, slack);
     memo->served = plan == CandidatePlan::kServe;
+    if constexpr (!std::is_same_v<Serve, std::nullptr_t>) {
+      if (memo->served && leafLevel > 0) return tests + serve(h0, m, slack);
+    }
     if (memo->served) {
       for (std::uint32_t i : memo->leaves) {
         ++tests;
@@ -364,6 +389,17 @@ std::uint64_t treePlaneDescent(const Collider& a, const Collider& p, PairCandida
     }
   };
   visit(visit, 0, 0);
+  if (margin > 0) {  // candidates built: their groups' bounds (servePlanePatch)
+    const std::vector<Vec3>& centers = tree.leaves().centers;
+    const std::size_t groups = (memo->leaves.size() + kPatchGroup - 1) / kPatchGroup;
+    memo->groupLo.assign(groups, Vec3::Constant(INFINITY));
+    memo->groupHi.assign(groups, Vec3::Constant(-INFINITY));
+    for (std::size_t k = 0; k < memo->leaves.size(); ++k) {
+      const Vec3& c = centers[memo->leaves[k]];
+      memo->groupLo[k / kPatchGroup] = memo->groupLo[k / kPatchGroup].cwiseMin(c);
+      memo->groupHi[k / kPatchGroup] = memo->groupHi[k / kPatchGroup].cwiseMax(c);
+    }
+  }
   return tests;
 }
 
@@ -385,12 +421,221 @@ std::uint64_t collideTreePlane(const Collider& a, const Collider& p, std::vector
   return collideTreePlane(a, p, out, nullptr);
 }
 
-// The same contacts handed to `patch` (started by the caller, who finishes it).
+// The reduction of a body's plane contacts when its candidates hold, without computing every
+// contact: what PlanePatch::finish makes of the contacts the candidates give, bit for bit
+// (contact_reduction_test compares the two step after step). A contact's exact values (world
+// centre, height, point: the expressions of treePlaneDescent's leaf test) are computed only
+// where they can decide something. The argument: a leaf's body-frame height h0 + m.c, the
+// expression of the descent's inner tests, differs from its exact height by rounding only, at
+// most `slack` (the descent's own bound), and over a group of candidates (kPatchGroup
+// consecutive ones) the body-frame heights and plane coordinates u0 + u.c are linear in the
+// centre, so the group's box of centres (PairCandidates::groupLo, groupHi) bounds them; widened
+// by slack (flatSlack for coordinates, built alike) the bounds hold the exact values. So:
+//  - a group wholly below r - slack holds only contacts, one wholly at or above r + slack none;
+//    in any other group each candidate's body-frame height decides, and its exact test where
+//    that lies within slack of r;
+//  - the deepest contact (the first of the largest exact depth r - h) has a body-frame height
+//    within 3 slack of the lowest one: any leaf higher than that is exactly higher by more than
+//    slack, far more than a rounding of r - h could make up, so its depth is smaller. Groups
+//    whose bounds lie above that are not looked into (for a face at rest, the groups of its
+//    lowest corner are), and only leaves within it get exact depths;
+//  - the other representatives come from chooseRepresentatives with the groups' boxes: a
+//    group's exact values are computed only when its box could hold a better point.
+// The contact count is exact, so a patch of at most kContactsPerPatch contacts is emitted whole,
+// as finish emits it. Counted as one test per candidate, as the plain loop counts.
+struct PlaneServeScratch {
+  // Per group of candidates that holds contacts (in order): its candidates' range, its
+  // contacts' first index, whether every candidate is a contact (else its contacts' candidate
+  // indices are member[members...]), and the bounds of its body-frame heights.
+  struct Group {
+    std::size_t begin, end, first, members;
+    bool all;
+    double lo, hi;
+  };
+  std::vector<Group> groups;
+  std::vector<std::size_t> member;      // per contact of a mixed group: its candidate index
+  std::vector<std::size_t> groupBegin;  // contact index ranges, for chooseRepresentatives
+  std::vector<PatchBox> boxes;
+  std::vector<char> filled;           // per group: its contacts' exact values computed
+  std::vector<Eigen::Vector2d> flat;  // per contact, exact, where computed
+  std::vector<Vec3> point;
+  std::vector<double> depth;
+  std::vector<std::uint32_t> leaf;
+};
+
+// The range of h0 + m.c over the box [lo, hi] of c.
+inline void linearRange(double h0, const Vec3& m, const Vec3& lo, const Vec3& hi, double& a,
+                        double& b) {
+  a = h0, b = h0;
+  for (int k = 0; k < 3; ++k) {
+    const double x = m[k] * lo[k], y = m[k] * hi[k];
+    a += std::min(x, y), b += std::max(x, y);
+  }
+}
+
+std::uint64_t servePlanePatch(const Collider& a, const Collider& p, const PairCandidates& memo,
+                              double h0, const Vec3& m, double slack, std::vector<Contact>& out,
+                              std::uint64_t& leafContacts) {
+  static thread_local PlaneServeScratch s;
+  const SphereTree& tree = *a.tree;
+  const std::vector<Vec3>& centers = tree.leaves().centers;
+  const double r = tree.leaves().radius;
+  const Vec3& n = p.normal;
+  Vec3 t1, t2;
+  patchPlaneBasis(n, t1, t2);
+  const Vec3 u1 = a.R.transpose() * t1, u2 = a.R.transpose() * t2;
+  const double o1 = a.x.dot(t1), o2 = a.x.dot(t2);
+  const double flatSlack =
+      1e-9 * (1 + a.x.norm() + 2 * tree.boundingRadius + std::abs(p.offset) + std::abs(h0));
+  // The exact values of leaf i, by treePlaneDescent's expressions.
+  auto exact = [&](std::uint32_t i, Vec3& point, double& h) {
+    const Vec3 center = leafWorldCenter(a, i);
+    h = n.dot(center) - p.offset;
+    point = center - h * n;
+  };
+  auto bodyHeight = [&](std::size_t k) { return h0 + m.dot(centers[memo.leaves[k]]); };
+  const std::size_t candidates = memo.leaves.size();
+  s.groups.clear();
+  s.member.clear();
+  s.boxes.clear();
+  std::size_t count = 0;
+  double lowestUpper = INFINITY;  // at least the lowest body-frame height of a contact
+  for (std::size_t g = 0; g * kPatchGroup < candidates; ++g) {
+    PlaneServeScratch::Group G{g * kPatchGroup,
+                               std::min(candidates, (g + 1) * kPatchGroup),
+                               count,
+                               s.member.size(),
+                               true,
+                               0,
+                               0};
+    linearRange(h0, m, memo.groupLo[g], memo.groupHi[g], G.lo, G.hi);
+    G.lo -= slack, G.hi += slack;  // the rounding of the range itself
+    if (G.lo >= r + slack) continue;
+    if (G.hi < r - slack) {
+      count += G.end - G.begin;
+      lowestUpper = std::min(lowestUpper, G.hi);
+    } else {  // each candidate decides
+      G.all = false;
+      for (std::size_t k = G.begin; k < G.end; ++k) {
+        const double hb = bodyHeight(k);
+        if (!(hb < r - slack)) {
+          if (hb >= r + slack) continue;
+          Vec3 point;
+          double h;
+          exact(memo.leaves[k], point, h);
+          if (!(h < r)) continue;
+        }
+        s.member.push_back(k);
+        lowestUpper = std::min(lowestUpper, hb);
+        ++count;
+      }
+      if (count == G.first) continue;
+    }
+    double f1lo, f1hi, f2lo, f2hi;
+    linearRange(o1, u1, memo.groupLo[g], memo.groupHi[g], f1lo, f1hi);
+    linearRange(o2, u2, memo.groupLo[g], memo.groupHi[g], f2lo, f2hi);
+    PatchBox box;
+    box.extend(Eigen::Vector2d(f1lo - flatSlack, f2lo - flatSlack));
+    box.extend(Eigen::Vector2d(f1hi + flatSlack, f2hi + flatSlack));
+    s.boxes.push_back(box);
+    s.groups.push_back(G);
+  }
+  leafContacts += count;
+  if (count == 0) return candidates;
+  if (s.flat.size() < count) {  // grown, never shrunk: no clearing per call
+    s.flat.resize(count);
+    s.point.resize(count);
+    s.depth.resize(count);
+    s.leaf.resize(count);
+  }
+  s.groupBegin.resize(s.groups.size() + 1);
+  for (std::size_t g = 0; g < s.groups.size(); ++g) s.groupBegin[g] = s.groups[g].first;
+  s.groupBegin[s.groups.size()] = count;
+  s.filled.assign(s.groups.size(), 0);
+  // The candidate index of contact j of group G.
+  auto candidateOf = [&](const PlaneServeScratch::Group& G, std::size_t j) {
+    return G.all ? G.begin + (j - G.first) : s.member[G.members + (j - G.first)];
+  };
+  auto fill = [&](std::size_t g) {
+    if (s.filled[g]) return;
+    s.filled[g] = 1;
+    const PlaneServeScratch::Group& G = s.groups[g];
+    for (std::size_t j = G.first; j < s.groupBegin[g + 1]; ++j) {
+      const std::uint32_t i = memo.leaves[candidateOf(G, j)];
+      double h;
+      exact(i, s.point[j], h);
+      s.leaf[j] = i;
+      s.depth[j] = r - h;
+      s.flat[j] = Eigen::Vector2d(s.point[j].dot(t1), s.point[j].dot(t2));
+    }
+  };
+  auto contact = [&](std::size_t j) {
+    Contact c;
+    c.a = a.body;
+    c.b = p.body;
+    c.point = s.point[j];
+    c.normal = n;
+    c.depth = s.depth[j];
+    c.leafA = s.leaf[j];
+    out.push_back(c);
+  };
+  if (count <= static_cast<std::size_t>(kContactsPerPatch)) {  // as they are, deepest first
+    for (std::size_t g = 0; g < s.groups.size(); ++g) fill(g);
+    std::size_t order[kContactsPerPatch];
+    for (std::size_t j = 0; j < count; ++j) order[j] = j;
+    std::stable_sort(order, order + count,
+                     [&](std::size_t x, std::size_t y) { return s.depth[x] > s.depth[y]; });
+    for (std::size_t j = 0; j < count; ++j) contact(order[j]);
+    return candidates;
+  }
+  // The lowest body-frame height of a contact: in the groups that may hold it.
+  const double reach = lowestUpper + 3 * slack;
+  double lowest = INFINITY;
+  for (std::size_t g = 0; g < s.groups.size(); ++g) {
+    const PlaneServeScratch::Group& G = s.groups[g];
+    if (G.lo > reach) continue;
+    for (std::size_t j = G.first; j < s.groupBegin[g + 1]; ++j)
+      lowest = std::min(lowest, bodyHeight(candidateOf(G, j)));
+  }
+  // The deepest: exact depths of the contacts within 3 slack of it, the first of the largest.
+  std::size_t deepest = count;
+  for (std::size_t g = 0; g < s.groups.size(); ++g) {
+    const PlaneServeScratch::Group& G = s.groups[g];
+    if (G.lo > lowest + 3 * slack) continue;
+    for (std::size_t j = G.first; j < s.groupBegin[g + 1]; ++j) {
+      if (bodyHeight(candidateOf(G, j)) > lowest + 3 * slack) continue;
+      fill(g);
+      if (deepest == count || s.depth[j] > s.depth[deepest]) deepest = j;
+    }
+  }
+  std::size_t keep[kContactsPerPatch];
+  // (A std::function holding only a pointer stays in its small buffer: no allocation.)
+  const auto* fillGroup = &fill;
+  const int kept = chooseRepresentatives(
+      count, deepest, s.flat.data(), s.boxes.data(), s.groupBegin.data(), s.groups.size(),
+      [fillGroup](std::size_t g) { (*fillGroup)(g); }, keep);
+  for (int k = 0; k < kept; ++k) contact(keep[k]);
+  return candidates;
+}
+
+// The contacts handed to `patch` and reduced there into `out` (served candidates: reduced
+// without computing every contact, servePlanePatch). Adds the leaf contacts to leafContacts.
 std::uint64_t collideTreePlanePatch(const Collider& a, const Collider& p, PairCandidates* memo,
-                                    PlanePatch& patch) {
-  return treePlaneDescent(a, p, memo, [&](std::uint32_t leaf, const Vec3& point, double depth) {
-    patch.add(point, depth, leaf);
-  });
+                                    PlanePatch& patch, std::vector<Contact>& out,
+                                    std::uint64_t& leafContacts) {
+  patch.start(p.normal);
+  bool served = false;
+  const std::uint64_t tests = treePlaneDescent(
+      a, p, memo,
+      [&](std::uint32_t leaf, const Vec3& point, double depth) { patch.add(point, depth, leaf); },
+      [&](double h0, const Vec3& m, double slack) {
+        served = true;
+        return servePlanePatch(a, p, *memo, h0, m, slack, out, leafContacts);
+      });
+  if (served) return tests;
+  leafContacts += patch.size();
+  patch.finish(a.body, p.body, out);
+  return tests;
 }
 
 // Sphere tree against terrain. A node may touch unless its sphere lies entirely above the
@@ -717,10 +962,7 @@ ContactCounts findContacts(const std::vector<BodyInfo>& bodies,
     const Collider& b = *jobs[k].second;
     if (reduce && a.type == ColliderType::kSphereTree && b.type == ColliderType::kPlane) {
       static thread_local PlanePatch patch;
-      patch.start(b.normal);
-      counts.sphereTests += collideTreePlanePatch(a, b, memo[k], patch);
-      counts.leafContacts += patch.size();
-      patch.finish(a.body, b.body, sink);
+      counts.sphereTests += collideTreePlanePatch(a, b, memo[k], patch, sink, counts.leafContacts);
       return;
     }
     const std::size_t begin = sink.size();

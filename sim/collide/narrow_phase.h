@@ -101,6 +101,9 @@ struct PairCandidates {
   double margin = 0;
   std::vector<std::uint32_t> leaves;  // candidate leaf pairs (a, b) in pairs, or leaves of a
                                       // (plane, terrain)
+  // Against the plane: the body-frame bounds of the centres of each group of kPatchGroup
+  // consecutive candidates (contact_reduction.h), for the reduction from candidates.
+  std::vector<Vec3> groupLo, groupHi;
 };
 // The candidates of every sphere-tree pair that findContacts tested in its last call (a pair
 // it did not test, because it is gone or nothing in it moves, starts afresh when tested again).

@@ -19,6 +19,8 @@
 #include "sim/collide/narrow_phase.h"
 #include "sim/core/prng.h"
 #include "sim/core/worker_pool.h"
+#include "sim/geometry/mesh_import.h"
+#include "sim/shape/shape.h"
 #include "tests/support/test_world.h"
 
 namespace vf {
@@ -258,14 +260,90 @@ TEST(ContactReduction, NarrowPhaseReducesEachPairAsTheStoredContactsWouldBe) {
   }
 }
 
+// A body on the floor whose candidates hold is reduced from them without computing every contact
+// (servePlanePatch, narrow_phase.cpp): from body-frame heights and the bounds of groups of
+// candidates, with exact values only where they decide. It must give the reduction of the
+// stored contacts bit for bit, step after step, in every case its shortcuts treat apart: a face
+// exactly level (every bottom leaf ties for deepest: the first must win), slightly tilted (one
+// deepest corner), a group straddling the contact height (leaves decided one by one), a few
+// contacts on an edge or corner (kept whole, deepest first), lifted clear (none), 20 km from the
+// origin (rounding), for a box and for the non-convex cross, at Lv 4 and 5. Oracle: findContacts
+// without candidates or reduction, then reduceContacts. Each pose follows the last by a small
+// motion, so the candidates are built and then serve; a jump every 40 steps rebuilds them.
+TEST(ContactReduction, ReductionFromPlaneCandidatesGivesTheStoredContactsReduction) {
+  const auto cross =
+      makeShape("cross", importMesh(std::string(VOXFALL_SOURCE_DIR) + "/scenes/meshes/cross.obj"),
+                Vec3::Constant(0.5), 800, 5);
+  const std::vector<std::shared_ptr<const Shape>> shapes = {
+      test::boxShape(0.4, 0.3, 0.2, 800, 4), test::boxShape(0.5, 0.5, 0.5, 800, 5), cross};
+  std::uint64_t served = 0, compared = 0, small = 0, large = 0;
+  for (const auto& shape : shapes) {
+    const double r = shape->tree->leaves().radius;
+    const std::vector<BodyInfo> bodies = test::oneBody(shape);
+    std::vector<BodyState> states(1);
+    CandidateCache cache;
+    Prng rng(31);
+    for (int segment = 0; segment < 8; ++segment) {
+      // Where the segment starts, and the small motion it makes every step.
+      const double far = segment == 5 ? 2e4 : 0.0;
+      Vec3 axis(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-0.2, 0.2));
+      double tilt = segment == 0 ? 0.0 : rng.uniform(0.001, 0.02);
+      if (segment == 6) tilt = 0.5;  // on an edge or a corner: a few contacts
+      Quat q(Eigen::AngleAxisd(tilt, axis.normalized()));
+      double low = INFINITY;  // the lowest leaf centre below the body origin at this rotation
+      for (const Vec3& c : shape->tree->leaves().centers)
+        low = std::min(low, (q.toRotationMatrix() * c).z());
+      const double sink = segment == 7 ? -0.5 * r : 0.3 * r;  // segment 7 lifts clear
+      Vec3 x(far + rng.uniform(-1, 1), rng.uniform(-1, 1), -low + r - sink);
+      const Quat turn(
+          Eigen::AngleAxisd(segment == 0 ? 0.0 : 2e-5, Vec3(0.3, -0.2, 1).normalized()));
+      for (int k = 0; k < 40; ++k) {
+        states[0].x = x;
+        states[0].q = q;
+        const std::uint64_t servedBefore = cache.served;
+        std::vector<Contact> got;
+        const ContactCounts counts =
+            findContacts(bodies, states, {}, 0.0, nullptr, nullptr, got, &cache, true);
+        served += cache.served - servedBefore;
+        std::vector<Contact> plain;
+        findContacts(bodies, states, {}, 0.0, nullptr, nullptr, plain);
+        EXPECT_EQ(counts.leafContacts, plain.size()) << segment << " " << k;
+        std::vector<Contact> expected = plain;
+        reduceContacts(expected);
+        ASSERT_EQ(got.size(), expected.size())
+            << shape->name << " segment " << segment << " step " << k;
+        for (std::size_t i = 0; i < got.size(); ++i)
+          ASSERT_TRUE(identical(got[i], expected[i]))
+              << shape->name << " segment " << segment << " step " << k << ", contact " << i;
+        ++compared;
+        (plain.size() > static_cast<std::size_t>(kContactsPerPatch) ? large : small)++;
+        // The next pose: a small turn and a drift of a hundredth of a leaf radius, in height
+        // up and down so that leaves cross the contact height.
+        q = (turn * q).normalized();
+        x += Vec3(0.004 * r, -0.003 * r, (k % 20 < 10 ? 0.01 : -0.01) * r);
+      }
+    }
+  }
+  // Most tests were served by the candidates, with patches of every size.
+  EXPECT_GT(served, compared / 2);
+  EXPECT_GT(large, compared / 2);
+  EXPECT_GT(small, 20u);
+}
+
 // The representatives of one patch (contacts of one pair, all within 60 degrees of the first's
 // normal, more than kContactsPerPatch of them) by the reduction's definition, scanning every
 // point four times: the oracle for contact_reduction.cpp, which skips groups of points that
 // cannot win a scan.
 std::vector<Contact> plainReduction(const std::vector<Contact>& cs) {
+  // The patch normal: the contacts' common normal when they all carry the same one, else the
+  // normalised depth-weighted sum of their normals.
   Vec3 sum = Vec3::Zero();
-  for (const Contact& c : cs) sum += std::max(c.depth, 0.0) * c.normal;
-  const Vec3 n = sum.norm() > 0 ? Vec3(sum.normalized()) : cs[0].normal;
+  bool common = true;
+  for (const Contact& c : cs) {
+    sum += std::max(c.depth, 0.0) * c.normal;
+    common = common && c.normal == cs[0].normal;
+  }
+  const Vec3 n = common || sum.norm() == 0 ? cs[0].normal : Vec3(sum.normalized());
   const Vec3 t1 = (std::abs(n.x()) < 0.57 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
   const Vec3 t2 = n.cross(t1);
   const std::size_t m = cs.size();

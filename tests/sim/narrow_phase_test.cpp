@@ -293,9 +293,7 @@ TEST(NarrowPhase, TerrainCandidatesGiveThePlainDescentsContactsOverHolesAndBorde
     if (!std::isnan(z)) field.zMin = std::min(field.zMin, z), field.zMax = std::max(field.zMax, z);
 
   auto s = test::boxShape(0.3, 0.2, 0.15, 800, 3);
-  std::vector<BodyInfo> bodies(1);
-  bodies[0].shape = s;
-  bodies[0].invMass = 1 / s->mass;
+  const std::vector<BodyInfo> bodies = test::oneBody(s);
   std::vector<BodyState> states(1);
   CandidateCache cache;
   Prng rng(11);

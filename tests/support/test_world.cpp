@@ -1,6 +1,7 @@
 #include "tests/support/test_world.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace vf::test {
 
@@ -21,6 +22,13 @@ TriMesh boxMesh(double a, double b, double c) {
 
 std::shared_ptr<const Shape> boxShape(double a, double b, double c, double density, int level) {
   return makeShape("box", boxMesh(a, b, c), Vec3::Ones(), density, level);
+}
+
+std::vector<BodyInfo> oneBody(std::shared_ptr<const Shape> s) {
+  std::vector<BodyInfo> bodies(1);
+  bodies[0].invMass = 1 / s->mass;
+  bodies[0].shape = std::move(s);
+  return bodies;
 }
 
 double restOffset(const Shape& s) {

@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "sim/geometry/tri_mesh.h"
 #include "sim/shape/heightfield.h"
@@ -19,6 +20,9 @@ TriMesh boxMesh(double a, double b, double c);
 std::shared_ptr<const Shape> boxShape(double a, double b, double c, double density, int level);
 // A body of shape `s` with its centre of mass at x (m), released at `release` (s).
 BodyDef bodyAt(std::shared_ptr<const Shape> s, const Vec3& x, double release = 0);
+
+// One dynamic body of shape s, for the narrow phase's own tests (findContacts).
+std::vector<BodyInfo> oneBody(std::shared_ptr<const Shape> s);
 
 // Lowest point of the body's leaf spheres below its centre of mass when unrotated: place a
 // body at z = ground + restOffset(...) for its spheres to just touch the floor.
