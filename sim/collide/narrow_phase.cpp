@@ -90,25 +90,38 @@ class TreeTreeDescent {
     tab_ = a_.R.transpose() * (b_.x - a_.x);
     if (memo_ && planCandidates()) {  // the candidates hold: test only them
       // Most candidates of a resting pair do not touch (a leaf's neighbours within the margin
-      // beside the one it touches), so each is first tested as the inner tests are, in a's frame
-      // and widened by the rounding slack: a pair that misses there misses exactly too. The
-      // rest are decided by the leaf test itself. The descent stored a's leaf in the outer
-      // loop, so runs of candidates share it: its centres are computed once per run (the same
-      // expressions, the same bits).
+      // beside the one it touches), so each is first tested in body b's frame, widened by the
+      // inner tests' rounding slack (which covers the rounding of a relative pose in either
+      // body's frame as it covers a's): a pair that misses there misses exactly too. The rest
+      // are decided by the leaf test itself. The descent stored a's leaf in the outer loop, so
+      // runs of candidates share it: it is carried into b's frame once per run (a candidate
+      // then costs a difference and a dot product), and its world centre is computed once per
+      // run (the same expression, the same bits).
       const std::vector<Vec3>& centersA = ta_.leaves().centers;
       const std::vector<Vec3>& centersB = tb_.leaves().centers;
       const double reach = ta_.leaves().radius + tb_.leaves().radius + slack_;
+      const Mat3 Rba = Rab_.transpose();
+      const Vec3 tba = -(Rba * tab_);
+      // The candidates that pass are listed first without a branch on the outcome (which
+      // follows no pattern a predictor could learn), then emitted in order.
+      static thread_local std::vector<std::uint32_t> pass;
+      const std::vector<std::uint32_t>& leaves = memo_->leaves;
+      pass.resize(leaves.size() / 2);
+      std::size_t passed = 0;
       std::uint32_t lastI = UINT32_MAX;
+      Vec3 inB = Vec3::Zero();
+      for (std::size_t k = 0; k < leaves.size(); k += 2) {
+        const std::uint32_t i = leaves[k];
+        if (i != lastI) lastI = i, inB = tba + Rba * centersA[i];
+        pass[passed] = static_cast<std::uint32_t>(k);
+        passed += (inB - centersB[leaves[k + 1]]).squaredNorm() < reach * reach;
+      }
+      tests_ += leaves.size() / 2 - passed;
+      lastI = UINT32_MAX;
       Vec3 wa = Vec3::Zero();
-      bool waSet = false;
-      for (std::size_t k = 0; k < memo_->leaves.size(); k += 2) {
-        const std::uint32_t i = memo_->leaves[k], j = memo_->leaves[k + 1];
-        if (i != lastI) lastI = i, waSet = false;
-        if ((centersA[i] - (tab_ + Rab_ * centersB[j])).squaredNorm() >= reach * reach) {
-          ++tests_;
-          continue;
-        }
-        if (!waSet) wa = leafWorldA(i), waSet = true;
+      for (std::size_t p = 0; p < passed; ++p) {
+        const std::uint32_t i = leaves[pass[p]], j = leaves[pass[p] + 1];
+        if (i != lastI) lastI = i, wa = leafWorldA(i);
         emit(i, wa, j, leafWorldB(j));
       }
       return tests_;
