@@ -4,7 +4,10 @@
 //   - a box face on the floor (a grid of leaf contacts) keeps its deepest contact and contacts
 //     spanning the whole patch (the same x and y extent as all leaf contacts);
 //   - two patches at 90 degrees (interlocked non-convex bodies) stay apart, each with its own
-//     normal.
+//     normal;
+//   - the shortcuts (a body's plane contacts reduced as they come, or from its candidates'
+//     bounds; scans that skip groups of points) choose what the plain reduction of the stored
+//     contacts chooses, bit for bit.
 // The physics with reduction on (a flat landing rebounds to eps^2 h without tilting, a stack
 // rests without creep) is checked by tests/scenario/analytic_test.cpp with the same bounds as
 // without reduction.
