@@ -107,10 +107,9 @@ struct Scratch {
   std::vector<int> members;           // the contacts of the patch being reduced, in order
   std::vector<Vec3> points;           // their points
   std::vector<Eigen::Vector2d> flat;  // their points in the patch plane
-  std::vector<PatchBox> boxes;
-  std::vector<std::size_t>
-      groupBegin;  // and where each group begins            // and the boxes of groups of them
-  std::vector<Contact> kept;  // the pair's output, before it is written back in place
+  std::vector<PatchBox> boxes;        // and the boxes of groups of them,
+  std::vector<std::size_t> groupBegin;  // where each group begins
+  std::vector<Contact> kept;            // the pair's output, before it is written back in place
 };
 
 // The representatives of one pair's contacts cs[begin, end) into s.kept.
@@ -187,6 +186,12 @@ Scratch& scratch() {
 }
 
 }  // namespace
+
+void deepestFirst(const double* depths, std::size_t m, std::size_t order[kContactsPerPatch]) {
+  for (std::size_t k = 0; k < m; ++k) order[k] = k;
+  std::stable_sort(order, order + m,
+                   [&](std::size_t x, std::size_t y) { return depths[x] > depths[y]; });
+}
 
 void patchPlaneBasis(const Vec3& n, Vec3& t1, Vec3& t2) {
   t1 = (std::abs(n.x()) < 0.57 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
@@ -327,9 +332,7 @@ void PlanePatch::finish(int a, int b, std::vector<Contact>& out) {
   };
   if (m <= static_cast<std::size_t>(kContactsPerPatch)) {  // as they are, deepest first
     std::size_t order[kContactsPerPatch];
-    for (std::size_t k = 0; k < m; ++k) order[k] = k;
-    std::stable_sort(order, order + m,
-                     [&](std::size_t x, std::size_t y) { return depths_[x] > depths_[y]; });
+    deepestFirst(depths_.data(), m, order);
     for (std::size_t k = 0; k < m; ++k) contact(order[k], normal_);
     return;
   }

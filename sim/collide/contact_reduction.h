@@ -26,6 +26,10 @@ void reducePairContacts(std::vector<Contact>& contacts, std::size_t begin);
 // The same for every run of consecutive contacts with the same a and b, each as one pair.
 void reduceContacts(std::vector<Contact>& contacts);
 
+// The order a patch of at most kContactsPerPatch contacts is kept in: deepest first, equal
+// depths in narrow-phase order (a stable sort). Writes the indices 0..m-1 so ordered to order.
+void deepestFirst(const double* depths, std::size_t m, std::size_t order[kContactsPerPatch]);
+
 // The choice of a large patch's representatives, shared by the reductions above and the narrow
 // phase's reduction of a body's plane contacts from its candidates (narrow_phase.cpp).
 // Coordinates in the patch plane are taken in the basis patchPlaneBasis gives for the normal.

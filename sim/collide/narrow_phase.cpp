@@ -595,9 +595,7 @@ std::uint64_t servePlanePatch(const Collider& a, const Collider& p, const PairCa
   if (count <= static_cast<std::size_t>(kContactsPerPatch)) {  // as they are, deepest first
     for (std::size_t g = 0; g < s.groups.size(); ++g) fill(g);
     std::size_t order[kContactsPerPatch];
-    for (std::size_t j = 0; j < count; ++j) order[j] = j;
-    std::stable_sort(order, order + count,
-                     [&](std::size_t x, std::size_t y) { return s.depth[x] > s.depth[y]; });
+    deepestFirst(s.depth.data(), count, order);
     for (std::size_t j = 0; j < count; ++j) contact(order[j]);
     return candidates;
   }
