@@ -26,6 +26,10 @@
 #include <type_traits>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "sim/collide/contact_reduction.h"
 #include "sim/collide/polygon_contact.h"
 #include "sim/core/error.h"
@@ -54,10 +58,11 @@ CandidatePlan chooseCandidatePlan(const PairCandidates& m, double sinceBuild, do
   return sinceLast < kCalmStep * margin ? CandidatePlan::kBuild : CandidatePlan::kDescend;
 }
 
+// A node of a sphere tree met by descendAlone and the terrain descent.
 struct NodeRef {
   int level;
   std::uint32_t index;
-  Vec3 center;  // world for descendAlone; body a's frame in TreeTreeDescent
+  Vec3 center;  // world
 };
 
 // World centre of leaf i of a sphere-tree collider, by the expression the world-frame descent
@@ -70,13 +75,59 @@ inline __attribute__((always_inline)) Vec3 leafWorldCenter(const Collider& c, st
   return tree.leafLevel() == 0 ? c.x : Vec3(c.x + c.R * tree.leaves().centers[i]);
 }
 
+// A point of body a's frame in single precision, and up to 8 of them as structure of arrays
+// (a node has at most 8 children), for the tree-tree descent's pruning tests.
+struct Point3f {
+  float x, y, z;
+};
+constexpr int kLanes = 8;
+struct alignas(32) Lanes {
+  float x[kLanes], y[kLanes], z[kLanes];
+  Point3f operator[](int k) const { return {x[k], y[k], z[k]}; }
+  static Lanes single(const Point3f& p) {  // p in lane 0, the other lanes defined (zero)
+    Lanes s{};
+    s.x[0] = p.x, s.y[0] = p.y, s.z[0] = p.z;
+    return s;
+  }
+};
+
+// Bit k (k < 4) set where point k of (x, y, z) lies closer than sqrt(r2) to p. GCC did not
+// vectorise the plain loop (it built the mask bit by bit), so on x86-64 it is written with
+// SSE, which every x86-64 has; elsewhere the loop, which gives the same bits.
+inline unsigned closerThan4(const float* x, const float* y, const float* z, const Point3f& p,
+                            float r2) {
+#if defined(__SSE2__)
+  const __m128 dx = _mm_sub_ps(_mm_loadu_ps(x), _mm_set1_ps(p.x));
+  const __m128 dy = _mm_sub_ps(_mm_loadu_ps(y), _mm_set1_ps(p.y));
+  const __m128 dz = _mm_sub_ps(_mm_loadu_ps(z), _mm_set1_ps(p.z));
+  const __m128 d2 =
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+  return static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(d2, _mm_set1_ps(r2))));
+#else
+  unsigned mask = 0;
+  for (int k = 0; k < 4; ++k) {
+    const float dx = x[k] - p.x, dy = y[k] - p.y, dz = z[k] - p.z;
+    mask |= static_cast<unsigned>(dx * dx + dy * dy + dz * dz < r2) << k;
+  }
+  return mask;
+#endif
+}
+
+// The same for all 8 lanes (the caller masks those past the node's children).
+inline unsigned closerThan(const Lanes& s, const Point3f& p, float r2) {
+  return closerThan4(s.x, s.y, s.z, p, r2) | closerThan4(s.x + 4, s.y + 4, s.z + 4, p, r2) << 4;
+}
+
 // Body-body descent. The inner tests run in body a's frame: a's node centres are the tree's
 // own (no transform), b's are carried into a's frame by the relative pose, so half the centre
-// transforms of a world-frame descent are saved. They are widened by `slack_`, so they may let
-// through a pair that the unwidened test would drop, never the reverse. A leaf pair is decided,
-// and its contact computed, from world centres by the expressions a world-frame descent uses:
-// the same contacts, to the bit, in the same order (the order follows the children's order, not
-// the tests); every scene's checksum stayed the same.
+// transforms of a world-frame descent are saved. They run in single precision, on the trees'
+// float centres (SphereTreeLevel::floatCenters), 8 children at a time, and are widened by
+// `slack_` (the rounding of a double test in a's frame, against the world-frame leaf test) and
+// by `floatSlack_` (the rounding of the float test against the double one), so they may let
+// through a pair that an exact test would drop, never the reverse. A leaf pair is decided, and
+// its contact computed, from world centres in double by the expressions a world-frame descent
+// uses: the same contacts, to the bit, in the same order (the order follows the children's
+// order, not the tests); every scene's checksum stayed the same.
 class TreeTreeDescent {
  public:
   TreeTreeDescent(const Collider& a, const Collider& b, std::vector<Contact>& out,
@@ -88,68 +139,144 @@ class TreeTreeDescent {
     slack_ = roundingSlack(a_.x, ta_.boundingRadius) + roundingSlack(b_.x, tb_.boundingRadius);
     Rab_ = a_.R.transpose() * b_.R;
     tab_ = a_.R.transpose() * (b_.x - a_.x);
+    // The float tests' rounding (u = 2^-24). Every centre of a's tree lies within
+    // ta_.centerBound of a's origin, every centre of b's within tb_.centerBound of b's, which is
+    // |tab_| away; let M = |tab_| + both bounds. A centre rounded to float is off by at most
+    // sqrt(3) u M; one carried into the other body's frame in float (rotation, translation and
+    // centre rounded, three products and three sums) by at most 6 u M per coordinate, 11 u M
+    // in all; their difference, its squared norm and the squared radius add a few u M more:
+    // about 21 u M. 2^-16 M = 256 u M is over ten times that, and a small fraction of a leaf
+    // radius for bodies of similar size (M is about their size), so it lets through few pairs
+    // more.
+    floatSlack_ = std::ldexp(tab_.norm() + ta_.centerBound + tb_.centerBound, -16);
     if (memo_ && planCandidates()) {  // the candidates hold: test only them
-      // Most candidates of a resting pair do not touch (a leaf's neighbours within the margin
-      // beside the one it touches), so each is first tested in body b's frame, widened by the
-      // inner tests' rounding slack (which covers the rounding of a relative pose in either
-      // body's frame as it covers a's): a pair that misses there misses exactly too. The rest
-      // are decided by the leaf test itself. The descent stored a's leaf in the outer loop, so
-      // runs of candidates share it: it is carried into b's frame once per run (a candidate
-      // then costs a difference and a dot product), and its world centre is computed once per
-      // run (the same expression, the same bits).
-      const std::vector<Vec3>& centersA = ta_.leaves().centers;
-      const std::vector<Vec3>& centersB = tb_.leaves().centers;
-      const double reach = ta_.leaves().radius + tb_.leaves().radius + slack_;
-      const Mat3 Rba = Rab_.transpose();
-      const Vec3 tba = -(Rba * tab_);
-      // The candidates that pass are listed first without a branch on the outcome (which
-      // follows no pattern a predictor could learn), then emitted in order.
-      static thread_local std::vector<std::uint32_t> pass;
-      const std::vector<std::uint32_t>& leaves = memo_->leaves;
-      pass.resize(leaves.size() / 2);
-      std::size_t passed = 0;
-      std::uint32_t lastI = UINT32_MAX;
-      Vec3 inB = Vec3::Zero();
-      for (std::size_t k = 0; k < leaves.size(); k += 2) {
-        const std::uint32_t i = leaves[k];
-        if (i != lastI) lastI = i, inB = tba + Rba * centersA[i];
-        pass[passed] = static_cast<std::uint32_t>(k);
-        passed += (inB - centersB[leaves[k + 1]]).squaredNorm() < reach * reach;
-      }
-      tests_ += leaves.size() / 2 - passed;
-      lastI = UINT32_MAX;
-      Vec3 wa = Vec3::Zero();
-      for (std::size_t p = 0; p < passed; ++p) {
-        const std::uint32_t i = leaves[pass[p]], j = leaves[pass[p] + 1];
-        if (i != lastI) lastI = i, wa = leafWorldA(i);
-        emit(i, wa, j, leafWorldB(j));
-      }
+      serveCandidates();
       return tests_;
     }
     const double reach = ta_.boundingRadius + tb_.boundingRadius + slack_ + margin_;
-    if ((a_.x - b_.x).squaredNorm() >= reach * reach) return tests_;
+    if ((a_.x - b_.x).squaredNorm() >= reach * reach) {
+      if (margin_ > 0) indexCandidates();
+      return tests_;
+    }
+    for (int r = 0; r < 3; ++r) {
+      tf_[r] = static_cast<float>(tab_[r]);
+      for (int c = 0; c < 3; ++c) Rf_[3 * r + c] = static_cast<float>(Rab_(r, c));
+    }
     // Level 0 is a single voxel; the bounding spheres above stand in for it.
-    descend(NodeRef{0, 0, Vec3::Zero()}, NodeRef{0, 0, tab_});
+    descend(0, 0, Point3f{0, 0, 0}, 0, 0, Point3f{tf_[0], tf_[1], tf_[2]});
+    if (margin_ > 0) indexCandidates();
     return tests_;
   }
 
  private:
-  // Children of node n of tree a (centres as they are) or b (carried into a's frame).
-  int childrenA(const NodeRef& n, std::array<NodeRef, 8>& kids) const {
-    const SphereTreeLevel& lv = ta_.levels[n.level];
-    const SphereTreeLevel& next = ta_.levels[n.level + 1];
-    int k = 0;
-    for (std::uint32_t i = lv.childBegin[n.index]; i < lv.childBegin[n.index + 1]; ++i)
-      kids[k++] = NodeRef{n.level + 1, i, next.centers[i]};
-    return k;
+  // Arranges freshly built candidates for serveCandidates: runs sharing a's leaf (the descent
+  // stored a's leaf in its outer loop), and b's leaf centres per candidate in float, x of
+  // every candidate, then y, then z, each block padded by 4 lanes.
+  void indexCandidates() {
+    PairCandidates& m = *memo_;
+    const std::size_t n = m.leaves.size() / 2;
+    m.runs.clear();
+    for (std::size_t k = 0; k < n; ++k)
+      if (k == 0 || m.leaves[2 * k] != m.leaves[2 * k - 2])
+        m.runs.push_back(static_cast<std::uint32_t>(k));
+    m.runs.push_back(static_cast<std::uint32_t>(n));
+    const SphereTreeLevel& lb = tb_.leaves();
+    const std::size_t s = n + 4;
+    m.centersB.assign(3 * s, 0.0f);
+    for (std::size_t k = 0; k < n; ++k)
+      for (int d = 0; d < 3; ++d)
+        m.centersB[d * s + k] = lb.floatCenters[d * lb.floatStride + m.leaves[2 * k + 1]];
   }
-  int childrenB(const NodeRef& n, std::array<NodeRef, 8>& kids) const {
-    const SphereTreeLevel& lv = tb_.levels[n.level];
-    const SphereTreeLevel& next = tb_.levels[n.level + 1];
-    int k = 0;
-    for (std::uint32_t i = lv.childBegin[n.index]; i < lv.childBegin[n.index + 1]; ++i)
-      kids[k++] = NodeRef{n.level + 1, i, tab_ + Rab_ * next.centers[i]};
-    return k;
+
+  // Tests only the stored candidates. Most of a resting pair's do not touch (a leaf's
+  // neighbours within the margin beside the one it touches), so each is first tested in body
+  // b's frame in float, widened as the descent's tests are (the rounding slack covers a
+  // relative pose in either body's frame as it covers a's): a pair that misses there misses
+  // exactly too. a's leaf is carried into b's frame once per run of candidates that share it,
+  // and tested against 4 of b's at a time, whose centres lie in a row (indexCandidates). The
+  // rest are decided by the leaf test itself, from world centres as the descent decides them,
+  // in the candidates' order; a's world centre is computed once per run (the same
+  // expression, the same bits).
+  void serveCandidates() {
+    const PairCandidates& m = *memo_;
+    const std::vector<std::uint32_t>& leaves = m.leaves;
+    const std::size_t n = leaves.size() / 2, s = n + 4;
+    tests_ += n;
+    const double reach = ta_.leaves().radius + tb_.leaves().radius + slack_ + floatSlack_;
+    const float reach2 = static_cast<float>(reach * reach);
+    const Mat3 Rba = Rab_.transpose();
+    const Vec3 tba = -(Rba * tab_);
+    float R[9], t[3];
+    for (int r = 0; r < 3; ++r) {
+      t[r] = static_cast<float>(tba[r]);
+      for (int c = 0; c < 3; ++c) R[3 * r + c] = static_cast<float>(Rba(r, c));
+    }
+    const SphereTreeLevel& la = ta_.leaves();
+    const float* ax = la.floatCenters.data();
+    const float* ay = ax + la.floatStride;
+    const float* az = ay + la.floatStride;
+    const float* bx = m.centersB.data();
+    const float* by = bx + s;
+    const float* bz = by + s;
+    static thread_local std::vector<std::uint32_t> pass;
+    pass.resize(n);
+    std::size_t passed = 0;
+    for (std::size_t r = 0; r + 1 < m.runs.size(); ++r) {
+      const std::uint32_t begin = m.runs[r], end = m.runs[r + 1];
+      const std::uint32_t i = leaves[2 * begin];
+      const float x = ax[i], y = ay[i], z = az[i];
+      const Point3f p{t[0] + R[0] * x + R[1] * y + R[2] * z, t[1] + R[3] * x + R[4] * y + R[5] * z,
+                      t[2] + R[6] * x + R[7] * y + R[8] * z};
+      for (std::uint32_t k = begin; k < end; k += 4) {
+        unsigned hits = closerThan4(bx + k, by + k, bz + k, p, reach2);
+        if (end - k < 4) hits &= (1u << (end - k)) - 1;
+        for (; hits; hits &= hits - 1) pass[passed++] = k + __builtin_ctz(hits);
+      }
+    }
+    std::uint32_t lastI = UINT32_MAX;
+    Vec3 wa = Vec3::Zero();
+    for (std::size_t q = 0; q < passed; ++q) {
+      const std::uint32_t i = leaves[2 * pass[q]], j = leaves[2 * pass[q] + 1];
+      if (i != lastI) lastI = i, wa = leafWorldA(i);
+      emit(i, wa, j, leafWorldB(j));
+    }
+  }
+
+  // The squared radius of the widened float test between a node of a at level la and one of b
+  // at level lb.
+  float reach2(int la, int lb) const {
+    const double r = ta_.levels[la].radius + tb_.levels[lb].radius + slack_ + margin_ + floatSlack_;
+    return static_cast<float>(r * r);
+  }
+
+  // The children of node i at level l of tree a (centres as they are) or b (carried into a's
+  // frame), 8 lanes loaded whatever their number (the level's float centres are padded);
+  // returns their number.
+  int childrenA(int l, std::uint32_t i, std::uint32_t& first, Lanes& kids) const {
+    const SphereTreeLevel& next = ta_.levels[l + 1];
+    first = ta_.levels[l].childBegin[i];
+    const float* f = next.floatCenters.data() + first;
+    const std::size_t s = next.floatStride;
+    for (int k = 0; k < kLanes; ++k) {
+      kids.x[k] = f[k];
+      kids.y[k] = f[s + k];
+      kids.z[k] = f[2 * s + k];
+    }
+    return static_cast<int>(ta_.levels[l].childBegin[i + 1] - first);
+  }
+  int childrenB(int l, std::uint32_t i, std::uint32_t& first, Lanes& kids) const {
+    const SphereTreeLevel& next = tb_.levels[l + 1];
+    first = tb_.levels[l].childBegin[i];
+    const float* f = next.floatCenters.data() + first;
+    const std::size_t s = next.floatStride;
+    const float* R = Rf_;
+    for (int k = 0; k < kLanes; ++k) {
+      const float x = f[k], y = f[s + k], z = f[2 * s + k];
+      kids.x[k] = tf_[0] + R[0] * x + R[1] * y + R[2] * z;
+      kids.y[k] = tf_[1] + R[3] * x + R[4] * y + R[5] * z;
+      kids.z[k] = tf_[2] + R[6] * x + R[7] * y + R[8] * z;
+    }
+    return static_cast<int>(tb_.levels[l].childBegin[i + 1] - first);
   }
 
   // Whether the stored candidates serve this test; if not, whether this descent builds new
@@ -179,66 +306,75 @@ class TreeTreeDescent {
     return false;
   }
 
-  bool overlap(const NodeRef& na, const NodeRef& nb) {
-    ++tests_;
-    const double r = ta_.levels[na.level].radius + tb_.levels[nb.level].radius + slack_ + margin_;
-    return (na.center - nb.center).squaredNorm() < r * r;
-  }
-
-  // na and nb may collide (or are the roots after the bounding-sphere test).
-  void descend(const NodeRef& na, const NodeRef& nb) {
-    const bool leafA = na.level == ta_.leafLevel();
-    const bool leafB = nb.level == tb_.leafLevel();
+  // Node ia at level la of a (centre ca) and node ib at level lb of b (centre cb, in a's frame)
+  // may collide (or are the roots after the bounding-sphere test). A node already at its tree's
+  // leaf level stands for itself while the other descends.
+  void descend(int la, std::uint32_t ia, const Point3f& ca, int lb, std::uint32_t ib,
+               const Point3f& cb) {
+    const bool leafA = la == ta_.leafLevel();
+    const bool leafB = lb == tb_.leafLevel();
     if (leafA && leafB) {
-      emit(na.index, leafWorldA(na.index), nb.index, leafWorldB(nb.index));
+      ++tests_;
+      emit(ia, leafWorldA(ia), ib, leafWorldB(ib));
       return;
     }
-    std::array<NodeRef, 8> kidsA, kidsB;
-    int nA = leafA ? 1 : childrenA(na, kidsA);
-    int nB = leafB ? 1 : childrenB(nb, kidsB);
-    if (leafA) kidsA[0] = na;
-    if (leafB) kidsB[0] = nb;
+    Lanes kidsA, kidsB;
+    std::uint32_t firstA = ia, firstB = ib;
+    int nA = 1, nB = 1;
+    if (leafA)
+      kidsA = Lanes::single(ca);
+    else
+      nA = childrenA(la, ia, firstA, kidsA);
+    if (leafB)
+      kidsB = Lanes::single(cb);
+    else
+      nB = childrenB(lb, ib, firstB, kidsB);
+    const int kidLevelA = leafA ? la : la + 1;
+    const int kidLevelB = leafB ? lb : lb + 1;
+    unsigned maskA = (1u << nA) - 1, maskB = (1u << nB) - 1;
     // Early exit: a child that misses the other side's node misses all that node's children
-    // (they lie inside it), so it is dropped before the nA x nB child pairs are tested. The
-    // order of the survivors is kept: the contacts and their order are those of the full test.
+    // (they lie inside it), so it is dropped before the child pairs are tested. The order of
+    // the survivors is kept: the contacts and their order are those of the full test.
     if (!leafB && nA > 1) {
-      int kept = 0;
-      for (int i = 0; i < nA; ++i)
-        if (overlap(kidsA[i], nb)) kidsA[kept++] = kidsA[i];
-      nA = kept;
+      tests_ += nA;
+      maskA &= closerThan(kidsA, cb, reach2(kidLevelA, lb));
     }
     if (!leafA && nB > 1) {
-      int kept = 0;
-      for (int j = 0; j < nB; ++j)
-        if (overlap(na, kidsB[j])) kidsB[kept++] = kidsB[j];
-      nB = kept;
+      tests_ += nB;
+      maskB &= closerThan(kidsB, ca, reach2(la, kidLevelB));
     }
-    // Leaves among the survivors get their world centres once, for the exact test.
-    const bool kidsLeafA = kidsA[0].level == ta_.leafLevel();
-    const bool kidsLeafB = kidsB[0].level == tb_.leafLevel();
-    std::array<Vec3, 8> wA, wB;
-    if (kidsLeafA)
-      for (int i = 0; i < nA; ++i) wA[i] = leafWorldA(kidsA[i].index);
-    if (kidsLeafB)
-      for (int j = 0; j < nB; ++j) wB[j] = leafWorldB(kidsB[j].index);
-    for (int i = 0; i < nA; ++i)
-      for (int j = 0; j < nB; ++j) {
-        if (kidsLeafA && kidsLeafB)
-          emit(kidsA[i].index, wA[i], kidsB[j].index, wB[j]);
-        else if (overlap(kidsA[i], kidsB[j]))
-          descend(kidsA[i], kidsB[j]);
+    tests_ += static_cast<std::uint64_t>(__builtin_popcount(maskA)) * __builtin_popcount(maskB);
+    const float r2 = reach2(kidLevelA, kidLevelB);
+    const bool kidsLeaves = kidLevelA == ta_.leafLevel() && kidLevelB == tb_.leafLevel();
+    for (unsigned mi = maskA; mi; mi &= mi - 1) {
+      const int i = __builtin_ctz(mi);
+      const unsigned hits = maskB & closerThan(kidsB, kidsA[i], r2);
+      if (!hits) continue;
+      if (!kidsLeaves) {
+        for (unsigned mj = hits; mj; mj &= mj - 1) {
+          const int j = __builtin_ctz(mj);
+          descend(kidLevelA, firstA + i, kidsA[i], kidLevelB, firstB + j, kidsB[j]);
+        }
+        continue;
       }
+      // Leaf pairs that pass are decided exactly, from world centres in double.
+      const Vec3 wa = leafWorldA(firstA + i);
+      for (unsigned mj = hits; mj; mj &= mj - 1) {
+        const std::uint32_t j = firstB + __builtin_ctz(mj);
+        emit(firstA + i, wa, j, leafWorldB(j));
+      }
+    }
   }
 
   Vec3 leafWorldA(std::uint32_t i) const { return leafWorldCenter(a_, i); }
   Vec3 leafWorldB(std::uint32_t j) const { return leafWorldCenter(b_, j); }
 
   // The exact test of a leaf pair, and its contact, in world coordinates; while candidates
-  // are built, a pair within the margin is kept as one. Always inlined into its three callers
-  // (GCC kept it a call; inlined, Lv 6 crosses 1,320 -> 1,290 ms, stack 207 -> 202 ms).
+  // are built, a pair within the margin is kept as one. The callers count the test. Always
+  // inlined into its callers (GCC kept it a call; inlined, Lv 6 crosses 1,320 -> 1,290 ms,
+  // stack 207 -> 202 ms).
   __attribute__((always_inline)) void emit(std::uint32_t leafA, const Vec3& ca, std::uint32_t leafB,
                                            const Vec3& cb) {
-    ++tests_;
     const double r = ta_.leaves().radius + tb_.leaves().radius;
     const Vec3 d = ca - cb;
     const double d2 = d.squaredNorm();
@@ -268,8 +404,11 @@ class TreeTreeDescent {
   PairCandidates* memo_;  // null: no temporal coherence
   Mat3 Rab_;              // b's frame -> a's frame: p_a = Rab_ p_b + tab_
   Vec3 tab_;
-  double slack_ = 0;   // widening of the internal tests, m
-  double margin_ = 0;  // while building candidates: their margin, m
+  float Rf_[9] = {};  // Rab_ and tab_ in single precision, Rf_ row-major
+  float tf_[3] = {};
+  double slack_ = 0;       // widening of the internal tests, m
+  double floatSlack_ = 0;  // their further widening for single precision, m
+  double margin_ = 0;      // while building candidates: their margin, m
   std::uint64_t tests_ = 0;
 };
 
@@ -514,16 +653,20 @@ std::uint64_t servePlanePatch(const Collider& a, const Collider& p, const PairCa
   std::size_t count = 0;
   double lowestUpper = INFINITY;  // at least the lowest body-frame height of a contact
   for (std::size_t g = 0; g * kPatchGroup < candidates; ++g) {
-    PlaneServeScratch::Group G{g * kPatchGroup,
-                               std::min(candidates, (g + 1) * kPatchGroup),
-                               count,
-                               s.member.size(),
-                               true,
-                               0,
-                               0};
+    // Written in place and dropped where it holds no contact: built on the stack and copied,
+    // it cost the copy's loads a stalled store forwarding each (perf annotate).
+    PlaneServeScratch::Group& G = s.groups.emplace_back();
+    G.begin = g * kPatchGroup;
+    G.end = std::min(candidates, (g + 1) * kPatchGroup);
+    G.first = count;
+    G.members = s.member.size();
+    G.all = true;
     linearRange(h0, m, memo.groupLo[g], memo.groupHi[g], G.lo, G.hi);
     G.lo -= slack, G.hi += slack;  // the rounding of the range itself
-    if (G.lo >= r + slack) continue;
+    if (G.lo >= r + slack) {
+      s.groups.pop_back();
+      continue;
+    }
     if (G.hi < r - slack) {
       count += G.end - G.begin;
       lowestUpper = std::min(lowestUpper, G.hi);
@@ -542,7 +685,10 @@ std::uint64_t servePlanePatch(const Collider& a, const Collider& p, const PairCa
         lowestUpper = std::min(lowestUpper, hb);
         ++count;
       }
-      if (count == G.first) continue;
+      if (count == G.first) {
+        s.groups.pop_back();
+        continue;
+      }
     }
     double f1lo, f1hi, f2lo, f2hi;
     linearRange(o1, u1, memo.groupLo[g], memo.groupHi[g], f1lo, f1hi);
@@ -551,7 +697,6 @@ std::uint64_t servePlanePatch(const Collider& a, const Collider& p, const PairCa
     box.extend(Eigen::Vector2d(f1lo - flatSlack, f2lo - flatSlack));
     box.extend(Eigen::Vector2d(f1hi + flatSlack, f2hi + flatSlack));
     s.boxes.push_back(box);
-    s.groups.push_back(G);
   }
   leafContacts += count;
   if (count == 0) return candidates;

@@ -101,6 +101,10 @@ struct PairCandidates {
   double margin = 0;
   std::vector<std::uint32_t> leaves;  // candidate leaf pairs (a, b) in pairs, or leaves of a
                                       // (plane, terrain)
+  // Body pairs: where each run of candidates sharing a's leaf begins, then their number; and
+  // b's leaf centres of the candidates in float (structure of arrays), for the serving test.
+  std::vector<std::uint32_t> runs;
+  std::vector<float> centersB;
   // Against the plane: the body-frame bounds of the centres of each group of kPatchGroup
   // consecutive candidates (contact_reduction.h), for the reduction from candidates.
   std::vector<Vec3> groupLo, groupHi;

@@ -148,13 +148,38 @@ SphereTree buildSphereTree(const TriMesh& mesh, int leafLevel) {
   VF_ASSERT(!mesh.triangles.empty());
   SphereTree tree;
   Builder(mesh, leafLevel, tree).build();
+  finishSphereTree(tree);
+  return tree;
+}
+
+void finishSphereTree(SphereTree& tree) {
+  VF_ASSERT(!tree.levels.empty() && !tree.levels[0].centers.empty());
   // The body's bounding sphere (fig. 3, step 1): about the body origin, enclosing every leaf
   // sphere, hence every deeper test.
   const SphereTreeLevel& leaves = tree.leaves();
   double farthest = 0;
   for (const Vec3& c : leaves.centers) farthest = std::max(farthest, c.norm());
   tree.boundingRadius = farthest + leaves.radius;
-  return tree;
+  // Every node centre lies in the level-0 cube, so within its circumscribed sphere.
+  const SphereTreeLevel& root = tree.levels[0];
+  tree.centerBound = root.centers[0].norm() + root.radius;
+  for (SphereTreeLevel& lv : tree.levels) {
+    const std::size_t n = lv.centers.size();
+    lv.floatStride = n + SphereTreeLevel::kFloatPad;
+    lv.floatCenters.assign(3 * lv.floatStride, 0.0f);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int d = 0; d < 3; ++d)
+        lv.floatCenters[d * lv.floatStride + i] = static_cast<float>(lv.centers[i][d]);
+  }
+}
+
+std::size_t SphereTree::memoryBytes() const {
+  std::size_t bytes = 0;
+  for (const SphereTreeLevel& lv : levels)
+    bytes += lv.centers.capacity() * sizeof(Vec3) +
+             lv.childBegin.capacity() * sizeof(std::uint32_t) +
+             lv.floatCenters.capacity() * sizeof(float);
+  return bytes;
 }
 
 }  // namespace vf

@@ -11,6 +11,7 @@
 // exactly the leaf pairs a brute-force test of all leaf spheres would find.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -26,13 +27,22 @@ struct SphereTreeLevel {
   std::vector<std::uint32_t> childBegin;  // size centers.size()+1: children of node i are
                                           // [childBegin[i], childBegin[i+1]) of the next level;
                                           // empty (all zero) on the leaf level
+  // The centres again in single precision, as structure of arrays: x of every node, then y,
+  // then z, each block floatStride = centers.size() + kFloatPad long and zero-padded, so that
+  // the children of any node (at most 8, contiguous) load as 8 lanes. Only for pruning tests
+  // that are widened by their rounding (the tree-tree descent, narrow_phase.cpp).
+  static constexpr std::size_t kFloatPad = 8;
+  std::vector<float> floatCenters;
+  std::size_t floatStride = 0;
 };
 
 struct SphereTree {
   std::vector<SphereTreeLevel> levels;  // levels[0] .. levels[leafLevel()]
   double boundingRadius = 0;  // sphere about the body origin that encloses every leaf sphere
+  double centerBound = 0;     // bound on |c| of every node centre c, of every level
   int leafLevel() const { return static_cast<int>(levels.size()) - 1; }
   const SphereTreeLevel& leaves() const { return levels.back(); }
+  std::size_t memoryBytes() const;  // of the levels' arrays, as allocated
 };
 
 constexpr int kMinLevel = 1;
@@ -43,5 +53,9 @@ constexpr int kMaxLevel = 10;
 // enlarged by a relative 1e-9 so faces lying on the bounds fall inside the outer voxel layer.
 // Children are visited in a fixed (z, y, x) order: the result is deterministic.
 SphereTree buildSphereTree(const TriMesh& mesh, int leafLevel);
+
+// Fills what follows from a tree's levels: boundingRadius, centerBound and each level's float
+// centres. buildSphereTree calls it; a tree whose levels are filled by hand needs it too.
+void finishSphereTree(SphereTree& tree);
 
 }  // namespace vf

@@ -236,10 +236,7 @@ void treeBuildOf(benchmark::State& state, const vf::TriMesh& mesh) {
   for (auto _ : state) {
     const vf::SphereTree tree = vf::buildSphereTree(mesh, static_cast<int>(state.range(0)));
     leaves = tree.leaves().centers.size();
-    bytes = 0;
-    for (const vf::SphereTreeLevel& lv : tree.levels)
-      bytes += lv.centers.capacity() * sizeof(vf::Vec3) +
-               lv.childBegin.capacity() * sizeof(std::uint32_t);
+    bytes = tree.memoryBytes();
     benchmark::DoNotOptimize(leaves);
   }
   state.counters["triangles"] = static_cast<double>(mesh.triangles.size());

@@ -51,7 +51,7 @@ std::shared_ptr<const Shape> smoothBall(double r, double mass) {
   leaf.centers = {Vec3::Zero()};
   leaf.childBegin = {0, 0};
   tree->levels = {leaf};
-  tree->boundingRadius = r;
+  finishSphereTree(*tree);  // bounding radius r
   s->tree = tree;
   return s;
 }

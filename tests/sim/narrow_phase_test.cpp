@@ -41,6 +41,26 @@ std::set<std::pair<std::uint32_t, std::uint32_t>> bruteForce(const Collider& a, 
   return out;
 }
 
+// The leaf of `l` farthest along `dir` (a box's corner leaf, for the diagonal).
+std::uint32_t farthestLeaf(const SphereTreeLevel& l, const Vec3& dir) {
+  std::uint32_t best = 0;
+  for (std::uint32_t k = 0; k < l.centers.size(); ++k)
+    if (l.centers[k].dot(dir) > l.centers[best].dot(dir)) best = k;
+  return best;
+}
+
+// Two equal boxes at different levels, and the leaves at their (+,+,+) corners: the leaf pair
+// whose every ancestor test is as tight as its own when the corners face each other.
+class NarrowPhaseCorners : public ::testing::Test {
+ protected:
+  std::shared_ptr<const Shape> sa = test::boxShape(0.3, 0.3, 0.3, 800, 4);
+  std::shared_ptr<const Shape> sb = test::boxShape(0.3, 0.3, 0.3, 800, 3);
+  const SphereTreeLevel& la = sa->tree->leaves();
+  const SphereTreeLevel& lb = sb->tree->leaves();
+  const Vec3 diag = Vec3(1, 1, 1).normalized();
+  const std::uint32_t i = farthestLeaf(la, diag), j = farthestLeaf(lb, diag);
+};
+
 class NarrowPhaseTest : public ::testing::TestWithParam<int> {};
 
 TEST_P(NarrowPhaseTest, DescentFindsExactlyTheBruteForceLeafPairs) {
@@ -170,19 +190,7 @@ TEST(NarrowPhase, PlaneContactsAreTheLeafSpheresCrossingThePlane) {
 // ancestor test then has the leaf's own margin, and an unwidened body-frame test drops contacts
 // that the world-frame leaf test keeps. The contacts must be exactly the brute-force ones, with
 // the brute-force expressions' values to the bit.
-TEST(NarrowPhase, BodyFrameTestsLoseNoLeafPairFarFromTheOriginOrAtTouchingDistance) {
-  auto sa = test::boxShape(0.3, 0.3, 0.3, 800, 4);
-  auto sb = test::boxShape(0.3, 0.3, 0.3, 800, 3);
-  const auto& la = sa->tree->leaves();
-  const auto& lb = sb->tree->leaves();
-  const Vec3 diag = Vec3(1, 1, 1).normalized();
-  auto cornerLeaf = [&](const SphereTreeLevel& l) {  // the leaf farthest along the diagonal
-    std::uint32_t best = 0;
-    for (std::uint32_t k = 0; k < l.centers.size(); ++k)
-      if (l.centers[k].dot(diag) > l.centers[best].dot(diag)) best = k;
-    return best;
-  };
-  const std::uint32_t i = cornerLeaf(la), j = cornerLeaf(lb);
+TEST_F(NarrowPhaseCorners, BodyFrameTestsLoseNoLeafPairFarFromTheOriginOrAtTouchingDistance) {
   Prng rng(11);
   int planeHits = 0, pairHits = 0;
   for (int trial = 0; trial < 200; ++trial) {
@@ -240,6 +248,65 @@ TEST(NarrowPhase, BodyFrameTestsLoseNoLeafPairFarFromTheOriginOrAtTouchingDistan
   EXPECT_LT(pairHits, 190);
 }
 
+// The body-body descent prunes in single precision (TreeTreeDescent), widened by a bound on
+// the float rounding; the candidates are served by a float test too. Near the origin the
+// double rounding slack is about 1e-9 m, far below float rounding (about 1e-7 m for bodies of
+// this size), so the float widening alone must keep every touching leaf pair. The case where
+// every ancestor test is as tight as the leaf test: two box corners facing each other along a
+// random direction, the corner leaves overlapping by a random depth of up to 1e-6 of their
+// radii (up to 5e-8 m, where float rounding decides an unwidened test), tested by a plain
+// descent and by candidates built 0.1 mm back along the same direction and then served. The
+// contacts must be exactly the brute-force ones. (Without the float widening this fails, as
+// checked: the corner pair goes missing in some trials.)
+TEST_F(NarrowPhaseCorners, FloatPruningLosesNoLeafPairAtTouchingDistanceNearTheOrigin) {
+  std::vector<BodyInfo> bodies = test::oneBody(sa);
+  bodies.push_back(test::oneBody(sb)[0]);
+  const double r = la.radius + lb.radius;
+  Prng rng(5);
+  int descentHits = 0, servedHits = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Vec3 u = randomRotation(rng) * Vec3::UnitX();
+    std::vector<BodyState> states(2);
+    states[0].x = Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    // Turned about u at random, so that the relative pose (and its rounding) differs from
+    // trial to trial; the corner diagonals stay along u.
+    states[0].q = Quat(Eigen::AngleAxisd(rng.uniform(0, 6.28), u)) * Quat::FromTwoVectors(diag, u);
+    states[1].q = Quat(Eigen::AngleAxisd(rng.uniform(0, 6.28), u)) * Quat::FromTwoVectors(diag, -u);
+    const Vec3 ca = states[0].x + states[0].q.toRotationMatrix() * la.centers[i];
+    const Vec3 xb =
+        ca + (1 - rng.uniform(0, 1e-6)) * r * u - states[1].q.toRotationMatrix() * lb.centers[j];
+    auto expectBruteForce = [&](const std::vector<Contact>& contacts, const char* how) {
+      const Collider a = sphereTreeCollider(0, *sa->tree, states[0].x, states[0].q);
+      const Collider b = sphereTreeCollider(1, *sb->tree, states[1].x, states[1].q);
+      std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+      for (const Contact& c : contacts) found.insert({c.leafA, c.leafB});
+      const auto expected = bruteForce(a, b);
+      EXPECT_EQ(found, expected) << how << ", trial " << trial;
+      return expected.count({i, j}) > 0;
+    };
+    // A plain descent at the touching pose.
+    states[1].x = xb;
+    std::vector<Contact> contacts;
+    findContacts(bodies, states, {{0, 1}}, std::nullopt, nullptr, nullptr, contacts, nullptr);
+    descentHits += expectBruteForce(contacts, "descent");
+    // Candidates: a plain descent and a build 0.1 mm back, then served at the touching pose.
+    states[1].x = xb - 1e-4 * u;
+    CandidateCache cache;
+    for (int k = 0; k < 2; ++k) {
+      contacts.clear();
+      findContacts(bodies, states, {{0, 1}}, std::nullopt, nullptr, nullptr, contacts, &cache);
+    }
+    states[1].x = xb;
+    contacts.clear();
+    findContacts(bodies, states, {{0, 1}}, std::nullopt, nullptr, nullptr, contacts, &cache);
+    ASSERT_EQ(cache.served, 1u) << "trial " << trial;
+    servedHits += expectBruteForce(contacts, "served");
+  }
+  // The corner pair touches in every trial (by at least the double rounding).
+  EXPECT_GT(descentHits, 290);
+  EXPECT_GT(servedHits, 290);
+}
+
 // A tree of one level (its root is its only leaf, at the body origin; the rock-fall tests' smooth
 // balls) against the plane and against another such tree.
 TEST(NarrowPhase, OneLevelTreesTouchAtTheirRootLeaf) {
@@ -250,7 +317,7 @@ TEST(NarrowPhase, OneLevelTreesTouchAtTheirRootLeaf) {
   leaf.centers = {Vec3::Zero()};
   leaf.childBegin = {0, 0};
   ball.levels = {leaf};
-  ball.boundingRadius = 0.25;
+  finishSphereTree(ball);  // bounding radius 0.25
   const Quat q = Quat(Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()));
   const Collider a = sphereTreeCollider(0, ball, Vec3(1, 2, 0.2), q);
   std::vector<Contact> contacts;
