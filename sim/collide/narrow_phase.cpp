@@ -113,6 +113,15 @@ inline unsigned closerThan4(const float* x, const float* y, const float* z, cons
 #endif
 }
 
+// The set bits of an 8-bit mask. (__builtin_popcount is a libgcc call on x86-64 without the
+// POPCNT instruction, which the baseline lacks: 1.9 % of a stack run, perf.)
+constexpr int bits8(unsigned m) {
+  m = m - ((m >> 1) & 0x55u);
+  m = (m & 0x33u) + ((m >> 2) & 0x33u);
+  return static_cast<int>((m + (m >> 4)) & 0x0Fu);
+}
+static_assert(bits8(0) == 0 && bits8(0xFF) == 8 && bits8(0xA5) == 4 && bits8(0x80) == 1);
+
 // The same for all 8 lanes (the caller masks those past the node's children).
 inline unsigned closerThan(const Lanes& s, const Point3f& p, float r2) {
   return closerThan4(s.x, s.y, s.z, p, r2) | closerThan4(s.x + 4, s.y + 4, s.z + 4, p, r2) << 4;
@@ -343,7 +352,7 @@ class TreeTreeDescent {
       tests_ += nB;
       maskB &= closerThan(kidsB, ca, reach2(la, kidLevelB));
     }
-    tests_ += static_cast<std::uint64_t>(__builtin_popcount(maskA)) * __builtin_popcount(maskB);
+    tests_ += static_cast<std::uint64_t>(bits8(maskA) * bits8(maskB));
     const float r2 = reach2(kidLevelA, kidLevelB);
     const bool kidsLeaves = kidLevelA == ta_.leafLevel() && kidLevelB == tb_.leafLevel();
     for (unsigned mi = maskA; mi; mi &= mi - 1) {
