@@ -310,7 +310,6 @@ int groupIslands(const std::vector<Contact>& contacts, const std::vector<BodyInf
   return islands;
 }
 
-// Warm start and passes over the rows [first, last) of one island; returns the passes made.
 // One pass over row *k (and, first, its patch's block when it starts one), as solveIsland
 // describes; returns whether an accumulated impulse changed.
 template <bool kFixedB>
@@ -371,6 +370,7 @@ bool passRow(const int* k, Row* rows, const Patch* patches, Motion& A, Motion& B
   return changed;
 }
 
+// Warm start and passes over the rows [first, last) of one island; returns the passes made.
 int solveIsland(const int* first, const int* last, Row* rows, const Patch* patches, Motion* motion,
                 const ContactCache& cache, double scale, const SolverSettings& settings) {
   // Warm start from the previous step's impulses (cache sorted by key: binary search).
