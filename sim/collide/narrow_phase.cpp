@@ -75,6 +75,10 @@ inline __attribute__((always_inline)) Vec3 leafWorldCenter(const Collider& c, st
   return tree.leafLevel() == 0 ? c.x : Vec3(c.x + c.R * tree.leaves().centers[i]);
 }
 
+// Height of the point c above plane collider p, by the one expression every plane test uses
+// (the descent, its candidates and the reduction from them must agree to the bit).
+inline double planeHeight(const Collider& p, const Vec3& c) { return p.normal.dot(c) - p.offset; }
+
 // A point of body a's frame in single precision, and up to 8 of them as structure of arrays
 // (a node has at most 8 children), for the tree-tree descent's pruning tests.
 struct Point3f {
@@ -193,8 +197,7 @@ class TreeTreeDescent {
     const std::size_t s = n + 4;
     m.centersB.assign(3 * s, 0.0f);
     for (std::size_t k = 0; k < n; ++k)
-      for (int d = 0; d < 3; ++d)
-        m.centersB[d * s + k] = lb.floatCenters[d * lb.floatStride + m.leaves[2 * k + 1]];
+      for (int d = 0; d < 3; ++d) m.centersB[d * s + k] = lb.floatAxis(d)[m.leaves[2 * k + 1]];
   }
 
   // Tests only the stored candidates. Most of a resting pair's do not touch (a leaf's
@@ -221,9 +224,7 @@ class TreeTreeDescent {
       for (int c = 0; c < 3; ++c) R[3 * r + c] = static_cast<float>(Rba(r, c));
     }
     const SphereTreeLevel& la = ta_.leaves();
-    const float* ax = la.floatCenters.data();
-    const float* ay = ax + la.floatStride;
-    const float* az = ay + la.floatStride;
+    const float *ax = la.floatAxis(0), *ay = la.floatAxis(1), *az = la.floatAxis(2);
     const float* bx = m.centersB.data();
     const float* by = bx + s;
     const float* bz = by + s;
@@ -264,23 +265,23 @@ class TreeTreeDescent {
   int childrenA(int l, std::uint32_t i, std::uint32_t& first, Lanes& kids) const {
     const SphereTreeLevel& next = ta_.levels[l + 1];
     first = ta_.levels[l].childBegin[i];
-    const float* f = next.floatCenters.data() + first;
-    const std::size_t s = next.floatStride;
+    const float *x = next.floatAxis(0) + first, *y = next.floatAxis(1) + first,
+                *z = next.floatAxis(2) + first;
     for (int k = 0; k < kLanes; ++k) {
-      kids.x[k] = f[k];
-      kids.y[k] = f[s + k];
-      kids.z[k] = f[2 * s + k];
+      kids.x[k] = x[k];
+      kids.y[k] = y[k];
+      kids.z[k] = z[k];
     }
     return static_cast<int>(ta_.levels[l].childBegin[i + 1] - first);
   }
   int childrenB(int l, std::uint32_t i, std::uint32_t& first, Lanes& kids) const {
     const SphereTreeLevel& next = tb_.levels[l + 1];
     first = tb_.levels[l].childBegin[i];
-    const float* f = next.floatCenters.data() + first;
-    const std::size_t s = next.floatStride;
+    const float *fx = next.floatAxis(0) + first, *fy = next.floatAxis(1) + first,
+                *fz = next.floatAxis(2) + first;
     const float* R = Rf_;
     for (int k = 0; k < kLanes; ++k) {
-      const float x = f[k], y = f[s + k], z = f[2 * s + k];
+      const float x = fx[k], y = fy[k], z = fz[k];
       kids.x[k] = tf_[0] + R[0] * x + R[1] * y + R[2] * z;
       kids.y[k] = tf_[1] + R[3] * x + R[4] * y + R[5] * z;
       kids.z[k] = tf_[2] + R[6] * x + R[7] * y + R[8] * z;
@@ -478,7 +479,7 @@ template <class Emit, class Serve = std::nullptr_t>
 std::uint64_t treePlaneDescent(const Collider& a, const Collider& p, PairCandidates* memo,
                                Emit emitContact, Serve serve = nullptr) {
   const SphereTree& tree = *a.tree;
-  auto height = [&](const Vec3& c) { return p.normal.dot(c) - p.offset; };
+  auto height = [&](const Vec3& c) { return planeHeight(p, c); };
   std::uint64_t tests = 1;
   const double slack = roundingSlack(a.x, tree.boundingRadius) + 1e-9 * std::abs(p.offset);
   const double h0 = height(a.x);
@@ -651,7 +652,7 @@ std::uint64_t servePlanePatch(const Collider& a, const Collider& p, const PairCa
   // The exact values of leaf i, by treePlaneDescent's expressions.
   auto exact = [&](std::uint32_t i, Vec3& point, double& h) {
     const Vec3 center = leafWorldCenter(a, i);
-    h = n.dot(center) - p.offset;
+    h = planeHeight(p, center);
     point = center - h * n;
   };
   auto bodyHeight = [&](std::size_t k) { return h0 + m.dot(centers[memo.leaves[k]]); };

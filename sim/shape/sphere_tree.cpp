@@ -164,12 +164,11 @@ void finishSphereTree(SphereTree& tree) {
   const SphereTreeLevel& root = tree.levels[0];
   tree.centerBound = root.centers[0].norm() + root.radius;
   for (SphereTreeLevel& lv : tree.levels) {
-    const std::size_t n = lv.centers.size();
-    lv.floatStride = n + SphereTreeLevel::kFloatPad;
-    lv.floatCenters.assign(3 * lv.floatStride, 0.0f);
-    for (std::size_t i = 0; i < n; ++i)
+    const std::size_t stride = lv.floatStride();
+    lv.floatCenters.assign(3 * stride, 0.0f);
+    for (std::size_t i = 0; i < lv.centers.size(); ++i)
       for (int d = 0; d < 3; ++d)
-        lv.floatCenters[d * lv.floatStride + i] = static_cast<float>(lv.centers[i][d]);
+        lv.floatCenters[d * stride + i] = static_cast<float>(lv.centers[i][d]);
   }
 }
 

@@ -28,12 +28,16 @@ struct SphereTreeLevel {
                                           // [childBegin[i], childBegin[i+1]) of the next level;
                                           // empty (all zero) on the leaf level
   // The centres again in single precision, as structure of arrays: x of every node, then y,
-  // then z, each block floatStride = centers.size() + kFloatPad long and zero-padded, so that
+  // then z, each block floatStride() = centers.size() + kFloatPad long and zero-padded, so that
   // the children of any node (at most 8, contiguous) load as 8 lanes. Only for pruning tests
-  // that are widened by their rounding (the tree-tree descent, narrow_phase.cpp).
+  // that are widened by their rounding (the tree-tree descent, narrow_phase.cpp). Filled by
+  // finishSphereTree.
   static constexpr std::size_t kFloatPad = 8;
   std::vector<float> floatCenters;
-  std::size_t floatStride = 0;
+  std::size_t floatStride() const { return centers.size() + kFloatPad; }
+  const float* floatAxis(int d) const {  // coordinate d (0: x, 1: y, 2: z) of every node
+    return floatCenters.data() + d * floatStride();
+  }
 };
 
 struct SphereTree {
