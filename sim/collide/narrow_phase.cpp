@@ -846,8 +846,9 @@ std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
   auto mayTouch = [&](const Vec3& c, double r, double& bound) {
     r += widen;
     if (c.z() - r >= bound) return false;
-    bound = field.surfaceBoundNear(c.x(), c.y(), r);
-    return c.z() - r < bound;
+    bool clear;
+    bound = field.surfaceBoundNear(c, r, clear);
+    return c.z() - r < bound && !clear;
   };
   auto leaf = [&](const NodeRef& n, double r) {
     const Vec3& c = n.center;

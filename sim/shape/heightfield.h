@@ -65,32 +65,20 @@ struct Heightfield {
   // maximum over a rectangle is at a corner), capped by the cell's highest sample, plus 1e-9 m
   // against rounding; -infinity when the square meets no cell with data.
   double surfaceBoundNear(double x, double y, double r) const {
-    const Square s = square(x, y, r);
-    int i0, i1, j0, j1;
-    cellRange(s, i0, i1, j0, j1);
-    double top = -INFINITY;
-    for (int j = j0; j <= j1; ++j) {  // cellRange keeps i + 1 < nx and j + 1 < ny
-      const double* row0 = z.data() + static_cast<std::size_t>(j) * nx;
-      const double* row1 = row0 + nx;
-      const double v0 = std::clamp(s.gy0 - j, 0.0, 1.0), v1 = std::clamp(s.gy1 - j, 0.0, 1.0);
-      for (int i = i0; i <= i1; ++i) {
-        const double z00 = row0[i], z10 = row0[i + 1], z01 = row1[i], z11 = row1[i + 1];
-        if (std::isnan(z00) || std::isnan(z10) || std::isnan(z01) || std::isnan(z11)) continue;
-        // An extended plane can rise above the cell's samples where the other triangle lies;
-        // the surface over the cell never does. A cell whose samples are no higher than the
-        // bound so far cannot raise it.
-        const double samples = std::max(std::max(z00, z10), std::max(z01, z11));
-        if (samples <= top) continue;
-        // Planes of the triangles (p00, p10, p11) and (p00, p11, p01) in cell coordinates u, v.
-        const double a1 = z10 - z00, b1 = z11 - z10, a2 = z11 - z01, b2 = z01 - z00;
-        const double u0 = std::clamp(s.gx0 - i, 0.0, 1.0), u1 = std::clamp(s.gx1 - i, 0.0, 1.0);
-        const double u = a1 > 0 ? u1 : u0, v = b1 > 0 ? v1 : v0;  // each plane's highest corner
-        const double uu = a2 > 0 ? u1 : u0, vv = b2 > 0 ? v1 : v0;
-        top = std::max(top,
-                       std::min(samples, std::max(z00 + u * a1 + v * b1, z00 + vv * b2 + uu * a2)));
-      }
-    }
-    return top + 1e-9;
+    bool clear;
+    return scanNear<false>(Vec3(x, y, 0), r, clear);
+  }
+  // surfaceBoundNear(c.x, c.y, r), and in `clear` whether the sphere of radius r about c lies
+  // on the upper side of the plane of every triangle over that square, more than r (plus 1e-9 m
+  // against rounding) from it, or above the highest sample of the triangle's cell. Then no point
+  // of the surface, and no point of the border wall (which lies below the surface line of a
+  // border triangle), is within r of c, and c is above the surface: the sphere touches nothing
+  // there. On a slope this decides where the bound cannot: the plane's maximum over the square
+  // lies above the sphere's lowest point unless the sphere is 1 + |gradient| radii above the
+  // plane (measured vertically), while its distance to the plane needs sqrt(1 + |gradient|^2).
+  // Squares that miss the grid, and cells without data, are clear.
+  double surfaceBoundNear(const Vec3& c, double r, bool& clear) const {
+    return scanNear<true>(c, r, clear);
   }
   // The surface height that a body whose lowest point is at `bottom` rests on when its points
   // `pts` (world) are lowered straight down until the first touches the surface:
@@ -104,6 +92,51 @@ struct Heightfield {
   TriMesh toMesh() const;
 
  private:
+  // The cells under the square about c's x, y: the bound, and with kPlanes the plane test
+  // (surfaceBoundNear above).
+  template <bool kPlanes>
+  double scanNear(const Vec3& c, double r, bool& clear) const {
+    const Square s = square(c.x(), c.y(), r);
+    int i0, i1, j0, j1;
+    cellRange(s, i0, i1, j0, j1);
+    double top = -INFINITY;
+    clear = true;
+    const double bottom = c.z() - r - 1e-9;
+    const double r2 = r * r, cell2 = cell * cell;
+    const double gx = (c.x() - x0) / cell, gy = (c.y() - y0) / cell;  // c in cell units
+    for (int j = j0; j <= j1; ++j) {  // cellRange keeps i + 1 < nx and j + 1 < ny
+      const double* row0 = z.data() + static_cast<std::size_t>(j) * nx;
+      const double* row1 = row0 + nx;
+      const double v0 = std::clamp(s.gy0 - j, 0.0, 1.0), v1 = std::clamp(s.gy1 - j, 0.0, 1.0);
+      for (int i = i0; i <= i1; ++i) {
+        const double z00 = row0[i], z10 = row0[i + 1], z01 = row1[i], z11 = row1[i + 1];
+        if (std::isnan(z00) || std::isnan(z10) || std::isnan(z01) || std::isnan(z11)) continue;
+        const double samples = std::max(std::max(z00, z10), std::max(z01, z11));
+        // Planes of the triangles (p00, p10, p11) and (p00, p11, p01) in cell coordinates u, v:
+        // z = z00 + a1 u + b1 v and z = z00 + a2 u + b2 v.
+        const double a1 = z10 - z00, b1 = z11 - z10, a2 = z11 - z01, b2 = z01 - z00;
+        if (kPlanes && clear && bottom <= samples) {
+          // c is more than r from a plane when its height d above it (less the margin) is
+          // positive and d^2 > r^2 (1 + (a^2 + b^2) / cell^2).
+          const double u = gx - i, v = gy - j;
+          const double d1 = c.z() - (z00 + u * a1 + v * b1) - 1e-9;
+          const double d2 = c.z() - (z00 + v * b2 + u * a2) - 1e-9;
+          clear = d1 > 0 && d1 * d1 * cell2 > r2 * (cell2 + a1 * a1 + b1 * b1) && d2 > 0 &&
+                  d2 * d2 * cell2 > r2 * (cell2 + a2 * a2 + b2 * b2);
+        }
+        // An extended plane can rise above the cell's samples where the other triangle lies;
+        // the surface over the cell never does. A cell whose samples are no higher than the
+        // bound so far cannot raise it.
+        if (samples <= top) continue;
+        const double u0 = std::clamp(s.gx0 - i, 0.0, 1.0), u1 = std::clamp(s.gx1 - i, 0.0, 1.0);
+        const double u = a1 > 0 ? u1 : u0, v = b1 > 0 ? v1 : v0;  // each plane's highest corner
+        const double uu = a2 > 0 ? u1 : u0, vv = b2 > 0 ? v1 : v0;
+        top = std::max(top,
+                       std::min(samples, std::max(z00 + u * a1 + v * b1, z00 + vv * b2 + uu * a2)));
+      }
+    }
+    return top + 1e-9;
+  }
   // The square [x - r, x + r] x [y - r, y + r] relative to the grid origin, in m (o*) and in
   // cell units (g*): the cell range and the pruning bound share the divisions.
   struct Square {

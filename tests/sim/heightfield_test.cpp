@@ -330,6 +330,77 @@ TEST(Heightfield, SurfaceBoundIsThePlanesMaximumAndNeverBelowARoughSurface) {
   }
 }
 
+// The plane test of surfaceBoundNear (the terrain descent's second pruning test). Oracles: on the
+// planar grid z = 0.3x - 0.2y + 1 the distance to the surface is the distance to the plane, (z -
+// plane) / sqrt(1 + 0.3^2 + 0.2^2): a sphere 1.001 radii from it is clear and one 0.999 radii from
+// it is not, where the bound decides nothing (the plane's maximum over the square is higher than
+// the sphere's lowest point), and the bound is the one without the test. On a rough grid with a
+// hole, and beside its border (the wall), a sphere it calls clear has its centre above the surface
+// and no surface or wall point within r by dense sampling; and it calls some spheres clear, some
+// not.
+TEST(Heightfield, ClearOfThePlanesMeansNoSurfaceWithinTheRadius) {
+  const Heightfield tilt =
+      loadDem(writeGrid("tilt_clear.asc", planeGrid(30, 30, 0.25, -3.75, -3.75, true)));
+  const double slope = std::sqrt(1 + 0.3 * 0.3 + 0.2 * 0.2);
+  Prng rng(23);
+  for (int k = 0; k < 200; ++k) {
+    const double x = rng.uniform(-3, 3), y = rng.uniform(-3, 3), r = rng.uniform(0.01, 0.6);
+    const double plane = 0.3 * x - 0.2 * y + 1;
+    const Vec3 clear(x, y, plane + 1.001 * r * slope), near(x, y, plane + 0.999 * r * slope);
+    bool isClear = false, nearIsClear = true;
+    const double bound = tilt.surfaceBoundNear(clear, r, isClear);
+    tilt.surfaceBoundNear(near, r, nearIsClear);
+    EXPECT_TRUE(isClear) << x << " " << y << " " << r;
+    EXPECT_FALSE(nearIsClear) << x << " " << y << " " << r;
+    EXPECT_EQ(bound, tilt.surfaceBoundNear(x, y, r));
+    EXPECT_LT(clear.z() - r, bound);  // the bound alone keeps it
+  }
+
+  Heightfield rough;
+  rough.nx = rough.ny = 12;
+  rough.cell = 0.5;
+  for (int s = 0; s < 144; ++s) rough.z.push_back(rng.uniform(0, 2));
+  rough.z[40] = NAN;  // a hole: its four cells have no surface
+  const double end = 0.5 * 11;
+  int clear = 0, notClear = 0;
+  for (int k = 0; k < 600; ++k) {
+    const double x = rng.uniform(-0.5, end + 0.5), y = rng.uniform(-0.5, end + 0.5);
+    const double r = rng.uniform(0.01, 0.6), z = rng.uniform(0, 3);
+    const Vec3 c(x, y, z);
+    bool isClear = false;
+    const double bound = rough.surfaceBoundNear(c, r, isClear);
+    EXPECT_EQ(bound, rough.surfaceBoundNear(x, y, r));
+    if (!isClear) {
+      ++notClear;
+      continue;
+    }
+    ++clear;
+    const double under = rough.heightAt(x, y);
+    if (!std::isnan(under)) {
+      EXPECT_GT(z, under) << x << " " << y << " " << r;
+    }
+    for (int a = 0; a <= 30; ++a)
+      for (int b = 0; b <= 30; ++b) {
+        const double px = x - r + a * r / 15, py = y - r + b * r / 15;
+        const double h = rough.heightAt(px, py);
+        if (!std::isnan(h)) {
+          EXPECT_GT((Vec3(px, py, h) - c).norm(), r) << x << " " << y << " " << r;
+        }
+        // The border wall: below the surface line of the nearest border point.
+        const Vec3 onBorder(std::clamp(px, 0.0, end), std::clamp(py, 0.0, end), 0);
+        if (onBorder.x() == px && onBorder.y() == py) continue;  // inside the grid
+        const double top = rough.heightAt(onBorder.x(), onBorder.y());
+        if (std::isnan(top)) continue;
+        for (int w = 0; w <= 10; ++w) {
+          const Vec3 wall(onBorder.x(), onBorder.y(), top - 0.2 * w);
+          EXPECT_GT((wall - c).norm(), r) << x << " " << y << " " << r;
+        }
+      }
+  }
+  EXPECT_GT(clear, 60);
+  EXPECT_GT(notClear, 60);
+}
+
 TEST(Heightfield, ClosestPointOnTriangleAgreesWithDenseSampling) {
   Prng rng(2);
   const Vec3 a(0, 0, 0), b(1, 0, 0.2), c(0.3, 0.8, -0.1);
