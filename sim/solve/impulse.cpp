@@ -48,6 +48,58 @@ double inverseEffectiveMass(double invMassA, const Mat3& invInertiaA, const Vec3
   return invMassA + invMassB + raXd.dot(invInertiaA * raXd) + rbXd.dot(invInertiaB * rbXd);
 }
 
+bool patchBlockInverse(const Eigen::Matrix4d& block, int m, const Vec3* arms, const Vec3& n,
+                       Eigen::Matrix4d& inverse) {
+  // Rows and columns beyond m: K(0, 0) on the diagonal, the block's own scale, so that the
+  // cut-offs below are relative to the block whatever the bodies' masses (never read).
+  Eigen::Matrix4d K = Eigen::Matrix4d::Zero();
+  K.topLeftCorner(m, m) = block.topLeftCorner(m, m);
+  for (int i = m; i < 4; ++i) K(i, i) = K(0, 0);
+  // The closed form. K_ij = 1/M_a + 1/M_b + (r_ai x n).I_a^-1 (r_aj x n) + (r_bi x n).I_b^-1
+  // (r_bj x n), and r_bi = r_ai + x_a - x_b, so K u = 0 for every u with sum u_i = 0 and
+  // sum u_i (r_ai x n) = 0: the affine dependencies of the points seen along n. Four points in
+  // a plane have one, u_k = n.(d_l x d_m) for (k, l, m) cyclic in (1, 2, 3), d_k = arm_k -
+  // arm_0, u_0 = -(u_1 + u_2 + u_3) (Cramer's rule in the plane); fewer generally have none.
+  // With K's null vector u (unit) known, K + s u u^T is invertible and its inverse is
+  // K^+ + u u^T / s, for any s > 0 (K is symmetric: u is orthogonal to K's range).
+  Eigen::Vector4d u = Eigen::Vector4d::Zero();
+  const double s = K.trace() / 4;
+  bool closed = std::isfinite(s) && s > 0;
+  if (closed && m == 4) {
+    const Vec3 d1 = arms[1] - arms[0], d2 = arms[2] - arms[0], d3 = arms[3] - arms[0];
+    u << 0, n.dot(d2.cross(d3)), n.dot(d3.cross(d1)), n.dot(d1.cross(d2));
+    u[0] = -(u[1] + u[2] + u[3]);
+    // All four points nearly on one line: u is rounding (and K has a second null direction).
+    const double spread = d1.squaredNorm() + d2.squaredNorm() + d3.squaredNorm();
+    const double uu = u.squaredNorm();
+    closed = uu > 1e-12 * spread * spread;
+    if (closed) u /= std::sqrt(uu);
+  }
+  const Eigen::Matrix4d lifted = K + s * u * u.transpose();  // K itself where u = 0
+  // Taken only where every eigenvalue of the lifted K (K's non-zero ones, s for u, K(0, 0) for
+  // the padding) lies above 1e-6 of the largest, far from the eigen-decomposition's cut-off of
+  // 1e-9: then both give K^+ up to rounding. It is positive semidefinite, so lambda_min >= det /
+  // lambda_max^3 >= det / trace^3, and det >= 1e-6 trace^4 suffices.
+  if (closed) {
+    const double trace = lifted.trace();
+    closed = lifted.determinant() >= 1e-6 * trace * trace * trace * trace;
+  }
+  if (closed) {
+    inverse = lifted.inverse();
+    if (m == 4) inverse -= (u / s) * u.transpose();
+    return true;
+  }
+  // Otherwise the eigen-decomposition: directions K does not move (up to rounding of its
+  // entries) are left out.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(K);
+  const Eigen::Vector4d lambda = eigen.eigenvalues();
+  const double floor = 1e-9 * lambda.cwiseAbs().maxCoeff();
+  Eigen::Vector4d inv;
+  for (int i = 0; i < 4; ++i) inv[i] = lambda[i] > floor ? 1.0 / lambda[i] : 0.0;
+  inverse = eigen.eigenvectors() * inv.asDiagonal() * eigen.eigenvectors().transpose();
+  return false;
+}
+
 namespace {
 
 struct Motion {  // velocities during the solve
@@ -216,13 +268,13 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<BodyInf
 // three motions that move points along one normal: the translation along it and the two
 // rotations about axes in the plane), so four coplanar points are statically indeterminate
 // and dj is taken with K's pseudo-inverse (the least-norm increment: evenly spread where the
-// points are placed evenly). The block is used only when every accumulated impulse stays
-// >= 0; otherwise (a point must let go) the point rows alone do the pass. Every point at its
-// target with every impulse >= 0 solves the contact problem, and for frictionless contacts all
-// its solutions have the same velocities (K is positive semidefinite), so the blocks change
-// how fast the passes get there, not where (impulse_test). Friction stays with the point rows.
-// A patch: 2-4 consecutive rows of one body pair with bitwise the same normal (contact
-// reduction gives a reduced patch's points one normal; plane contacts share the plane's).
+// points are placed evenly; patchBlockInverse). The block is used only when every accumulated
+// impulse stays >= 0; otherwise (a point must let go) the point rows alone do the pass. Every point
+// at its target with every impulse >= 0 solves the contact problem, and for frictionless contacts
+// all its solutions have the same velocities (K is positive semidefinite), so the blocks change how
+// fast the passes get there, not where (impulse_test). Friction stays with the point rows. A patch:
+// 2-4 consecutive rows of one body pair with bitwise the same normal (contact reduction gives a
+// reduced patch's points one normal; plane contacts share the plane's).
 void preparePatches(std::vector<Row>& rows, const std::vector<Motion>& motion,
                     std::vector<Patch>& patches) {
   patches.clear();
@@ -243,17 +295,10 @@ void preparePatches(std::vector<Row>& rows, const std::vector<Motion>& motion,
           const Axis& y = rows[first + j].n;
           K(i, j) = A.invMass + B.invMass + x.raXd.dot(y.dwA) + x.rbXd.dot(y.dwB);
         }
-      // Unused rows and columns: K(0, 0) on the diagonal, the block's own scale, so that the
-      // cut-off below is relative to the block whatever the bodies' masses.
-      for (std::size_t i = m; i < 4; ++i) K(i, i) = K(0, 0);
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(K);
-      const Eigen::Vector4d lambda = eigen.eigenvalues();
-      // Directions K does not move (up to rounding of its entries) are left out.
-      const double floor = 1e-9 * lambda.cwiseAbs().maxCoeff();
-      Eigen::Vector4d inv;
-      for (int i = 0; i < 4; ++i) inv[i] = lambda[i] > floor ? 1.0 / lambda[i] : 0.0;
+      Vec3 arms[4];
+      for (std::size_t i = 0; i < m; ++i) arms[i] = rows[first + i].n.raXd;
       Patch p;
-      p.inverse = eigen.eigenvectors() * inv.asDiagonal() * eigen.eigenvectors().transpose();
+      patchBlockInverse(K, static_cast<int>(m), arms, rows[first].n.d, p.inverse);
       p.count = static_cast<int>(m);
       rows[first].patch = static_cast<int>(patches.size());
       patches.push_back(p);

@@ -18,6 +18,15 @@ double inverseEffectiveMass(double invMassA, const Mat3& invInertiaA, const Vec3
                             double invMassB, const Mat3& invInertiaB, const Vec3& rb,
                             const Vec3& d);
 
+// The Moore-Penrose pseudo-inverse of a patch block (the top left m x m of `block`, m = 2..4,
+// K_ij = the normal velocity at point i per unit normal impulse at point j, all along the
+// patch's normal n; SolverSettings::patchBlocks) into the top left m x m of `inverse`. `arms`:
+// the points' r_a x n. By a closed form where K is well conditioned but for the null direction
+// that four coplanar points always give it (returns true), else by an eigen-decomposition that
+// leaves out eigenvalues below 1e-9 of the largest. See impulse.cpp.
+bool patchBlockInverse(const Eigen::Matrix4d& block, int m, const Vec3* arms, const Vec3& n,
+                       Eigen::Matrix4d& inverse);
+
 struct SolverSettings {
   ContactMaterial material;
   int iterations = 12;

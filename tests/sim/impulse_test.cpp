@@ -8,6 +8,7 @@
 
 #include "sim/collide/contact_reduction.h"
 #include "sim/collide/narrow_phase.h"
+#include "sim/core/prng.h"
 #include "sim/core/worker_pool.h"
 #include "tests/support/test_world.h"
 
@@ -240,6 +241,78 @@ TEST(Impulse, PatchBlockLandsABoxFlatOnThreeCornersInOnePass) {
     ASSERT_EQ(jn.size(), 3u);
     EXPECT_NEAR(jn[0], jn[1], 1e-10 * m);  // the diagonal's two corners share it equally
     EXPECT_NEAR(jn[2], 0.0, 1e-10 * m);    // the third corner: nothing, to rounding
+  }
+}
+
+// patchBlockInverse against the definition of the pseudo-inverse: X is K^+ exactly when
+// K X K = K, X K X = X and K X, X K are symmetric (the Penrose conditions). K is built here
+// from its definition (1/M_a + 1/M_b + (r_ai x n).I_a^-1 (r_aj x n) + the same for b), for
+// points in a plane through random lever arms, random inertias, a second body or none. The
+// closed form is taken at a condition number of at most 1e6, so its rounding is at most about
+// 1e6 x 2.2e-16 of K^+'s size; the conditions are asked to 1e-8 (relative), 50x that, which a
+// missing null-direction term (a violation of order 1) or a wrong null vector fails (both
+// checked). The eigen-decomposition's rounding is of the same order on these cases (the random
+// quads reach condition numbers of a few thousand). Cases:
+// well-spread patches of 2, 3 and 4 points (the closed form must be taken for the square,
+// where the plane patches of a box on the floor are), and points on a line, where K loses a
+// further rank and the eigen-decomposition must be taken and still give K^+.
+Mat3 randomInverseInertia(Prng& rng) {
+  const Quat q =
+      Quat(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1))
+          .normalized();
+  const Vec3 moments(rng.uniform(0.2, 5), rng.uniform(0.2, 5), rng.uniform(0.2, 5));
+  return q.toRotationMatrix() * moments.cwiseInverse().asDiagonal() *
+         q.toRotationMatrix().transpose();
+}
+
+TEST(Impulse, PatchBlockInverseIsThePseudoInverse) {
+  Prng rng(41);
+  enum Way { kClosed, kEigen, kEither };
+  auto check = [&](const std::vector<Vec3>& planar, Way way, bool twoBodies) {
+    const int m = static_cast<int>(planar.size());
+    const Vec3 n = Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)).normalized();
+    const Vec3 e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+    const Vec3 xa(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    const Vec3 xb = xa + 0.8 * n + Vec3(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), 0);
+    const double invMa = 1 / rng.uniform(1, 50), invMb = twoBodies ? 1 / rng.uniform(1, 50) : 0;
+    const Mat3 Ia = randomInverseInertia(rng), Ib = twoBodies ? randomInverseInertia(rng) : Mat3();
+    const Vec3 centre = xa - 0.3 * n;
+    std::vector<Vec3> arm(m), armB(m);
+    for (int i = 0; i < m; ++i) {
+      const Vec3 point = centre + planar[i].x() * e1 + planar[i].y() * e2;
+      arm[i] = (point - xa).cross(n);
+      armB[i] = (point - xb).cross(n);
+    }
+    Eigen::Matrix4d K = Eigen::Matrix4d::Zero();
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j) {
+        K(i, j) = invMa + invMb + arm[i].dot(Ia * arm[j]);
+        if (twoBodies) K(i, j) += armB[i].dot(Ib * armB[j]);
+      }
+    Eigen::Matrix4d X;
+    const bool usedClosed = patchBlockInverse(K, m, arm.data(), n, X);
+    if (way == kClosed) EXPECT_TRUE(usedClosed) << m << " points";
+    if (way == kEigen) EXPECT_FALSE(usedClosed) << m << " points on a line";
+    const Eigen::MatrixXd k = K.topLeftCorner(m, m), x = X.topLeftCorner(m, m);
+    const double tol = 1e-8;
+    EXPECT_LT((k * x * k - k).norm(), tol * k.norm()) << m;
+    EXPECT_LT((x * k * x - x).norm(), tol * x.norm()) << m;
+    EXPECT_LT((k * x - (k * x).transpose()).norm(), tol * (k * x).norm()) << m;
+    EXPECT_LT((x * k - (x * k).transpose()).norm(), tol * (x * k).norm()) << m;
+  };
+  for (const bool twoBodies : {false, true}) {
+    for (int trial = 0; trial < 50; ++trial) {
+      const double w = rng.uniform(0.1, 0.5), h = rng.uniform(0.1, 0.5);
+      check({{-w, -h, 0}, {w, -h, 0}, {w, h, 0}, {-w, h, 0}}, kClosed, twoBodies);  // a face
+      check({{-w, -h, 0}, {w, h, 0}}, kClosed, twoBodies);
+      check({{-w, -h, 0}, {w, -h, 0}, {0, h, 0}}, kClosed, twoBodies);
+      std::vector<Vec3> quad;  // any four points of a patch: either way, the conditions hold
+      for (int i = 0; i < 4; ++i) quad.emplace_back(rng.uniform(-w, w), rng.uniform(-h, h), 0);
+      check(quad, kEither, twoBodies);
+      const Vec3 dir(rng.uniform(-1, 1), rng.uniform(-1, 1), 0);
+      check({-w * dir, -0.3 * w * dir, 0.5 * w * dir, w * dir}, kEigen, twoBodies);
+      check({-w * dir, 0.2 * w * dir, w * dir}, kEigen, twoBodies);
+    }
   }
 }
 
