@@ -128,8 +128,8 @@ struct Row {  // one contact, prepared
   double target;  // wanted normal velocity
   double mu;
   double jn = 0, jt1 = 0, jt2 = 0;  // accumulated impulses
-  int contact = 0;                  // index in the contact list
-  int patch = -1;                   // first row of a patch: its index in the patch list
+  int contact = 0;                  // index in the contact list (rows are kept by it)
+  bool patch = false;               // first row of a patch: its block is patches[contact]
   bool fixedB = false;              // b does not move: its island's zero slot (groupIslands)
 };
 
@@ -155,7 +155,10 @@ struct SolverScratch {
   std::vector<Motion> motion;
   std::vector<Row> rows;
   std::vector<Patch> patches;
-  std::vector<int> root, islandOfRoot, start, order, rowIsland, next, runStart, islandPasses;
+  // rows[k] and patches[k] belong to contact k (most patches[k] unused: no clearing needed).
+  std::vector<int> root, islandOfRoot, start, end, order, contactIsland, next, runStart,
+      islandPasses;
+  std::vector<char> made;  // made[k]: contact k has a row
 };
 
 // Fewer rows than this are solved on one thread: waking a worker costs about as much as a few
@@ -220,41 +223,43 @@ void prepareMotion(const std::vector<BodyInfo>& bodies, const std::vector<BodySt
   }
 }
 
-// One row per contact whose sides are not both immovable: axes, material, restitution target.
-void prepareRows(const std::vector<Contact>& contacts, const std::vector<BodyInfo>& bodies,
-                 const std::vector<BodyState>& states, const SolverSettings& settings,
-                 const std::vector<Motion>& motion, std::vector<Row>& rows) {
-  const int groundSlot = static_cast<int>(bodies.size());
+// Contact k's row: axes, material, restitution target, from the velocities before any
+// impulse of the step. Sides that do not move (the ground, static and sleeping bodies) use the
+// island's zero slot (groupIslands), whose motion is zero like theirs. False where the effective
+// mass is not finite (both sides immovable, or a non-finite state): no row.
+bool prepareRow(const std::vector<Contact>& contacts, int k, const std::vector<BodyInfo>& bodies,
+                const std::vector<BodyState>& states, const SolverSettings& settings,
+                const std::vector<Motion>& motion, int zeroSlot, Row& r) {
   const ContactMaterial& mat = settings.material;
-  rows.clear();
-  for (const Contact& c : contacts) {
-    Row r;
-    r.key = ContactKey{c.a, c.b, c.leafA, c.leafB};
-    r.a = c.a;
-    r.b = c.b == kGround ? groundSlot : c.b;
-    r.ra = c.point - states[c.a].x;
-    r.rb = c.b == kGround ? Vec3::Zero() : Vec3(c.point - states[c.b].x);
-    Vec3 t1, t2;
-    tangents(c.normal, t1, t2);
-    const Motion& A = motion[r.a];
-    const Motion& B = motion[r.b];
-    r.n = makeAxis(c.normal, r.ra, r.rb, A, B);
-    r.t1 = makeAxis(t1, r.ra, r.rb, A, B);
-    r.t2 = makeAxis(t2, r.ra, r.rb, A, B);
-    if (!std::isfinite(r.n.k)) continue;  // both sides immovable
-    const bool ground = c.b == kGround || bodies[c.a].isStatic || bodies[c.b].isStatic;
-    double eps = ground ? mat.restitutionBodyGround : mat.restitutionBodyBody;
-    r.mu = ground ? mat.frictionBodyGround : mat.frictionBodyBody;
-    if (c.b == kGround && settings.ground) {  // rock fall: the material under the contact
-      const GroundMaterial& m = settings.ground->at(c.point.x(), c.point.y());
-      eps = m.restitution;
-      r.mu = m.friction;
-    }
-    r.contact = static_cast<int>(&c - contacts.data());
-    const double vRel = c.normal.dot(pointVelocity(A, r.ra) - pointVelocity(B, r.rb));
-    r.target = vRel < -settings.restingSpeed ? -eps * vRel : 0.0;  // v_rel+ = -eps v_rel-
-    rows.push_back(r);
+  const Contact& c = contacts[static_cast<std::size_t>(k)];
+  r.key = ContactKey{c.a, c.b, c.leafA, c.leafB};
+  r.a = bodies[c.a].moves() ? c.a : zeroSlot;
+  r.fixedB = c.b == kGround || !bodies[c.b].moves();
+  r.b = r.fixedB ? zeroSlot : c.b;
+  r.ra = c.point - states[c.a].x;
+  r.rb = c.b == kGround ? Vec3::Zero() : Vec3(c.point - states[c.b].x);
+  Vec3 t1, t2;
+  tangents(c.normal, t1, t2);
+  const Motion& A = motion[r.a];
+  const Motion& B = motion[r.b];
+  r.n = makeAxis(c.normal, r.ra, r.rb, A, B);
+  if (!std::isfinite(r.n.k)) return false;  // a non-finite state (or nothing moves)
+  r.t1 = makeAxis(t1, r.ra, r.rb, A, B);
+  r.t2 = makeAxis(t2, r.ra, r.rb, A, B);
+  const bool ground = c.b == kGround || bodies[c.a].isStatic || bodies[c.b].isStatic;
+  double eps = ground ? mat.restitutionBodyGround : mat.restitutionBodyBody;
+  r.mu = ground ? mat.frictionBodyGround : mat.frictionBodyBody;
+  if (c.b == kGround && settings.ground) {  // rock fall: the material under the contact
+    const GroundMaterial& m = settings.ground->at(c.point.x(), c.point.y());
+    eps = m.restitution;
+    r.mu = m.friction;
   }
+  r.contact = k;
+  r.patch = false;
+  r.jn = r.jt1 = r.jt2 = 0;
+  const double vRel = c.normal.dot(pointVelocity(A, r.ra) - pointVelocity(B, r.rb));
+  r.target = vRel < -settings.restingSpeed ? -eps * vRel : 0.0;  // v_rel+ = -eps v_rel-
+  return true;
 }
 
 // Patch blocks, an extension for reduced contacts (the paper solves leaf contacts one by
@@ -275,35 +280,39 @@ void prepareRows(const std::vector<Contact>& contacts, const std::vector<BodyInf
 // fast the passes get there, not where (impulse_test). Friction stays with the point rows. A patch:
 // 2-4 consecutive rows of one body pair with bitwise the same normal (contact reduction gives a
 // reduced patch's points one normal; plane contacts share the plane's).
-void preparePatches(std::vector<Row>& rows, const std::vector<Motion>& motion,
-                    std::vector<Patch>& patches) {
-  patches.clear();
-  const std::size_t count = rows.size();
-  for (std::size_t first = 0; first < count;) {
-    std::size_t end = first + 1;
-    while (end < count && rows[end].a == rows[first].a && rows[end].b == rows[first].b &&
-           rows[end].n.d == rows[first].n.d)
-      ++end;
-    const std::size_t m = end - first;
+// The patches among the rows first[0..count) of one island (contact order). Rows of one body
+// pair are consecutive contacts (each collider pair's contacts come out together), so a patch
+// is a run of consecutive contact indices with the same bodies and normal.
+void preparePatches(const std::vector<Contact>& contacts, const int* first, int count, Row* rows,
+                    const Motion* motion, Patch* patches) {
+  for (int f = 0; f < count;) {
+    const Contact& head = contacts[static_cast<std::size_t>(first[f])];
+    int e = f + 1;
+    while (e < count && first[e] == first[e - 1] + 1) {
+      const Contact& c = contacts[static_cast<std::size_t>(first[e])];
+      if (c.a != head.a || c.b != head.b || c.normal != head.normal) break;
+      ++e;
+    }
+    const int m = e - f;
     if (m >= 2 && m <= 4) {
-      const Motion& A = motion[rows[first].a];
-      const Motion& B = motion[rows[first].b];
+      Row& r0 = rows[first[f]];
+      const Motion& A = motion[r0.a];
+      const Motion& B = motion[r0.b];
       Eigen::Matrix4d K = Eigen::Matrix4d::Zero();
-      for (std::size_t i = 0; i < m; ++i)
-        for (std::size_t j = 0; j < m; ++j) {
-          const Axis& x = rows[first + i].n;
-          const Axis& y = rows[first + j].n;
+      for (int i = 0; i < m; ++i)
+        for (int j = 0; j < m; ++j) {
+          const Axis& x = rows[first[f + i]].n;
+          const Axis& y = rows[first[f + j]].n;
           K(i, j) = A.invMass + B.invMass + x.raXd.dot(y.dwA) + x.rbXd.dot(y.dwB);
         }
       Vec3 arms[4];
-      for (std::size_t i = 0; i < m; ++i) arms[i] = rows[first + i].n.raXd;
-      Patch p;
-      patchBlockInverse(K, static_cast<int>(m), arms, rows[first].n.d, p.inverse);
-      p.count = static_cast<int>(m);
-      rows[first].patch = static_cast<int>(patches.size());
-      patches.push_back(p);
+      for (int i = 0; i < m; ++i) arms[i] = rows[first[f + i]].n.raXd;
+      Patch& p = patches[first[f]];
+      patchBlockInverse(K, m, arms, head.normal, p.inverse);
+      p.count = m;
+      r0.patch = true;
     }
-    first = end;
+    f = e;
   }
 }
 
@@ -314,44 +323,45 @@ void preparePatches(std::vector<Row>& rows, const std::vector<Motion>& motion,
 // whole set stops where the last island does, so `passes` is the largest island's count).
 // The ground and bodies that do not move take no impulse: their motion stays zero, but every
 // row still writes it, so each island gets a zero slot of its own (n + island) for them.
-// Fills w.start (island i's rows are w.order[start[i], start[i + 1])), w.order (row indices,
-// island by island, in row order within each) and the zero slots; returns the island count.
+// Fills w.start (island i's contacts are w.order[start[i], start[i + 1])), w.order (contact
+// indices, island by island, in contact order within each), w.end (set by the island's job:
+// its rows are w.order[start[i], end[i])) and the zero slots; returns the island count. A
+// contact of which neither side moves has no row and no island.
 int groupIslands(const std::vector<Contact>& contacts, const std::vector<BodyInfo>& bodies,
                  SolverScratch& w) {
   const int n = static_cast<int>(bodies.size());
-  std::vector<Row>& rows = w.rows;
-  const int count = static_cast<int>(rows.size());
-  std::vector<int>& start = w.start;  // rows per island first, then offsets into `order`
-  std::vector<int>& rowIsland = w.rowIsland;
+  const int count = static_cast<int>(contacts.size());
+  std::vector<int>& start = w.start;  // contacts per island first, then offsets into `order`
+  std::vector<int>& contactIsland = w.contactIsland;
   islandRoots(contacts, bodies, w.root);
   w.islandOfRoot.assign(n, -1);
   start.clear();
-  rowIsland.resize(count);
+  contactIsland.resize(count);
   for (int k = 0; k < count; ++k) {
-    const Row& r = rows[k];
-    const int body = r.a < n && bodies[r.a].moves() ? r.a : r.b;
-    int& island = w.islandOfRoot[w.root[body]];
+    const Contact& c = contacts[static_cast<std::size_t>(k)];
+    const bool movesA = bodies[c.a].moves();
+    if (!movesA && (c.b == kGround || !bodies[c.b].moves())) {
+      contactIsland[k] = -1;
+      continue;
+    }
+    int& island = w.islandOfRoot[w.root[movesA ? c.a : c.b]];
     if (island < 0) {
       island = static_cast<int>(start.size());
       start.push_back(0);
     }
     ++start[island];
-    rowIsland[k] = island;
+    contactIsland[k] = island;
   }
   const int islands = static_cast<int>(start.size());
-  w.motion.resize(n + islands);
-  for (int k = 0; k < count; ++k) {
-    Row& r = rows[k];
-    if (r.a >= n || !bodies[r.a].moves()) r.a = n + rowIsland[k];
-    r.fixedB = r.b >= n || !bodies[r.b].moves();
-    if (r.fixedB) r.b = n + rowIsland[k];
-  }
+  w.motion.resize(n + islands);  // the zero slots (the ground's slot n is island 0's)
   int offset = 0;
   for (int& s : start) offset += std::exchange(s, offset);
-  start.push_back(count);
-  w.order.resize(count);
+  start.push_back(offset);
+  w.end.assign(start.begin(), start.end() - 1);
+  w.order.resize(offset);
   w.next.assign(start.begin(), start.end() - 1);
-  for (int k = 0; k < count; ++k) w.order[w.next[rowIsland[k]]++] = k;  // row order kept
+  for (int k = 0; k < count; ++k)
+    if (contactIsland[k] >= 0) w.order[w.next[contactIsland[k]]++] = k;  // contact order kept
   return islands;
 }
 
@@ -361,8 +371,8 @@ template <bool kFixedB>
 bool passRow(const int* k, Row* rows, const Patch* patches, Motion& A, Motion& B) {
   Row& r = rows[*k];
   bool changed = false;
-  if (r.patch >= 0) {  // the patch's block (preparePatches), before its point rows
-    const Patch& p = patches[r.patch];
+  if (r.patch) {  // the patch's block (preparePatches), before its point rows
+    const Patch& p = patches[*k];
     double error[4], jn[4];
     for (int i = 0; i < p.count; ++i) {
       const Row& q = rows[k[i]];
@@ -452,15 +462,32 @@ int solveIsland(const int* first, const int* last, Row* rows, const Patch* patch
   return pass;
 }
 
-// Solves every island, on the pool's threads when there is enough to share; returns the
-// largest island's pass count. Which thread solves an island changes nothing.
-int solveIslands(int islands, SolverScratch& w, const ContactCache& cache,
-                 const SolverSettings& settings) {
-  const int count = static_cast<int>(w.rows.size());
+// Prepares and solves every island, on the pool's threads when there is enough to share;
+// returns the largest island's pass count. An island's rows and patches are prepared by the
+// thread that then solves them (prepared by one thread and solved by another, every row's
+// cache lines crossed cores twice a step: 1,000 rocks on 2 threads spent longer preparing rows
+// than on 1). Which thread takes an island changes nothing: its rows are a function of its
+// contacts and of its bodies' motions, which no other island touches.
+int solveIslands(int islands, const std::vector<Contact>& contacts,
+                 const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
+                 SolverScratch& w, const ContactCache& cache, const SolverSettings& settings) {
+  const int n = static_cast<int>(bodies.size());
+  const int count = w.start[islands];
   const double scale = cache.dt > 0 ? std::min(1.0, settings.dt / cache.dt) : 0.0;
   auto solve = [&](int i) {
-    const int* order = w.order.data();
-    return solveIsland(order + w.start[i], order + w.start[i + 1], w.rows.data(), w.patches.data(),
+    int* order = w.order.data();
+    int& end = w.end[i];
+    for (int p = w.start[i]; p < w.start[i + 1]; ++p)  // rows that exist, in contact order
+      if (prepareRow(contacts, order[p], bodies, states, settings, w.motion, n + i,
+                     w.rows[static_cast<std::size_t>(order[p])])) {
+        w.made[static_cast<std::size_t>(order[p])] = 1;
+        order[end++] = order[p];
+      }
+    if (end == w.start[i]) return 0;
+    if (settings.patchBlocks)
+      preparePatches(contacts, order + w.start[i], end - w.start[i], w.rows.data(), w.motion.data(),
+                     w.patches.data());
+    return solveIsland(order + w.start[i], order + end, w.rows.data(), w.patches.data(),
                        w.motion.data(), cache, scale, settings);
   };
   const int threads = islands < 2 || count < kRowsPerThread || !settings.pool
@@ -471,7 +498,7 @@ int solveIslands(int islands, SolverScratch& w, const ContactCache& cache,
   if (threads == 1) {
     for (int i = 0; i < islands; ++i) islandPasses[i] = solve(i);
   } else {
-    // Runs of consecutive islands with about equal numbers of rows: neighbouring islands often
+    // Runs of consecutive islands with about equal numbers of contacts: neighbouring islands often
     // lie side by side in memory (their bodies' ids are close), and threads solving them at
     // once slowed each other down (one island at a time: no gain over one thread on 1,000
     // rocks).
@@ -490,17 +517,20 @@ int solveIslands(int islands, SolverScratch& w, const ContactCache& cache,
   return islands ? *std::max_element(islandPasses.begin(), islandPasses.end()) : 0;
 }
 
-// P1 += J, L1 += r1 x J for the total impulse of every row (and the opposite on body 2).
-void applyImpulses(const std::vector<Row>& rows, const std::vector<BodyInfo>& bodies,
+// P1 += J, L1 += r1 x J for the total impulse of every row (and the opposite on body 2), in
+// contact order.
+void applyImpulses(const SolverScratch& w, const std::vector<BodyInfo>& bodies,
                    std::vector<BodyState>& states) {
   const int n = static_cast<int>(bodies.size());
-  for (const Row& r : rows) {
+  for (int k = 0; k < static_cast<int>(w.made.size()); ++k) {
+    if (!w.made[static_cast<std::size_t>(k)]) continue;
+    const Row& r = w.rows[static_cast<std::size_t>(k)];
     const Vec3 J = r.jn * r.n.d + r.jt1 * r.t1.d + r.jt2 * r.t2.d;
-    if (r.a < n && bodies[r.a].moves()) {
+    if (r.a < n) {
       states[r.a].P += J;
       states[r.a].L += r.ra.cross(J);
     }
-    if (r.b < n && bodies[r.b].moves()) {
+    if (!r.fixedB) {
       states[r.b].P -= J;
       states[r.b].L -= r.rb.cross(J);
     }
@@ -525,28 +555,30 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
   static thread_local SolverScratch scratch;
   SolverScratch& w = scratch;
   prepareMotion(bodies, states, w.motion);
-  prepareRows(contacts, bodies, states, settings, w.motion, w.rows);
-  w.patches.clear();
-  if (settings.patchBlocks) preparePatches(w.rows, w.motion, w.patches);
   const int islands = groupIslands(contacts, bodies, w);
-  const int passes = solveIslands(islands, w, cache, settings);
+  w.rows.resize(contacts.size());
+  if (settings.patchBlocks) w.patches.resize(contacts.size());
+  w.made.assign(contacts.size(), 0);
+  const int passes = solveIslands(islands, contacts, bodies, states, w, cache, settings);
   if (settings.passes) *settings.passes = passes;
 
   // Only resting contacts seed the next step: an impact's impulse belongs to its own step, and
   // re-applied while the bodies separate it would throw them apart.
   cache.dt = settings.dt;
   cache.impulses.clear();
-  for (const Row& r : w.rows)
-    if (r.target == 0.0) cache.impulses.push_back({r.key, r.jn, r.jt1, r.jt2});
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const Row& r = w.rows[k];
+    if (w.made[k] && r.target == 0.0) cache.impulses.push_back({r.key, r.jn, r.jt1, r.jt2});
+  }
   std::sort(cache.impulses.begin(), cache.impulses.end(),
             [](const CachedImpulse& x, const CachedImpulse& y) { return x.key < y.key; });
 
   if (settings.normalImpulses) {
     settings.normalImpulses->assign(contacts.size(), 0.0);
-    for (const Row& r : w.rows)
-      (*settings.normalImpulses)[static_cast<std::size_t>(r.contact)] = r.jn;
+    for (std::size_t k = 0; k < contacts.size(); ++k)
+      if (w.made[k]) (*settings.normalImpulses)[k] = w.rows[k].jn;
   }
-  applyImpulses(w.rows, bodies, states);
+  applyImpulses(w, bodies, states);
 }
 
 }  // namespace vf
