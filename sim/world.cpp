@@ -184,7 +184,7 @@ void World::stepToward(double target) {
   applyGravity(bodies_, states_, def_.gravity, s.dt);
 
   pairs_.clear();
-  findPairs(bodies_, states_, pairs_);
+  findPairs(bodies_, states_, pairs_, &sweepOrder_);
   s.pairs = pairs_.size();
   s.secondsPairs = clock.lap();
 

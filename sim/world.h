@@ -228,6 +228,7 @@ class World {
   RunStats totals_;
   StepStats last_;
   std::vector<BodyPair> pairs_;         // scratch, reused every step
+  std::vector<int> sweepOrder_;         // the broad phase's last sweep order (findPairs)
   std::vector<Contact> contacts_;       // scratch, reused every step
   CandidateCache candidates_;           // leaf-pair candidates from step to step (narrow phase)
   std::unique_ptr<WorkerPool> pool_;    // def_.threads > 1: the threads of every step

@@ -13,8 +13,10 @@ namespace vf {
 // spheres (SphereTree::boundingRadius about the centre of mass, each widened by its
 // roundingSlack) overlap, found by sweep and prune along x within strips along y (and across
 // neighbouring strips). Ordered by (a, b), so contacts are generated in a fixed order.
+// `order`, if given, is scratch kept from call to call (the last call's sweep order): it makes
+// the sweep's sort nearly linear while the bodies move little; the pairs do not depend on it.
 void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
-               std::vector<BodyPair>& pairs);
+               std::vector<BodyPair>& pairs, std::vector<int>* order = nullptr);
 
 // The sweep itself, for any x intervals: sorts `spans` (each with members lo, hi and id) by
 // (lo, id) and calls visit(u, v) for every two spans whose intervals overlap, u sorted before

@@ -1,6 +1,6 @@
 // Sweep and prune (sim/collide/broad_phase.cpp, in strips along y) against the all-pairs
 // bounding-sphere test it replaced, on random clouds of bodies with inactive and static ones
-// mixed in: the same pairs in the same (a, b) order.
+// mixed in: the same pairs in the same (a, b) order, whatever order the sweep starts from.
 #include "sim/collide/broad_phase.h"
 
 #include <gtest/gtest.h>
@@ -27,11 +27,21 @@ std::vector<BodyPair> allPairs(const std::vector<BodyInfo>& bodies,
   return out;
 }
 
+void expectSame(const std::vector<BodyPair>& got, const std::vector<BodyPair>& want,
+                const char* what) {
+  ASSERT_EQ(got.size(), want.size()) << what;
+  for (std::size_t k = 0; k < got.size(); ++k) {
+    EXPECT_EQ(got[k].a, want[k].a) << what << ", pair " << k;
+    EXPECT_EQ(got[k].b, want[k].b) << what << ", pair " << k;
+  }
+}
+
 TEST(BroadPhase, SweepAndPruneFindsExactlyTheAllPairsResult) {
   const auto small = test::boxShape(0.3, 0.3, 0.3, 800, 2);
   const auto large = test::boxShape(1.5, 0.4, 0.4, 800, 2);
   Prng rng(9);
   std::size_t found = 0;
+  std::vector<int> order;  // the sweep order kept from call to call, as World keeps it
   for (int round = 0; round < 20; ++round) {
     std::vector<BodyInfo> bodies(200);
     std::vector<BodyState> states(200);
@@ -58,6 +68,23 @@ TEST(BroadPhase, SweepAndPruneFindsExactlyTheAllPairsResult) {
       EXPECT_EQ(sap[k].b, brute[k].b);
     }
     found += sap.size();
+    // With the order kept from the last round (other positions: a shuffled start, which may
+    // give up on insertion sort), from this state, and after every body moved a little (nearly
+    // sorted: insertion sort), appended after a pair already in the list.
+    std::vector<BodyPair> hinted;
+    findPairs(bodies, states, hinted, &order);
+    expectSame(hinted, brute, "from the last round's order");
+    hinted.clear();
+    findPairs(bodies, states, hinted, &order);
+    expectSame(hinted, brute, "from this state's order");
+    for (BodyState& y : states) y.x += Vec3(rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05), 0);
+    const std::vector<BodyPair> moved = allPairs(bodies, states);
+    hinted.assign(1, BodyPair{-7, -7});
+    findPairs(bodies, states, hinted, &order);
+    ASSERT_FALSE(hinted.empty());
+    EXPECT_EQ(hinted[0].a, -7) << "what was in the list stays first";
+    hinted.erase(hinted.begin());
+    expectSame(hinted, moved, "after a small move");
   }
   EXPECT_GT(found, 1000u) << "the clouds are dense enough to test something";
 }
