@@ -47,11 +47,8 @@ void RockMonitor::configure(TerrainEdge edge, RestCriterion rest, const Heightfi
   gravity_ = gravity;
 }
 
-double RockMonitor::groundAt(double x, double y) const {
-  if (terrain_) {
-    const double h = terrain_->heightAt(x, y);
-    if (!std::isnan(h)) return plane_ ? std::max(h, *plane_) : h;
-  }
+double RockMonitor::groundAtHeight(double h) const {
+  if (!std::isnan(h)) return plane_ ? std::max(h, *plane_) : h;
   return plane_ ? *plane_ : NAN;
 }
 
@@ -75,7 +72,10 @@ void RockMonitor::onRelease(int id, double time, std::vector<BodyInfo>& bodies,
   nextPathTime_[static_cast<std::size_t>(id)] = time + kPathInterval;
   // A body released below the surface is pushed out (or stopped) before its first step, so no
   // step ever solves contacts metres deep (and the run guard sees no energy from them).
-  if (terrain_) resolveBelowSurface(id, time, bodies, states);
+  if (terrain_) {
+    double h = terrain_->heightAt(y.x.x(), y.x.y());
+    resolveBelowSurface(id, time, bodies, states, h);
+  }
 }
 
 void RockMonitor::finish(int id, RockState state, const Vec3& where, double time,
@@ -96,9 +96,8 @@ void RockMonitor::finish(int id, RockState state, const Vec3& where, double time
 }
 
 bool RockMonitor::resolveBelowSurface(int i, double time, std::vector<BodyInfo>& bodies,
-                                      std::vector<BodyState>& states) {
+                                      std::vector<BodyState>& states, double& h) {
   BodyState& y = states[static_cast<std::size_t>(i)];
-  const double h = terrain_->heightAt(y.x.x(), y.x.y());
   if (std::isnan(h) || y.x.z() >= h) return false;
   const Shape& shape = *bodies[static_cast<std::size_t>(i)].shape;
   const Mat3 R = y.q.toRotationMatrix();
@@ -124,6 +123,7 @@ bool RockMonitor::resolveBelowSurface(int i, double time, std::vector<BodyInfo>&
   // Along the normal by deepest * n.z: for a locally planar surface that lifts the
   // deepest vertex exactly onto it.
   y.x += (deepest * nrm.z()) * nrm;
+  h = terrain_->heightAt(y.x.x(), y.x.y());
   const double vn = y.P.dot(nrm);
   if (vn < 0) y.P -= vn * nrm;
   std::snprintf(buf, sizeof buf,
@@ -153,9 +153,10 @@ int RockMonitor::afterStep(double time, std::vector<BodyInfo>& bodies,
     const Shape& shape = *b.shape;
     const Mat3 R = y.q.toRotationMatrix();
 
+    // The terrain's height under the centre, looked up once and kept while the centre stays.
+    double h = terrain_ ? terrain_->heightAt(y.x.x(), y.x.y()) : NAN;
     // Edges and holes: the centre of mass over no terrain data.
-    if (terrain_ && std::isnan(terrain_->heightAt(y.x.x(), y.x.y())) &&
-        edge_ != TerrainEdge::kAuto) {
+    if (terrain_ && std::isnan(h) && edge_ != TerrainEdge::kAuto) {
       const bool outside = y.x.x() < terrain_->x0 || y.x.y() < terrain_->y0 ||
                            y.x.x() > terrain_->x0 + (terrain_->nx - 1) * terrain_->cell ||
                            y.x.y() > terrain_->y0 + (terrain_->ny - 1) * terrain_->cell;
@@ -164,6 +165,7 @@ int RockMonitor::afterStep(double time, std::vector<BodyInfo>& bodies,
         // Back to where it last was over ground; horizontal velocity reflected (no loss).
         y.x.head<2>() = previous_[static_cast<std::size_t>(i)].head<2>();
         y.P.head<2>() = -y.P.head<2>();
+        h = terrain_->heightAt(y.x.x(), y.x.y());
       } else {
         char buf[320];
         std::snprintf(buf, sizeof buf, "body %d %s at t = %.4f s, at (%.3f, %.3f, %.3f) m", i,
@@ -175,12 +177,11 @@ int RockMonitor::afterStep(double time, std::vector<BodyInfo>& bodies,
       }
     }
     if (terrain_) {
-      if (resolveBelowSurface(i, time, bodies, states)) {
+      if (resolveBelowSurface(i, time, bodies, states, h)) {
         ++finished;
         continue;
       }
-      if (!std::isnan(terrain_->heightAt(y.x.x(), y.x.y())))
-        previous_[static_cast<std::size_t>(i)] = y.x;
+      if (!std::isnan(h)) previous_[static_cast<std::size_t>(i)] = y.x;
     }
 
     // Maxima, path, rest.
@@ -190,7 +191,7 @@ int RockMonitor::afterStep(double time, std::vector<BodyInfo>& bodies,
     r.maxSpeed = std::max(r.maxSpeed, v.norm());
     r.maxTranslationalEnergy = std::max(r.maxTranslationalEnergy, 0.5 * m * v.squaredNorm());
     r.maxRotationalEnergy = std::max(r.maxRotationalEnergy, 0.5 * y.L.dot(w));
-    const double g = groundAt(y.x.x(), y.x.y());
+    const double g = groundAtHeight(h);
     if (!std::isnan(g)) {
       double lowest = INFINITY;
       for (const Vec3& p : shape.mesh.vertices) lowest = std::min(lowest, (R * p).z());

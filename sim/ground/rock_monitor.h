@@ -82,14 +82,17 @@ class RockMonitor {
   const std::vector<std::string>& messages() const { return messages_; }
 
  private:
-  double groundAt(double x, double y) const;  // terrain, else plane, else NaN
-  // Body i's centre below the terrain surface: pushed out along the normal when partly below,
-  // stopped (buried) when wholly below; returns true when it was stopped.
+  // The ground under a point where the terrain's height there is h (NaN: no terrain data):
+  // the terrain, else the plane, else NaN.
+  double groundAtHeight(double h) const;
   // The rest criterion's clock for one rock after a step: `slow` this step (below the rest
   // speed), at `x` (world) at `time` (s); moves it between moving and stopped, and its end point.
   void updateRest(RockOutcome& r, bool slow, const Vec3& x, double time) const;
+  // Body i's centre below the terrain surface (h: the surface's height under the centre):
+  // pushed out along the normal when partly below (h then becomes the height under its new
+  // place), stopped (buried) when wholly below; returns true when it was stopped.
   bool resolveBelowSurface(int i, double time, std::vector<BodyInfo>& bodies,
-                           std::vector<BodyState>& states);
+                           std::vector<BodyState>& states, double& h);
   void finish(int id, RockState state, const Vec3& where, double time, const std::string& why,
               std::vector<BodyInfo>& bodies, std::vector<BodyState>& states);
 
