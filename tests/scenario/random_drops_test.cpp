@@ -141,8 +141,9 @@ DropResult drop(std::uint64_t seed) {
     const auto which =
         std::min(meshes.size() - 1, static_cast<std::size_t>(rng.uniform() * meshes.size()));
     const double size = rng.uniform(0.15, 0.8);  // bounding-box diagonal, m
-    auto shape =
-        makeShape("m" + std::to_string(which), meshes[which], Vec3::Constant(size), 800, kLevel);
+    // append, not "m" + ...: GCC 12 warns falsely (-Wrestrict) on that operator+ inlined here.
+    const std::string name = std::string("m").append(std::to_string(which));
+    auto shape = makeShape(name, meshes[which], Vec3::Constant(size), 800, kLevel);
     const double x = x0 + rng.uniform(-0.2, 0.2), y = y0 + rng.uniform(-0.2, 0.2);
     const double base = std::max(groundAt(x, y) + 0.1, top + 0.05);
     BodyDef b;

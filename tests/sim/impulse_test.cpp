@@ -291,8 +291,12 @@ TEST(Impulse, PatchBlockInverseIsThePseudoInverse) {
       }
     Eigen::Matrix4d X;
     const bool usedClosed = patchBlockInverse(K, m, arm.data(), n, X);
-    if (way == kClosed) EXPECT_TRUE(usedClosed) << m << " points";
-    if (way == kEigen) EXPECT_FALSE(usedClosed) << m << " points on a line";
+    if (way == kClosed) {
+      EXPECT_TRUE(usedClosed) << m << " points";
+    }
+    if (way == kEigen) {
+      EXPECT_FALSE(usedClosed) << m << " points on a line";
+    }
     const Eigen::MatrixXd k = K.topLeftCorner(m, m), x = X.topLeftCorner(m, m);
     const double tol = 1e-8;
     EXPECT_LT((k * x * k - k).norm(), tol * k.norm()) << m;
