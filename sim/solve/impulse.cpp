@@ -282,7 +282,9 @@ bool prepareRow(const std::vector<Contact>& contacts, int k, const std::vector<B
 // reduced patch's points one normal; plane contacts share the plane's).
 // The patches among the rows first[0..count) of one island (contact order). Rows of one body
 // pair are consecutive contacts (each collider pair's contacts come out together), so a patch
-// is a run of consecutive contact indices with the same bodies and normal.
+// is a run of consecutive contact indices with the same bodies and normal. (Until 2026-12-03 it
+// was a run of consecutive rows; the two differ only where a contact without a row, from a
+// non-finite state, lies between two contacts of one pair.)
 void preparePatches(const std::vector<Contact>& contacts, const int* first, int count, Row* rows,
                     const Motion* motion, Patch* patches) {
   for (int f = 0; f < count;) {
