@@ -9,7 +9,11 @@
 
 namespace vf {
 
-constexpr int kGround = -1;  // body id of the floor plane (and, later, terrain)
+constexpr int kGround = -1;  // body id of the floor plane and of the terrain
+// Contact::leafB of a contact with the terrain (with the plane: 0). Both grounds are body
+// kGround, and a scene may have both where they coincide (scenes/cliff.toml's valley floor lies
+// on its plane): the leaf tells the two contacts of one leaf apart (ContactKey, warm starting).
+constexpr std::uint32_t kTerrainLeaf = 1;
 
 // One colliding leaf-sphere pair (section 4, fig. 5). Body `a` is the paper's body 1.
 struct Contact {

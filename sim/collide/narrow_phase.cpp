@@ -460,6 +460,7 @@ Contact groundContact(const Collider& a, const Collider& ground, const NodeRef& 
   c.a = a.body;
   c.b = ground.body;
   c.leafA = n.index;
+  c.leafB = kTerrainLeaf;  // used for the terrain only; the plane's contacts keep leafB = 0
   return c;
 }
 

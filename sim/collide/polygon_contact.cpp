@@ -288,6 +288,7 @@ std::uint64_t collidePolygonHeightfield(const Collider& a, const Collider& terra
     c.point = Vec3(v.x(), v.y(), h);
     c.depth = (h - v.z()) * c.normal.z();
     c.leafA = static_cast<std::uint32_t>(i);
+    c.leafB = kTerrainLeaf;  // not the plane's contact of the same vertex (contact.h)
     out.push_back(c);
   }
   return 1 + p.vertices.size();
