@@ -23,7 +23,7 @@ struct Contact {
   Vec3 normal = Vec3::UnitZ();  // n21 = (x1 - x2) / |x1 - x2|: direction of the force on `a`
   double depth = 0;             // r1 + r2 - |x1 - x2| (sphere overlap), m
   std::uint32_t leafA = 0;      // leaf-sphere index in a's tree (feature key)
-  std::uint32_t leafB = 0;      // leaf-sphere index in b's tree; 0 for the plane
+  std::uint32_t leafB = 0;      // leaf-sphere index in b's tree; plane 0, terrain kTerrainLeaf
 };
 
 // How much the tests that only prune (bounding spheres in the broad phase, inner nodes of the

@@ -128,8 +128,7 @@ struct Row {  // one contact, prepared
   double target;  // wanted normal velocity
   double mu;
   double jn = 0, jt1 = 0, jt2 = 0;  // accumulated impulses
-  int contact = 0;                  // index in the contact list (rows are kept by it)
-  bool patch = false;               // first row of a patch: its block is patches[contact]
+  bool patch = false;               // first row of a patch: its block is patches[k], k its contact
   bool fixedB = false;              // b does not move: its island's zero slot (groupIslands)
 };
 
@@ -254,7 +253,6 @@ bool prepareRow(const std::vector<Contact>& contacts, int k, const std::vector<B
     eps = m.restitution;
     r.mu = m.friction;
   }
-  r.contact = k;
   r.patch = false;
   r.jn = r.jt1 = r.jt2 = 0;
   const double vRel = c.normal.dot(pointVelocity(A, r.ra) - pointVelocity(B, r.rb));
