@@ -243,7 +243,7 @@ void World::stepToward(double target) {
   runaway_ = guard_.check(bodies_, states_, def_.gravity, time_, s.dt, def_.limits);
   if (runaway_) return;
 
-  s.nonFinite = integrate(bodies_, states_, s.dt, def_.rotation);
+  s.nonFinite = integrate(bodies_, states_, s.dt, def_.rotation, pool_.get());
   time_ = lands ? target : time_ + s.dt;
   s.secondsIntegrate = clock.lap();
 

@@ -975,6 +975,8 @@ constexpr CollideFn kCollide[kTypes][kTypes] = {
 constexpr int kJobsPerThread = 16;
 // Blocks of work per thread: enough that a thread that drew cheap blocks takes more.
 constexpr int kBlocksPerThread = 16;
+// Bodies per range when the colliders are posed on several threads (about 40 ns a body).
+constexpr int kBodiesPerRange = 64;
 
 }  // namespace
 
@@ -1043,20 +1045,22 @@ ContactCounts findContacts(const std::vector<BodyInfo>& bodies,
     std::vector<PairCandidates*> memo;
     std::vector<std::vector<Contact>> found;
     std::vector<ContactCounts> counts;
-    std::vector<std::pair<std::uint64_t, PairCandidates>> kept;  // the cache's next pair list
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> kept;  // the cache's next pair list
   };
   static thread_local Scratch scratch;
   // Each body's collider once (a rock is in about three jobs a step, and a job holding two
   // whole colliders took 320 bytes to write and to stride over).
   std::vector<Collider>& posed = scratch.posed;
   posed.resize(bodies.size());
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    if (!bodies[i].active) continue;
-    const Shape& s = *bodies[i].shape;
-    const int id = static_cast<int>(i);
-    posed[i] = s.polyhedron ? polygonCollider(id, *s.polyhedron, states[i].x, states[i].q)
-                            : sphereTreeCollider(id, *s.tree, states[i].x, states[i].q);
-  }
+  WorkerPool::forRanges(
+      pool, static_cast<int>(bodies.size()), kBodiesPerRange, [&](int lo, int hi) {
+        for (int i = lo; i < hi; ++i) {
+          if (!bodies[i].active) continue;
+          const Shape& s = *bodies[i].shape;
+          posed[i] = s.polyhedron ? polygonCollider(i, *s.polyhedron, states[i].x, states[i].q)
+                                  : sphereTreeCollider(i, *s.tree, states[i].x, states[i].q);
+        }
+      });
   // The collider pairs of this step, in the order their contacts must come out.
   std::vector<std::pair<const Collider*, const Collider*>>& jobs = scratch.jobs;
   jobs.clear();
@@ -1080,8 +1084,10 @@ ContactCounts findContacts(const std::vector<BodyInfo>& bodies,
       return jobs[k].first->type == ColliderType::kSphereTree &&
              jobs[k].second->type != ColliderType::kPolygon;
     };
-    std::vector<std::pair<std::uint64_t, PairCandidates>>& old = candidates->pairs;
-    std::vector<std::pair<std::uint64_t, PairCandidates>>& kept = scratch.kept;
+    std::vector<std::pair<std::uint64_t, std::uint32_t>>& old = candidates->pairs;
+    std::vector<std::pair<std::uint64_t, std::uint32_t>>& kept = scratch.kept;
+    std::vector<PairCandidates>& slots = candidates->slots;
+    std::vector<std::uint32_t>& freeSlots = candidates->freeSlots;
     kept.clear();
     std::size_t k = 0, o = 0;
     for (; k < jobs.size() && jobs[k].second->type != ColliderType::kPlane &&
@@ -1090,15 +1096,24 @@ ContactCounts findContacts(const std::vector<BodyInfo>& bodies,
       if (!treeJob(k)) continue;
       const std::uint64_t key = (static_cast<std::uint64_t>(jobs[k].first->body) << 32) |
                                 static_cast<std::uint32_t>(jobs[k].second->body);
-      while (o < old.size() && old[o].first < key) ++o;  // pairs gone since: dropped
-      if (o < old.size() && old[o].first == key)
-        kept.emplace_back(key, std::move(old[o++].second));
-      else
-        kept.emplace_back(key, PairCandidates{});
+      for (; o < old.size() && old[o].first < key; ++o)  // pairs gone since: their slots freed
+        freeSlots.push_back(old[o].second);
+      if (o < old.size() && old[o].first == key) {
+        kept.push_back(old[o++]);
+      } else if (!freeSlots.empty()) {
+        kept.emplace_back(key, freeSlots.back());
+        freeSlots.pop_back();
+        slots[kept.back().second].restart();
+      } else {
+        kept.emplace_back(key, static_cast<std::uint32_t>(slots.size()));
+        slots.emplace_back();
+      }
     }
-    old.swap(kept);  // complete now: pointers into it stay valid for this call
+    for (; o < old.size(); ++o) freeSlots.push_back(old[o].second);
+    old.swap(kept);
+    // `slots` is complete now: pointers into it stay valid for this call.
     for (std::size_t k2 = 0, p = 0; k2 < k; ++k2)
-      if (treeJob(k2)) memo[k2] = &old[p++].second;
+      if (treeJob(k2)) memo[k2] = &slots[old[p++].second];
     // Ground pairs by body. Only moving bodies have ground jobs: a body that does not move
     // this call (asleep, gone) starts afresh when it moves again.
     const std::size_t n = bodies.size();
@@ -1113,7 +1128,7 @@ ContactCounts findContacts(const std::vector<BodyInfo>& bodies,
     for (std::size_t i = 0; i < n; ++i)
       if (!bodies[i].moves())
         for (PairCandidates* c : {&candidates->plane[i], &candidates->terrain[i]})
-          if (c->holds || c->hasLast) *c = PairCandidates{};
+          if (c->holds || c->hasLast) c->restart();
   }
   // One job's contacts appended to sink, reduced if asked: each collider pair on its own, by
   // the thread that found them. A sphere tree on the plane is reduced as its contacts come

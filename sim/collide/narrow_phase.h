@@ -108,13 +108,31 @@ struct PairCandidates {
   // Against the plane: the body-frame bounds of the centres of each group of kPatchGroup
   // consecutive candidates (contact_reduction.h), for the reduction from candidates.
   std::vector<Vec3> groupLo, groupHi;
+
+  // Back to a fresh entry's state (every field as initialised above, no candidates), keeping
+  // the lists' memory.
+  void restart() {
+    served = holds = hasLast = false;
+    buildR = lastR = Mat3::Identity();
+    buildT = lastT = Vec3::Zero();
+    buildH = lastH = margin = 0;
+    leaves.clear();
+    runs.clear();
+    centersB.clear();
+    groupLo.clear();
+    groupHi.clear();
+  }
 };
 // The candidates of every sphere-tree pair that findContacts tested in its last call (a pair
 // it did not test, because it is gone or nothing in it moves, starts afresh when tested again).
 struct CandidateCache {
-  // Body pairs, sorted by key (body a in the high half, body b in the low): each call merges
-  // them with its own sorted pairs, so no pair is looked up by hashing.
-  std::vector<std::pair<std::uint64_t, PairCandidates>> pairs;
+  // Body pairs: (key, slot) sorted by key (body a in the high half, body b in the low); each
+  // call merges them with its own sorted pairs, so no pair is looked up by hashing. The
+  // candidates themselves stay in their slot for as long as the pair is tested (a merge moves
+  // 12-byte entries, not 400-byte candidates); slots of pairs gone are reused, fresh.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> pairs;
+  std::vector<PairCandidates> slots;
+  std::vector<std::uint32_t> freeSlots;
   std::vector<PairCandidates> plane, terrain;  // each body's against the floor, the terrain
   std::uint64_t descents = 0, served = 0;      // pair tests by descent; by candidates only
 };

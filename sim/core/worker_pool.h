@@ -5,8 +5,11 @@
 // step can end, and on a machine whose other cores are busy that took milliseconds: 300 rocks
 // on 2 threads ran 3x slower than on one while a build ran beside them. Here a worker that is
 // not running when the blocks run out is never waited for (the caller has done its share), so
-// a loaded machine costs at most what one thread costs. Which thread runs a block changes no
-// result: the callers give each block its own output and merge them in block order.
+// a loaded machine costs at most what one thread costs. A thread out of blocks polls for up to
+// 2 ms before it sleeps, where the pool's threads do not outnumber the machine's (waking a
+// sleeping thread cost 50-100 us on the development VM; worker_pool.cpp). Which thread runs a
+// block changes no result: the callers give each block its own output and merge them in block
+// order.
 #pragma once
 
 #include <functional>
@@ -26,6 +29,13 @@ class WorkerPool {
   // Calls work(i) once for every i in [0, count), on the calling thread and on the workers that
   // are free, and returns when every call has returned. `work` must not throw.
   void run(int count, const std::function<void(int)>& work);
+
+  // Calls work(begin, end) for consecutive ranges that cover [0, count) once, each at least
+  // `grain` long (a range of one body's work costs less than waking a thread), on the threads
+  // of `pool`, or as one range on the calling thread if pool is null or count < 2 grain. For
+  // per-body loops whose bodies are independent: each body is handled as it would be alone.
+  static void forRanges(WorkerPool* pool, int count, int grain,
+                        const std::function<void(int, int)>& work);
 
  private:
   struct Impl;

@@ -165,6 +165,8 @@ struct SolverScratch {
 constexpr int kRowsPerThread = 64;
 // Runs of islands per thread: enough that a thread whose runs were cheap takes more.
 constexpr int kRunsPerThread = 8;
+// Bodies per range when the motions are prepared on several threads (about 60 ns a body).
+constexpr int kBodiesPerRange = 64;
 
 Vec3 pointVelocity(const Motion& m, const Vec3& r) { return m.v + m.w.cross(r); }
 
@@ -208,18 +210,23 @@ inline __attribute__((always_inline)) void push(const Axis& x, double j, Motion&
 // Each moving body's velocities and world inverse inertia; slot n (the floor) and the bodies
 // that do not move stay zero.
 void prepareMotion(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
-                   std::vector<Motion>& motion) {
+                   WorkerPool* pool, std::vector<Motion>& motion) {
   const int n = static_cast<int>(bodies.size());
-  motion.assign(n + 1, Motion{});
-  for (int i = 0; i < n; ++i) {
-    if (!bodies[i].moves()) continue;
-    const BodyState& y = states[i];
-    Motion& m = motion[i];
-    m.invMass = bodies[i].invMass;
-    m.invI = inverseInertiaWorld(bodies[i], y);
-    m.v = velocityOf(bodies[i], y);
-    m.w = m.invI * y.L;
-  }
+  motion.resize(n + 1);
+  WorkerPool::forRanges(pool, n + 1, kBodiesPerRange, [&](int lo, int hi) {
+    for (int i = lo; i < hi; ++i) {
+      Motion& m = motion[i];
+      if (i == n || !bodies[i].moves()) {
+        m = Motion{};
+        continue;
+      }
+      const BodyState& y = states[i];
+      m.invMass = bodies[i].invMass;
+      m.invI = inverseInertiaWorld(bodies[i], y);
+      m.v = velocityOf(bodies[i], y);
+      m.w = m.invI * y.L;
+    }
+  });
 }
 
 // Contact k's row: axes, material, restitution target, from the velocities before any
@@ -554,7 +561,7 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
   // thread's own (empty) copy.
   static thread_local SolverScratch scratch;
   SolverScratch& w = scratch;
-  prepareMotion(bodies, states, w.motion);
+  prepareMotion(bodies, states, settings.pool, w.motion);
   const int islands = groupIslands(contacts, bodies, w);
   w.rows.resize(contacts.size());
   if (settings.patchBlocks) w.patches.resize(contacts.size());

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace vf {
@@ -55,6 +56,40 @@ TEST(WorkerPool, AWorkerTakesBlocksBesideTheCaller) {
     if (started.load() >= 2) met.fetch_add(1);
   });
   EXPECT_EQ(met.load(), 2) << "a block ran alone: no worker took one";
+}
+
+// forRanges covers [0, count) with consecutive ranges, each once and none shorter than the
+// grain, and keeps short loops (and loops without a pool) in one range on the caller.
+TEST(WorkerPool, ForRangesCoversEveryIndexOnceInRangesOfAtLeastTheGrain) {
+  WorkerPool pool(2);
+  for (WorkerPool* p : {static_cast<WorkerPool*>(nullptr), &pool}) {
+    for (int count : {0, 1, 63, 64, 127, 128, 129, 1000, 4099}) {
+      std::vector<int> hits(count, 0);
+      std::vector<std::pair<int, int>> ranges(64, {-1, -1});
+      std::atomic<int> made{0};
+      const std::thread::id caller = std::this_thread::get_id();
+      std::atomic<bool> offCaller{false};
+      WorkerPool::forRanges(p, count, 64, [&](int lo, int hi) {
+        ranges[made.fetch_add(1)] = {lo, hi};
+        for (int i = lo; i < hi; ++i) ++hits[i];
+        if (std::this_thread::get_id() != caller) offCaller = true;
+      });
+      for (int i = 0; i < count; ++i) ASSERT_EQ(hits[i], 1) << count << " items, index " << i;
+      const int n = made.load();
+      if (count == 0) {
+        EXPECT_EQ(n, 0);
+        continue;
+      }
+      if (!p || count < 128) {
+        EXPECT_EQ(n, 1) << count << " items";
+        EXPECT_FALSE(offCaller.load());
+        continue;
+      }
+      EXPECT_GT(n, 1) << count << " items";
+      EXPECT_LE(n, 8) << "more than four ranges per thread";
+      for (int r = 0; r < n; ++r) EXPECT_GE(ranges[r].second - ranges[r].first, 64);
+    }
+  }
 }
 
 }  // namespace
