@@ -31,9 +31,10 @@ class WorkerPool {
   void run(int count, const std::function<void(int)>& work);
 
   // Calls work(begin, end) for consecutive ranges that cover [0, count) once, each at least
-  // `grain` long (a range of one body's work costs less than waking a thread), on the threads
-  // of `pool`, or as one range on the calling thread if pool is null or count < 2 grain. For
-  // per-body loops whose bodies are independent: each body is handled as it would be alone.
+  // `grain` long (shorter ones cost more to hand to another thread than they save), on the
+  // threads of `pool`, or as one range on the calling thread if pool is null or count < 2
+  // grain. For per-body loops whose bodies are independent: each body is handled as it would
+  // be alone, so the results are the same bits for any thread count.
   static void forRanges(WorkerPool* pool, int count, int grain,
                         const std::function<void(int, int)>& work);
 

@@ -445,7 +445,9 @@ TEST(NarrowPhase, ABodyPairTakingAFreedSlotStartsAfresh) {
     ASSERT_TRUE(sameContacts(plain, served)) << "pose " << k;
     // (1, 2) follows (0, 1) in key order, so the merge frees (0, 1)'s slot before it meets
     // (1, 2), which takes it.
-    if (k == 10) EXPECT_EQ(cache.slots.size(), 1u) << "the pairs did not share a slot";
+    if (k == 10) {
+      EXPECT_EQ(cache.slots.size(), 1u) << "the pairs did not share a slot";
+    }
     ++compared;
   }
   EXPECT_EQ(compared, 60);
