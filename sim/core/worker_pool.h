@@ -26,6 +26,9 @@ class WorkerPool {
   WorkerPool& operator=(const WorkerPool&) = delete;
 
   int threads() const;
+  // Whether threads out of blocks poll before they sleep: more than one thread, and no more
+  // than the processors this process may run on (its affinity mask: `taskset`, cpusets).
+  bool polls() const;
   // Calls work(i) once for every i in [0, count), on the calling thread and on the workers that
   // are free, and returns when every call has returned. `work` must not throw.
   void run(int count, const std::function<void(int)>& work);

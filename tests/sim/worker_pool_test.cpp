@@ -5,6 +5,7 @@
 #include "sim/core/worker_pool.h"
 
 #include <gtest/gtest.h>
+#include <sched.h>
 
 #include <atomic>
 #include <chrono>
@@ -56,6 +57,27 @@ TEST(WorkerPool, AWorkerTakesBlocksBesideTheCaller) {
     if (started.load() >= 2) met.fetch_add(1);
   });
   EXPECT_EQ(met.load(), 2) << "a block ran alone: no worker took one";
+}
+
+// Polling is for threads that each have a processor: a pool of two polls where the process may
+// run on two processors or more, and not once it is pinned to one (there, a polling worker
+// would hold the caller's only processor; 300 rocks on 2 threads ran 2x slower than on one).
+TEST(WorkerPool, PollsOnlyWhereEveryThreadHasAProcessor) {
+  EXPECT_FALSE(WorkerPool(1).polls());
+  cpu_set_t all;
+  ASSERT_EQ(sched_getaffinity(0, sizeof all, &all), 0);
+  const int usable = CPU_COUNT(&all);
+  EXPECT_EQ(WorkerPool(2).polls(), usable >= 2);
+  EXPECT_FALSE(WorkerPool(usable + 1).polls());
+  int first = 0;
+  while (!CPU_ISSET(first, &all)) ++first;
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  CPU_SET(first, &one);
+  ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
+  const bool pinnedPolls = WorkerPool(2).polls();
+  ASSERT_EQ(sched_setaffinity(0, sizeof all, &all), 0);  // restored before any check can return
+  EXPECT_FALSE(pinnedPolls);
 }
 
 // forRanges covers [0, count) with consecutive ranges, each once and none shorter than the
