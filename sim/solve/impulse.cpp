@@ -155,8 +155,7 @@ struct SolverScratch {
   std::vector<Row> rows;
   std::vector<Patch> patches;
   // rows[k] and patches[k] belong to contact k (most patches[k] unused: no clearing needed).
-  std::vector<int> root, islandOfRoot, start, end, order, contactIsland, next, runStart,
-      islandPasses;
+  std::vector<int> root, islandOfRoot, start, order, contactIsland, next, runStart, islandPasses;
   std::vector<char> made;  // made[k]: contact k has a row
 };
 
@@ -331,9 +330,9 @@ void preparePatches(const std::vector<Contact>& contacts, const int* first, int 
 // The ground and bodies that do not move take no impulse: their motion stays zero, but every
 // row still writes it, so each island gets a zero slot of its own (n + island) for them.
 // Fills w.start (island i's contacts are w.order[start[i], start[i + 1])), w.order (contact
-// indices, island by island, in contact order within each), w.end (set by the island's job:
-// its rows are w.order[start[i], end[i])) and the zero slots; returns the island count. A
-// contact of which neither side moves has no row and no island.
+// indices, island by island, in contact order within each; the island's job moves those that
+// get a row to the front of its range) and the zero slots; returns the island count. A contact
+// of which neither side moves has no row and no island.
 int groupIslands(const std::vector<Contact>& contacts, const std::vector<BodyInfo>& bodies,
                  SolverScratch& w) {
   const int n = static_cast<int>(bodies.size());
@@ -364,7 +363,6 @@ int groupIslands(const std::vector<Contact>& contacts, const std::vector<BodyInf
   int offset = 0;
   for (int& s : start) offset += std::exchange(s, offset);
   start.push_back(offset);
-  w.end.assign(start.begin(), start.end() - 1);
   w.order.resize(offset);
   w.next.assign(start.begin(), start.end() - 1);
   for (int k = 0; k < count; ++k)
@@ -483,7 +481,7 @@ int solveIslands(int islands, const std::vector<Contact>& contacts,
   const double scale = cache.dt > 0 ? std::min(1.0, settings.dt / cache.dt) : 0.0;
   auto solve = [&](int i) {
     int* order = w.order.data();
-    int& end = w.end[i];
+    int end = w.start[i];                              // the rows made so far: order[start[i], end)
     for (int p = w.start[i]; p < w.start[i + 1]; ++p)  // rows that exist, in contact order
       if (prepareRow(contacts, order[p], bodies, states, settings, w.motion, n + i,
                      w.rows[static_cast<std::size_t>(order[p])])) {
