@@ -975,8 +975,6 @@ constexpr CollideFn kCollide[kTypes][kTypes] = {
 constexpr int kJobsPerThread = 16;
 // Blocks of work per thread: enough that a thread that drew cheap blocks takes more.
 constexpr int kBlocksPerThread = 16;
-// Bodies per range when the colliders are posed on several threads (about 40 ns a body).
-constexpr int kBodiesPerRange = 64;
 
 }  // namespace
 
@@ -1053,7 +1051,7 @@ ContactCounts findContacts(const std::vector<BodyInfo>& bodies,
   std::vector<Collider>& posed = scratch.posed;
   posed.resize(bodies.size());
   WorkerPool::forRanges(
-      pool, static_cast<int>(bodies.size()), kBodiesPerRange, [&](int lo, int hi) {
+      pool, static_cast<int>(bodies.size()), WorkerPool::kBodiesPerRange, [&](int lo, int hi) {
         for (int i = lo; i < hi; ++i) {
           if (!bodies[i].active) continue;
           const Shape& s = *bodies[i].shape;

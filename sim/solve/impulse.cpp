@@ -164,8 +164,6 @@ struct SolverScratch {
 constexpr int kRowsPerThread = 64;
 // Runs of islands per thread: enough that a thread whose runs were cheap takes more.
 constexpr int kRunsPerThread = 8;
-// Bodies per range when the motions are prepared on several threads (about 60 ns a body).
-constexpr int kBodiesPerRange = 64;
 
 Vec3 pointVelocity(const Motion& m, const Vec3& r) { return m.v + m.w.cross(r); }
 
@@ -212,10 +210,11 @@ void prepareMotion(const std::vector<BodyInfo>& bodies, const std::vector<BodySt
                    WorkerPool* pool, std::vector<Motion>& motion) {
   const int n = static_cast<int>(bodies.size());
   motion.resize(n + 1);
-  WorkerPool::forRanges(pool, n + 1, kBodiesPerRange, [&](int lo, int hi) {
+  motion[n] = Motion{};
+  WorkerPool::forRanges(pool, n, WorkerPool::kBodiesPerRange, [&](int lo, int hi) {
     for (int i = lo; i < hi; ++i) {
       Motion& m = motion[i];
-      if (i == n || !bodies[i].moves()) {
+      if (!bodies[i].moves()) {
         m = Motion{};
         continue;
       }

@@ -59,17 +59,13 @@ bool integrateBody(const BodyInfo& b, BodyState& y, double dt, RotationUpdate ro
   return true;
 }
 
-// Bodies per range when the integration is split over threads: a body takes about 50 ns
-// (1,000 rocks on the cliff), and fewer than this are not worth handing to another thread.
-constexpr int kBodiesPerRange = 64;
-
 }  // namespace
 
 std::uint64_t integrate(const std::vector<BodyInfo>& bodies, std::vector<BodyState>& states,
                         double dt, RotationUpdate rotation, WorkerPool* pool) {
   std::atomic<std::uint64_t> frozen{0};
   WorkerPool::forRanges(
-      pool, static_cast<int>(bodies.size()), kBodiesPerRange, [&](int lo, int hi) {
+      pool, static_cast<int>(bodies.size()), WorkerPool::kBodiesPerRange, [&](int lo, int hi) {
         for (int i = lo; i < hi; ++i)
           if (bodies[i].moves() && !integrateBody(bodies[i], states[i], dt, rotation)) ++frozen;
       });
