@@ -824,9 +824,10 @@ std::uint64_t collideTreePlanePatch(const Collider& a, const Collider& p, PairCa
 // body's). Why a margin bounds what a motion can change, although the leaf test is not
 // Lipschitz in the centre (near a NODATA hole a centre deep below a cell is far from every
 // triangle): the argument is containment, as for the plain descent. A node is dropped when its
-// sphere S lies above `surfaceBoundNear` over S's footprint square, and every way a sphere s
-// inside S could touch (its centre below the surface, a triangle point inside it, the border
-// wall beside it) needs a surface or wall point under that bound inside the square: none. A
+// sphere S lies above `surfaceBoundNear` over S's footprint square, is clear of its planes, or
+// lies above the surface by `sphereAbove`, and every way a sphere s inside S could touch (its
+// centre below the surface, a triangle point inside it, the border wall beside it) needs a
+// surface or wall point inside S or under that bound inside the square: none. A
 // leaf that the descent widened by the margin m did not reach had such an S, of radius at least
 // its own plus m, about its old centre; while no leaf centre has moved by m since, the leaf's
 // sphere still lies inside S, so it does not touch. Every touching leaf is then a candidate,
@@ -844,12 +845,19 @@ std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
   // the highest sample under it is no higher than the parent's: a child whose sphere lies above
   // that is dropped without looking the cells up (the same answer, cheaper; a third of the
   // terrain narrow phase's time went into the lookups with 1,000 rocks).
+  // An inner node that passes the bound and the planes gets the exact test, sphereAbove (a
+  // leaf's own test is exact already). Near a ridge the planes keep nodes however far they are
+  // from the surface (the other triangle's extended plane rises above it): a rock bouncing
+  // down the Tyrol DEM's 5 m cells took 83 leaf tests a step, for 0.06 contacts; 2.9 with it.
+  const double leafRadius = tree.leaves().radius;
   auto mayTouch = [&](const Vec3& c, double r, double& bound) {
+    const bool inner = r > leafRadius;
     r += widen;
     if (c.z() - r >= bound) return false;
     bool clear;
     bound = field.surfaceBoundNear(c, r, clear);
-    return c.z() - r < bound && !clear;
+    if (clear || c.z() - r >= bound) return false;
+    return !inner || !field.sphereAbove(c, r);
   };
   auto leaf = [&](const NodeRef& n, double r) {
     const Vec3& c = n.center;
@@ -911,7 +919,6 @@ std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
   if (!memo) return descendAlone(a, mayTouch, leaf);
 
   const int leafLevel = tree.leafLevel();
-  const double leafRadius = tree.leaves().radius;
   // How far any leaf centre (within the bounding radius of the origin) moved since a pose.
   auto moved = [&](const Mat3& R, const Vec3& x) {
     return (a.x - x).norm() + (a.R - R).norm() * tree.boundingRadius;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "sim/geometry/mesh_bvh.h"
+
 namespace vf {
 
 Vec3 Heightfield::normalAt(double x, double y) const {
@@ -14,6 +16,41 @@ Vec3 Heightfield::normalAt(double x, double y) const {
   cellTriangles(i, j, tri);
   const Vec3* t = (gx - i) >= (gy - j) ? tri[0] : tri[1];
   return (t[1] - t[0]).cross(t[2] - t[0]).normalized();
+}
+
+bool Heightfield::sphereAbove(const Vec3& c, double r) const {
+  const double xEnd = x0 + (nx - 1) * cell, yEnd = y0 + (ny - 1) * cell;
+  if (!(c.x() - r > x0 && c.y() - r > y0 && c.x() + r < xEnd && c.y() + r < yEnd)) return false;
+  const double reach = r * (1 + 1e-9) + 1e-9, reach2 = reach * reach, cell2 = cell * cell;
+  // The plane of the triangle under the centre (heightAt's): the centre must lie above it,
+  // farther than r (its height d above it, d^2 > r^2 (1 + (a^2 + b^2) / cell^2)).
+  const double gx = (c.x() - x0) / cell, gy = (c.y() - y0) / cell;
+  const int ic = cellIndex(gx, nx - 2), jc = cellIndex(gy, ny - 2);
+  if (!hasCell(ic, jc)) return false;
+  const double u = gx - ic, v = gy - jc;
+  const double z00 = at(ic, jc), z10 = at(ic + 1, jc), z01 = at(ic, jc + 1),
+               z11 = at(ic + 1, jc + 1);
+  const double a = u >= v ? z10 - z00 : z11 - z01, b = u >= v ? z11 - z10 : z01 - z00;
+  const double d = c.z() - (z00 + u * a + v * b);
+  if (!(d > 0 && d * d * cell2 > reach2 * (cell2 + a * a + b * b))) return false;
+  // Then every triangle under the square out of reach.
+  int i0, i1, j0, j1;
+  cellRange(c.x(), c.y(), r, i0, i1, j0, j1);
+  Vec3 tri[2][3];
+  TriangleFeature feature;
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      if (!hasCell(i, j)) return false;
+      cellTriangles(i, j, tri);
+      for (const auto& t : tri) {
+        const Vec3 normal = (t[1] - t[0]).cross(t[2] - t[0]);  // a triangle lies in its plane
+        const double s = normal.dot(c - t[0]);
+        if (s * s > reach2 * normal.squaredNorm()) continue;
+        if ((c - closestPointOnTriangle(c, t[0], t[1], t[2], feature)).squaredNorm() <= reach2)
+          return false;
+      }
+    }
+  return true;
 }
 
 double Heightfield::maxHeightNear(double x, double y, double r) const {

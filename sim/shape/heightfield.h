@@ -60,26 +60,35 @@ struct Heightfield {
   // there is no higher); -infinity when the square misses the grid or has no data.
   double maxHeightNear(double x, double y, double r) const;
   // An upper bound of the triangulated surface over [x - r, x + r] x [y - r, y + r], m, much
-  // tighter than maxHeightNear on slopes: per cell with data, the larger of its two triangles'
-  // planes at the corners of the part of the square over that cell (a linear function's
-  // maximum over a rectangle is at a corner), capped by the cell's highest sample, plus 1e-9 m
-  // against rounding; -infinity when the square meets no cell with data.
+  // tighter than maxHeightNear on slopes: per cell with data, the larger of the planes of its
+  // triangles that the square reaches, at the corners of the part of the square over that cell
+  // (a linear function's maximum over a rectangle is at a corner), capped by the cell's highest
+  // sample, plus 1e-9 m against rounding; -infinity when the square meets no cell with data.
   double surfaceBoundNear(double x, double y, double r) const {
     bool clear;
     return scanNear<false>(Vec3(x, y, 0), r, clear);
   }
   // surfaceBoundNear(c.x, c.y, r), and in `clear` whether the sphere of radius r about c lies
-  // on the upper side of the plane of every triangle over that square, more than r (plus 1e-9 m
-  // against rounding) from it, or above the highest sample of the triangle's cell. Then no point
-  // of the surface, and no point of the border wall (which lies below the surface line of a
-  // border triangle), is within r of c, and c is above the surface: the sphere touches nothing
-  // there. On a slope this decides where the bound cannot: the plane's maximum over the square
-  // lies above the sphere's lowest point unless the sphere is 1 + |gradient| radii above the
-  // plane (measured vertically), while its distance to the plane needs sqrt(1 + |gradient|^2).
-  // Squares that miss the grid, and cells without data, are clear.
+  // on the upper side of the plane of every triangle that the square reaches, more than r (plus
+  // 1e-9 m against rounding) from it, or above the highest sample of the triangle's cell. Then no
+  // point of the surface, and no point of the border wall (which lies below the surface line of a
+  // border triangle, which the square reaches wherever it reaches the border), is within r of
+  // c, and c is above the surface: the sphere touches nothing there. On a slope this decides where
+  // the bound cannot: the plane's maximum over the square lies above the sphere's lowest point
+  // unless the sphere is 1 + |gradient| radii above the plane (measured vertically), while its
+  // distance to the plane needs sqrt(1 + |gradient|^2). Squares that miss the grid, and cells
+  // without data, are clear.
   double surfaceBoundNear(const Vec3& c, double r, bool& clear) const {
     return scanNear<true>(c, r, clear);
   }
+  // True when the sphere of radius r about c lies strictly above the surface: no point of a
+  // triangle under its footprint square within r (1e-9 relative and 1e-9 m allowed for
+  // rounding) and its centre above. It then touches neither the surface nor the border wall.
+  // The exact form of surfaceBoundNear's plane test, and dearer. May answer false for a sphere
+  // that is above (never true for one that is not): when its square reaches the grid's
+  // border or a cell without data, and when its centre is within r of the plane of the
+  // triangle under it (a cheap first answer, right for nearly every node near the surface).
+  bool sphereAbove(const Vec3& c, double r) const;
   // The surface height that a body whose lowest point is at `bottom` rests on when its points
   // `pts` (world) are lowered straight down until the first touches the surface:
   // bottom - min over pts of (p.z - heightAt(p.x, p.y)). Points over no data are skipped;
@@ -115,24 +124,29 @@ struct Heightfield {
         // Planes of the triangles (p00, p10, p11) and (p00, p11, p01) in cell coordinates u, v:
         // z = z00 + a1 u + b1 v and z = z00 + a2 u + b2 v.
         const double a1 = z10 - z00, b1 = z11 - z10, a2 = z11 - z01, b2 = z01 - z00;
+        // The part of the square over the cell, [u0, u1] x [v0, v1], reaches the first
+        // triangle (u >= v) when u1 >= v0 and the second (u <= v) when v1 >= u0; at least one.
+        // A triangle it does not reach is no part of the surface under the square.
+        const double u0 = std::clamp(s.gx0 - i, 0.0, 1.0), u1 = std::clamp(s.gx1 - i, 0.0, 1.0);
+        const bool reaches1 = u1 >= v0, reaches2 = v1 >= u0;
         if (kPlanes && clear && bottom <= samples) {
           // c is more than r from a plane when its height d above it (less the margin) is
           // positive and d^2 > r^2 (1 + (a^2 + b^2) / cell^2).
           const double u = gx - i, v = gy - j;
           const double d1 = c.z() - (z00 + u * a1 + v * b1) - 1e-9;
           const double d2 = c.z() - (z00 + v * b2 + u * a2) - 1e-9;
-          clear = d1 > 0 && d1 * d1 * cell2 > r2 * (cell2 + a1 * a1 + b1 * b1) && d2 > 0 &&
-                  d2 * d2 * cell2 > r2 * (cell2 + a2 * a2 + b2 * b2);
+          clear = (!reaches1 || (d1 > 0 && d1 * d1 * cell2 > r2 * (cell2 + a1 * a1 + b1 * b1))) &&
+                  (!reaches2 || (d2 > 0 && d2 * d2 * cell2 > r2 * (cell2 + a2 * a2 + b2 * b2)));
         }
         // An extended plane can rise above the cell's samples where the other triangle lies;
         // the surface over the cell never does. A cell whose samples are no higher than the
         // bound so far cannot raise it.
         if (samples <= top) continue;
-        const double u0 = std::clamp(s.gx0 - i, 0.0, 1.0), u1 = std::clamp(s.gx1 - i, 0.0, 1.0);
         const double u = a1 > 0 ? u1 : u0, v = b1 > 0 ? v1 : v0;  // each plane's highest corner
         const double uu = a2 > 0 ? u1 : u0, vv = b2 > 0 ? v1 : v0;
-        top = std::max(top,
-                       std::min(samples, std::max(z00 + u * a1 + v * b1, z00 + vv * b2 + uu * a2)));
+        const double high1 = reaches1 ? z00 + u * a1 + v * b1 : -INFINITY;
+        const double high2 = reaches2 ? z00 + vv * b2 + uu * a2 : -INFINITY;
+        top = std::max(top, std::min(samples, std::max(high1, high2)));
       }
     }
     return top + 1e-9;

@@ -47,6 +47,25 @@ std::string planeGrid(int nx, int ny, double cell, double x0, double y0, bool co
   return s;
 }
 
+// 12 x 12 samples of 0.5 m from the origin, heights uniform in [0, 2], and a hole: sample 40,
+// (4, 3), is NODATA, so its four cells, [1.5, 2.5] x [1, 2] m, have no surface.
+Heightfield roughGrid(Prng& rng) {
+  Heightfield rough;
+  rough.nx = rough.ny = 12;
+  rough.cell = 0.5;
+  for (int s = 0; s < 144; ++s) rough.z.push_back(rng.uniform(0, 2));
+  rough.z[40] = NAN;
+  return rough;
+}
+
+// A random sphere over roughGrid's square [0, end]^2 or up to 0.5 m beside it, at most 3 m
+// high: its centre, and its radius in r.
+Vec3 sphereNear(Prng& rng, double end, double& r) {
+  const double x = rng.uniform(-0.5, end + 0.5), y = rng.uniform(-0.5, end + 0.5);
+  r = rng.uniform(0.01, 0.6);
+  return Vec3(x, y, rng.uniform(0, 3));
+}
+
 TEST(Heightfield, ReadsCornerAndCentreHeadersWithRowsFromTheNorth) {
   for (bool corner : {true, false}) {
     const Heightfield h = loadDem(writeGrid("plane.asc", planeGrid(5, 4, 0.5, 10, 20, corner)));
@@ -311,11 +330,7 @@ TEST(Heightfield, SurfaceBoundIsThePlanesMaximumAndNeverBelowARoughSurface) {
     const double x = rng.uniform(-3, 3), y = rng.uniform(-3, 3), r = rng.uniform(0.01, 0.6);
     EXPECT_NEAR(tilt.surfaceBoundNear(x, y, r), 0.3 * (x + r) - 0.2 * (y - r) + 1, 2e-9);
   }
-  Heightfield rough;
-  rough.nx = rough.ny = 12;
-  rough.cell = 0.5;
-  for (int s = 0; s < 144; ++s) rough.z.push_back(rng.uniform(0, 2));
-  rough.z[40] = NAN;  // a hole: its four cells have no surface
+  const Heightfield rough = roughGrid(rng);
   for (int k = 0; k < 200; ++k) {
     const double x = rng.uniform(-0.5, 6), y = rng.uniform(-0.5, 6), r = rng.uniform(0.01, 0.6);
     const double bound = rough.surfaceBoundNear(x, y, r);
@@ -356,17 +371,13 @@ TEST(Heightfield, ClearOfThePlanesMeansNoSurfaceWithinTheRadius) {
     EXPECT_LT(clear.z() - r, bound);  // the bound alone keeps it
   }
 
-  Heightfield rough;
-  rough.nx = rough.ny = 12;
-  rough.cell = 0.5;
-  for (int s = 0; s < 144; ++s) rough.z.push_back(rng.uniform(0, 2));
-  rough.z[40] = NAN;  // a hole: its four cells have no surface
+  const Heightfield rough = roughGrid(rng);
   const double end = 0.5 * 11;
   int clear = 0, notClear = 0;
   for (int k = 0; k < 600; ++k) {
-    const double x = rng.uniform(-0.5, end + 0.5), y = rng.uniform(-0.5, end + 0.5);
-    const double r = rng.uniform(0.01, 0.6), z = rng.uniform(0, 3);
-    const Vec3 c(x, y, z);
+    double r;
+    const Vec3 c = sphereNear(rng, end, r);
+    const double x = c.x(), y = c.y(), z = c.z();
     bool isClear = false;
     const double bound = rough.surfaceBoundNear(c, r, isClear);
     EXPECT_EQ(bound, rough.surfaceBoundNear(x, y, r));
@@ -399,6 +410,85 @@ TEST(Heightfield, ClearOfThePlanesMeansNoSurfaceWithinTheRadius) {
   }
   EXPECT_GT(clear, 60);
   EXPECT_GT(notClear, 60);
+}
+
+// One cell of 1 m folded into a ridge along its diagonal (p00 and p11 at z = 1, p10 and p01 at
+// 0): over the first triangle the second's extended plane rises above the surface, the case
+// where the plane test alone keeps spheres that are far from the surface.
+Heightfield ridgeCell() {
+  Heightfield h;
+  h.nx = h.ny = 2;
+  h.cell = 1;
+  h.z = {1, 0, 0, 1};  // z[j * nx + i]: (0,0), (1,0), (0,1), (1,1)
+  return h;
+}
+
+// The plane test decides by the triangles the square reaches. Oracle: by hand on the ridge
+// cell (planes z = 1 - u + v over u >= v and z = 1 + u - v over u <= v, cell units = m). A
+// sphere of r = 0.1 at (0.9, 0.1), 0.3 above the first triangle (0.173 from its plane), has a
+// square that misses the second triangle: clear, although it lies 1.3 below the second's
+// extended plane. A sphere of r = 0.05 at (0.55, 0.45, 1.05), 0.15 above the first triangle,
+// has a square that reaches both, and lies below the second's plane (1.1 there) and under the
+// cell's highest sample: not clear by the planes, yet 0.087 from the nearest surface point, the
+// ridge point (0.5, 0.5, 1): sphereAbove, the exact test, says so.
+TEST(Heightfield, PlaneTestIgnoresATriangleTheSquareMisses) {
+  const Heightfield ridge = ridgeCell();
+  bool clear = false;
+  ridge.surfaceBoundNear(Vec3(0.9, 0.1, 0.2 + 0.3), 0.1, clear);
+  EXPECT_TRUE(clear);
+  ridge.surfaceBoundNear(Vec3(0.9, 0.1, 0.2 + 0.15), 0.1, clear);  // 0.087 from its plane
+  EXPECT_FALSE(clear);
+  // The bound over the square [0.8, 1] x [0, 0.2] is the first plane's maximum, at (0.8, 0.2).
+  EXPECT_NEAR(ridge.surfaceBoundNear(0.9, 0.1, 0.1), 1 - 0.8 + 0.2, 2e-9);
+  const Vec3 nearRidge(0.55, 0.45, 1.05);
+  ridge.surfaceBoundNear(nearRidge, 0.05, clear);
+  EXPECT_FALSE(clear);
+  EXPECT_TRUE(ridge.sphereAbove(nearRidge, 0.05));
+}
+
+// sphereAbove (the terrain descent's exact pruning test for inner nodes). Oracles: the ridge
+// cell by hand; and on a rough grid
+// with a hole, brute force over every triangle of the grid: a sphere it calls above has its
+// centre above the surface, every triangle farther than r, its square inside the grid and no
+// hole under it. It must also drop spheres that the plane test keeps (its reason to exist).
+TEST(Heightfield, SphereAboveMeansNoTriangleWithinTheRadius) {
+  const Heightfield ridge = ridgeCell();
+  const Vec3 nearRidge(0.55, 0.45, 1.05);
+  EXPECT_TRUE(ridge.sphereAbove(nearRidge, 0.085));
+  EXPECT_FALSE(ridge.sphereAbove(nearRidge, 0.088)) << "the ridge point is 0.0866 away";
+  EXPECT_FALSE(ridge.sphereAbove(Vec3(0.55, 0.45, 0.85), 0.01)) << "below the surface";
+  EXPECT_FALSE(ridge.sphereAbove(Vec3(0.9, 0.1, 5), 0.2)) << "the square reaches the border";
+
+  Prng rng(29);
+  const Heightfield rough = roughGrid(rng);
+  const TriMesh mesh = rough.toMesh();
+  const double end = 0.5 * 11;
+  int above = 0, aboveOnly = 0;
+  for (int k = 0; k < 2000; ++k) {
+    double r;
+    const Vec3 c = sphereNear(rng, end, r);
+    const double x = c.x(), y = c.y(), z = c.z();
+    bool isClear = false;
+    rough.surfaceBoundNear(c, r, isClear);
+    const bool isAbove = rough.sphereAbove(c, r);
+    aboveOnly += isAbove && !isClear;
+    if (!isAbove) continue;
+    ++above;
+    EXPECT_TRUE(x - r > 0 && y - r > 0 && x + r < end && y + r < end) << x << " " << y;
+    EXPECT_GT(z, rough.heightAt(x, y)) << x << " " << y << " " << r;
+    double nearest = INFINITY;
+    for (const auto& t : mesh.triangles)
+      nearest =
+          std::min(nearest, (closestPointOnTriangle(c, mesh.vertices[t[0]], mesh.vertices[t[1]],
+                                                    mesh.vertices[t[2]]) -
+                             c)
+                                .norm());
+    EXPECT_GT(nearest, r) << x << " " << y << " " << r;
+    // No hole under the square (roughGrid).
+    EXPECT_FALSE(x + r >= 1.5 && x - r <= 2.5 && y + r >= 1 && y - r <= 2) << x << " " << y;
+  }
+  EXPECT_GT(above, 100);
+  EXPECT_GT(aboveOnly, 20) << "spheres the planes keep and the exact test drops";
 }
 
 TEST(Heightfield, ClosestPointOnTriangleAgreesWithDenseSampling) {
