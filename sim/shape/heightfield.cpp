@@ -8,14 +8,35 @@
 
 namespace vf {
 
+namespace {
+
+// The upward unit normal of a counter-clockwise (seen from above) triangle: normalAt's and
+// minNormalZNear's one expression.
+Vec3 unitNormal(const Vec3 t[3]) { return (t[1] - t[0]).cross(t[2] - t[0]).normalized(); }
+
+}  // namespace
+
 Vec3 Heightfield::normalAt(double x, double y) const {
   const double gx = (x - x0) / cell, gy = (y - y0) / cell;
   const int i = cellIndex(gx, nx - 2), j = cellIndex(gy, ny - 2);
   if (!hasCell(i, j)) return Vec3::UnitZ();
   Vec3 tri[2][3];
   cellTriangles(i, j, tri);
-  const Vec3* t = (gx - i) >= (gy - j) ? tri[0] : tri[1];
-  return (t[1] - t[0]).cross(t[2] - t[0]).normalized();
+  return unitNormal((gx - i) >= (gy - j) ? tri[0] : tri[1]);
+}
+
+double Heightfield::minNormalZNear(double x, double y, double r) const {
+  int i0, i1, j0, j1;
+  cellRange(x, y, r, i0, i1, j0, j1);
+  double least = 1;
+  Vec3 tri[2][3];
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      if (!hasCell(i, j)) continue;
+      cellTriangles(i, j, tri);
+      least = std::min({least, unitNormal(tri[0]).z(), unitNormal(tri[1]).z()});
+    }
+  return least;
 }
 
 bool Heightfield::sphereAbove(const Vec3& c, double r) const {

@@ -50,6 +50,10 @@ struct Heightfield {
   }
   // Upward unit normal of the surface triangle under (x, y); +z where heightAt is NaN.
   Vec3 normalAt(double x, double y) const;
+  // The least z of normalAt over the cells with data that meet [x - r, x + r] x [y - r, y + r]
+  // (the same values, bit for bit), and at most 1: normalAt's z anywhere in the square is no
+  // less.
+  double minNormalZNear(double x, double y, double r) const;
   // The cells whose squares meet [x - r, x + r] x [y - r, y + r], clamped to the grid:
   // i in [i0, i1], j in [j0, j1]; empty (i0 > i1 or j0 > j1) when the square misses the grid.
   void cellRange(double x, double y, double r, int& i0, int& i1, int& j0, int& j1) const {

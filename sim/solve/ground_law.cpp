@@ -13,7 +13,7 @@
 // Here a rigid body meets a voxelised surface instead of a point meeting a plane, so:
 //  - Rn is eq. 15's restitution of the ground contacts (the solver, unchanged);
 //  - a landing is the first step in ground contact after a flight, and a flight begins when the
-//    body's sphere tree is 1 cm clear of the ground (groundClearance): a rock rolling over
+//    body's sphere tree is 1 cm clear of the ground (clearOfGround): a rock rolling over
 //    voxel bumps or onto a new DEM facet keeps rolling, as STONE's does;
 //  - a bounce keeps at most Rt of the incoming tangential velocity of the centre of mass (the
 //    solver's Coulomb friction may already have taken more: never restored), and the spin is
@@ -40,6 +40,7 @@
 // (RAMMS) does no work on a rock that rolls without slip (shared/rockfall-models.md).
 #include "sim/solve/ground_law.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -88,7 +89,7 @@ GroundLawStats GroundLaw::afterSolve(const std::vector<Contact>& contacts,
     Mode& mode = modes_[i];
     if (!mode.seen) mode.seen = true, mode.lastBounce = y.x;  // STONE: the release point
     if (!(impulse_[i] > 0)) {  // no ground contact: flying once 1 cm clear
-      if (!mode.airborne && groundClearance(b, y, terrain, floor) > kStoneLiftOff)
+      if (!mode.airborne && clearOfGround(b, y, terrain, floor, kStoneLiftOff, mode.nearLeaf))
         mode.airborne = true;
       continue;
     }
@@ -132,21 +133,42 @@ GroundLawStats GroundLaw::afterSolve(const std::vector<Contact>& contacts,
   return stats;
 }
 
-double groundClearance(const BodyInfo& b, const BodyState& y, const Heightfield* terrain,
-                       std::optional<double> floor) {
-  const SphereTreeLevel& leaves = b.shape->tree->leaves();
+bool clearOfGround(const BodyInfo& b, const BodyState& y, const Heightfield* terrain,
+                   std::optional<double> floor, double height, std::uint32_t& hint) {
+  const SphereTree& tree = *b.shape->tree;
+  const SphereTreeLevel& leaves = tree.leaves();
+  const double r = leaves.radius;
   const Mat3 R = y.q.toRotationMatrix();
-  double gap = std::numeric_limits<double>::infinity();
-  for (const Vec3& c0 : leaves.centers) {
-    const Vec3 c = y.x + R * c0;
-    if (floor) gap = std::min(gap, c.z() - *floor - leaves.radius);
-    if (!terrain) continue;
+  const auto n = static_cast<std::uint32_t>(leaves.centers.size());
+  // Every leaf centre lies over the square of the bounding sphere (widened against rounding),
+  // so the terrain's normals there have z >= nzMin. A leaf v above the facet under it with
+  // v nzMin - r > height is then clear without its own normal: v nz >= v nzMin, and rounding is
+  // monotonic, so the computed (v nz) - r is no less than the computed (v nzMin) - r.
+  const double nzMin =
+      terrain ? terrain->minNormalZNear(y.x.x(), y.x.y(), tree.boundingRadius * (1 + 1e-9) + 1e-9)
+              : 1.0;
+  // Whether leaf k's gap is at most `height`: its centre's height above the floor, or along
+  // the normal above the facet under it, less the radius.
+  auto within = [&](std::uint32_t k) {
+    const Vec3 c = y.x + R * leaves.centers[k];
+    if (floor && c.z() - *floor - r <= height) return true;
+    if (!terrain) return false;
     const double h = terrain->heightAt(c.x(), c.y());
-    if (std::isnan(h)) continue;
-    // Height above the facet under the centre, measured along its normal.
-    gap = std::min(gap, (c.z() - h) * terrain->normalAt(c.x(), c.y()).z() - leaves.radius);
-  }
-  return gap;
+    if (std::isnan(h)) return false;
+    const double v = c.z() - h;
+    if (v * nzMin - r > height) return false;
+    return v * terrain->normalAt(c.x(), c.y()).z() - r <= height;
+  };
+  // A rolling body stays near the ground for many steps, mostly by the same leaves: the one
+  // that answered last time first (with 500 leaves a step, the whole loop was a third of a
+  // rock's step on the Tyrol slope).
+  if (hint < n && within(hint)) return false;
+  for (std::uint32_t k = 0; k < n; ++k)
+    if (k != hint && within(k)) {
+      hint = k;
+      return false;
+    }
+  return true;
 }
 
 }  // namespace vf

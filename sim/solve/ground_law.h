@@ -2,6 +2,7 @@
 // STONE's three modes, flight, bounce and rolling, on a rigid body (ground_law.cpp).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -48,11 +49,12 @@ class GroundLaw {
 
  private:
   struct Mode {
-    bool seen = false;     // the body has moved: lastBounce is its release point
-    bool airborne = true;  // in flight since its last ground contact (STONE starts so)
-    Vec3 lastBounce;       // where it last bounced (m)
-    Vec3 incoming;         // velocity before this step's solve (m/s)
-    Vec3 incomingSpin;     // angular momentum before this step's solve (kg m^2/s)
+    bool seen = false;           // the body has moved: lastBounce is its release point
+    bool airborne = true;        // in flight since its last ground contact (STONE starts so)
+    Vec3 lastBounce;             // where it last bounced (m)
+    Vec3 incoming;               // velocity before this step's solve (m/s)
+    Vec3 incomingSpin;           // angular momentum before this step's solve (kg m^2/s)
+    std::uint32_t nearLeaf = 0;  // clearOfGround's hint: the leaf last found near the ground
   };
   std::vector<Mode> modes_;
   // Per-step scratch, per body (kept to spare the step four allocations).
@@ -60,10 +62,11 @@ class GroundLaw {
   std::vector<Vec3> normal_;
 };
 
-// The least distance between the body's leaf spheres and the ground below them (m): each
-// leaf's height above the terrain along the surface normal, or above the floor plane, less its
-// radius. Infinity when neither lies under it.
-double groundClearance(const BodyInfo& b, const BodyState& y, const Heightfield* terrain,
-                       std::optional<double> floor);
+// Whether every leaf sphere of the body is more than `height` above the ground below it: its
+// centre's height above the terrain along the surface normal there, or above the floor plane,
+// less its radius (a leaf over neither counts as clear). `hint` is a leaf to test first, where
+// the last leaf found within `height` is put (any value will do: the answer is the same).
+bool clearOfGround(const BodyInfo& b, const BodyState& y, const Heightfield* terrain,
+                   std::optional<double> floor, double height, std::uint32_t& hint);
 
 }  // namespace vf

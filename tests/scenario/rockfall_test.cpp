@@ -160,19 +160,54 @@ TEST(Rockfall, AFastLandingBouncesKeepingAtMostRtOfTheTangentialVelocity) {
   EXPECT_EQ(most.w, ref.w);
 }
 
-// The lift-off test of the rolling mode: the clearance of a body's sphere tree above the floor
-// plane and above terrain (here level at z = 0.5) is its lowest leaf's height less the radius.
-TEST(Rockfall, GroundClearanceIsTheLowestLeafsGap) {
+// The lift-off test of the rolling mode: a body is clear of the floor plane and of terrain
+// (here level at z = 0.5) when every leaf sphere is, by its centre's height less its radius.
+// Two leaves of radius 0.05 at z = 1.1 and 0.8: the lower is 0.75 above the floor and 0.25
+// above the terrain, whichever leaf the hint names; on a slope, along its normal.
+TEST(Rockfall, ClearOfGroundTestsEveryLeafsGap) {
+  auto shape = std::make_shared<Shape>();
+  auto tree = std::make_shared<SphereTree>();
+  SphereTreeLevel leaves;
+  leaves.radius = 0.05;
+  leaves.edge = 2 * leaves.radius / std::sqrt(3.0);
+  leaves.centers = {Vec3(0, 0, 0.1), Vec3(0, 0, -0.2)};
+  leaves.childBegin = {0, 0, 0};
+  tree->levels = {leaves};
+  shape->tree = tree;
   BodyInfo b;
-  b.shape = smoothBall(0.25, 100);
+  b.shape = shape;
   BodyState y;
   y.x = Vec3(3.2, 4.1, 1.0);
-  EXPECT_NEAR(groundClearance(b, y, nullptr, 0.0), 0.75, 1e-12);
   auto terrain = std::make_shared<Heightfield>(test::flatHeightfield(10, 10, 1.0, 0.5));
-  EXPECT_NEAR(groundClearance(b, y, terrain.get(), std::nullopt), 0.25, 1e-12);
-  EXPECT_NEAR(groundClearance(b, y, terrain.get(), 0.0), 0.25, 1e-12) << "the nearer of both";
+  const double eps = 1e-9;
+  for (std::uint32_t hint : {0u, 1u, 1000000u}) {  // any hint, even out of range
+    std::uint32_t h = hint;
+    EXPECT_TRUE(clearOfGround(b, y, nullptr, 0.0, 0.75 - eps, h)) << hint;
+    EXPECT_FALSE(clearOfGround(b, y, nullptr, 0.0, 0.75 + eps, h)) << hint;
+    EXPECT_TRUE(clearOfGround(b, y, terrain.get(), std::nullopt, 0.25 - eps, h)) << hint;
+    EXPECT_FALSE(clearOfGround(b, y, terrain.get(), std::nullopt, 0.25 + eps, h)) << hint;
+    EXPECT_FALSE(clearOfGround(b, y, terrain.get(), 0.0, 0.25 + eps, h)) << "the nearer";
+    EXPECT_TRUE(clearOfGround(b, y, terrain.get(), 0.0, 0.25 - eps, h)) << "of both";
+    // The leaf found within is where the next call starts: the lower one.
+    std::uint32_t found = hint;
+    EXPECT_FALSE(clearOfGround(b, y, nullptr, 0.0, 0.75 + eps, found));
+    EXPECT_EQ(found, 1u) << hint;
+  }
   y.x = Vec3(30, 4.1, 1.0);  // off the grid, no floor: nothing below
-  EXPECT_TRUE(std::isinf(groundClearance(b, y, terrain.get(), std::nullopt)));
+  std::uint32_t h = 0;
+  EXPECT_TRUE(clearOfGround(b, y, terrain.get(), std::nullopt, 1e9, h));
+
+  // On a 45-degree slope (z = x) the gap is measured along the normal: the lower leaf, 1.0
+  // above the surface at z = 4.2, is 1 / sqrt(2) - 0.05 from it; 0.95 vertically.
+  Heightfield slope;
+  slope.nx = slope.ny = 10;
+  slope.cell = 1;
+  for (int j = 0; j < 10; ++j)
+    for (int i = 0; i < 10; ++i) slope.z.push_back(i);
+  y.x = Vec3(3.2, 4.1, 4.4);
+  const double gap = 1 / std::sqrt(2.0) - 0.05;
+  EXPECT_TRUE(clearOfGround(b, y, &slope, std::nullopt, gap - eps, h));
+  EXPECT_FALSE(clearOfGround(b, y, &slope, std::nullopt, gap + eps, h));
 }
 
 // Flat terrain at z = 0: nx x ny samples of 1 m from (0, 0); NaN samples are NODATA.

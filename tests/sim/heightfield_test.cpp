@@ -491,6 +491,38 @@ TEST(Heightfield, SphereAboveMeansNoTriangleWithinTheRadius) {
   EXPECT_GT(aboveOnly, 20) << "spheres the planes keep and the exact test drops";
 }
 
+// minNormalZNear (clearOfGround's bound on the normals under a body). Oracles: on the planar
+// grid z = 0.3x - 0.2y + 1 every normal's z is 1 / sqrt(1 + 0.3^2 + 0.2^2); on ridges of unit
+// slope (z = 1 where i + j is even) every triangle's is 1 / sqrt(3); level ground gives 1; on a
+// rough grid with a hole, the least over the triangles of toMesh whose cells meet the square.
+TEST(Heightfield, MinNormalZIsTheSteepestFacetsUnderTheSquare) {
+  const Heightfield tilt =
+      loadDem(writeGrid("tilt_normal.asc", planeGrid(30, 30, 0.25, -3.75, -3.75, true)));
+  EXPECT_NEAR(tilt.minNormalZNear(0.1, 0.2, 0.6), 1 / std::sqrt(1 + 0.09 + 0.04), 1e-12);
+  Heightfield ridges;
+  ridges.nx = ridges.ny = 4;
+  ridges.cell = 1;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) ridges.z.push_back((i + j) % 2 == 0 ? 1.0 : 0.0);
+  EXPECT_NEAR(ridges.minNormalZNear(1.5, 1.5, 0.2), 1 / std::sqrt(3.0), 1e-12);
+  EXPECT_EQ(test::flatHeightfield(5, 5, 1.0, 0.3).minNormalZNear(2, 2, 1), 1.0);
+  Prng rng(31);
+  const Heightfield rough = roughGrid(rng);
+  const TriMesh mesh = rough.toMesh();  // two triangles per cell with data, cells in row order
+  for (int k = 0; k < 100; ++k) {
+    const double x = rng.uniform(0, 5.5), y = rng.uniform(0, 5.5), r = rng.uniform(0.01, 0.6);
+    double least = 1;
+    for (const auto& t : mesh.triangles) {
+      const Vec3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+      // The cell of the triangle: its south-west corner is the lowest x and y of its vertices.
+      const double cx = std::min({a.x(), b.x(), c.x()}), cy = std::min({a.y(), b.y(), c.y()});
+      if (cx > x + r || cx + 0.5 < x - r || cy > y + r || cy + 0.5 < y - r) continue;
+      least = std::min(least, (b - a).cross(c - a).normalized().z());
+    }
+    EXPECT_NEAR(rough.minNormalZNear(x, y, r), least, 1e-15) << x << " " << y << " " << r;
+  }
+}
+
 TEST(Heightfield, ClosestPointOnTriangleAgreesWithDenseSampling) {
   Prng rng(2);
   const Vec3 a(0, 0, 0), b(1, 0, 0.2), c(0.3, 0.8, -0.1);
