@@ -141,7 +141,7 @@ bool clearOfGround(const BodyInfo& b, const BodyState& y, const Heightfield* ter
   const Mat3 R = y.q.toRotationMatrix();
   const auto n = static_cast<std::uint32_t>(leaves.centers.size());
   // Every leaf centre lies over the square of the bounding sphere (widened against rounding),
-  // so the terrain's normals there have z >= nzMin. A leaf v above the facet under it with
+  // so the terrain's normals there have z >= nzMin. A leaf v > 0 above the facet under it with
   // v nzMin - r > height is then clear without its own normal: v nz >= v nzMin, and rounding is
   // monotonic, so the computed (v nz) - r is no less than the computed (v nzMin) - r.
   const double nzMin =
@@ -156,7 +156,7 @@ bool clearOfGround(const BodyInfo& b, const BodyState& y, const Heightfield* ter
     const double h = terrain->heightAt(c.x(), c.y());
     if (std::isnan(h)) return false;
     const double v = c.z() - h;
-    if (v * nzMin - r > height) return false;
+    if (v > 0 && v * nzMin - r > height) return false;
     return v * terrain->normalAt(c.x(), c.y()).z() - r <= height;
   };
   // A rolling body stays near the ground for many steps, mostly by the same leaves: the one
