@@ -447,10 +447,10 @@ TEST(Heightfield, PlaneTestIgnoresATriangleTheSquareMisses) {
 }
 
 // sphereAbove (the terrain descent's exact pruning test for inner nodes). Oracles: the ridge
-// cell by hand; and on a rough grid
-// with a hole, brute force over every triangle of the grid: a sphere it calls above has its
-// centre above the surface, every triangle farther than r, its square inside the grid and no
-// hole under it. It must also drop spheres that the plane test keeps (its reason to exist).
+// cell by hand; and on a rough grid with a hole, brute force over every triangle of the grid:
+// a sphere it calls above has its centre above the surface, every triangle farther than r, its
+// square inside the grid and no hole under it. It must also drop spheres that the plane test
+// keeps (its reason to exist).
 TEST(Heightfield, SphereAboveMeansNoTriangleWithinTheRadius) {
   const Heightfield ridge = ridgeCell();
   const Vec3 nearRidge(0.55, 0.45, 1.05);
