@@ -22,6 +22,8 @@
 //     widened (mirrored copies along y) as far as the rocks need; the scale curve without the
 //     deepening pile. Up to 1,392 rocks it is Rockfall/<n> itself (the same checksum).
 //   SceneClearance/crosses/<level>/1/1: the crosses with the extensions and the clearance step.
+//   SceneFile/rockfall/<threads>: scenes/rockfall.toml as it is (20 rocks on the Tyrol DEM's 5 m
+//     cells, its own level, step rule and extensions), with the Scene rows' counters.
 //   TreeBuild/<level>: voxel sphere tree of a 100k-triangle closed mesh (a bumpy sphere);
 //   TreeBuild1M/7: of a 1M-triangle one at level 7, with the tree's memory.
 //   DiagnosticsBuild1M: what the true-mesh diagnostics build for the same mesh (the triangle
@@ -125,6 +127,14 @@ void runScene(benchmark::State& state, const std::string& name, bool clearance =
   spec.contactReduction = spec.sleep = state.range(1) != 0;
   spec.step = clearance ? vf::StepRule::clearance() : vf::StepRule::eq20();
   spec.threads = static_cast<int>(state.range(2));
+  runSpec(state, spec);
+}
+
+// A scene file run as `voxfall simulate` runs it: its own level, step rule and extensions; only
+// the thread count comes from the row.
+void runSceneFile(benchmark::State& state, const std::string& name) {
+  vf::SceneSpec spec = vf::loadScene(scenePath(name));
+  spec.threads = static_cast<int>(state.range(0));
   runSpec(state, spec);
 }
 
@@ -305,6 +315,12 @@ BENCHMARK_CAPTURE(runScene, barrel, std::string("barrel"))
 BENCHMARK_CAPTURE(runScene, cliff, std::string("cliff"))
     ->Name("Scene/cliff")
     ->ArgsProduct({{2, 3, 4}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+// Rocks on a real DEM (the Tyrol slope's 5 m cells, glacial-deposit ground, 20 rocks, 40 s).
+BENCHMARK_CAPTURE(runSceneFile, rockfall, std::string("rockfall"))
+    ->Name("SceneFile/rockfall")
+    ->Args({1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 // Threads: the checksum must equal the one-thread row's.
