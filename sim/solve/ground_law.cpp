@@ -160,15 +160,50 @@ bool clearOfGround(const BodyInfo& b, const BodyState& y, const Heightfield* ter
     return v * terrain->normalAt(c.x(), c.y()).z() - r <= height;
   };
   // A rolling body stays near the ground for many steps, mostly by the same leaves: the one
-  // that answered last time first (with 500 leaves a step, the whole loop was a third of a
+  // that answered last time first (with 500 leaves a step, testing them all was a third of a
   // rock's step on the Tyrol slope).
   if (hint < n && within(hint)) return false;
-  for (std::uint32_t k = 0; k < n; ++k)
-    if (k != hint && within(k)) {
-      hint = k;
-      return false;
+  auto found = [&](std::uint32_t k) {
+    if (k == hint || !within(k)) return false;
+    hint = k;
+    return true;
+  };
+  if (tree.leafLevel() == 0) {  // a one-level tree: its leaves alone
+    for (std::uint32_t k = 0; k < n; ++k)
+      if (found(k)) return false;
+    return true;
+  }
+  // The others through the tree, from the bounding sphere down. Every leaf sphere lies in each
+  // of its ancestors' spheres (sphere_tree.h; up to the rounding slack s), so a leaf centre c
+  // under a node of centre C and radius Rn has c.z >= C.z - Rn - s + r and lies over the
+  // node's square, where the surface is no higher than B = surfaceBoundNear: its height above
+  // the facet is v >= V = C.z - Rn - s + r - B and, with V > 0, its gap v nz - r >= V nzMin - r;
+  // above the floor, C.z - Rn - s - floor. A node whose bounds exceed `height` by 1e-9 m (the
+  // leaf gaps' own rounding is about 1e-13 of the heights) holds no leaf within it.
+  const double slack = roundingSlack(y.x, tree.boundingRadius);
+  auto nodeClear = [&](const Vec3& C, double Rn) {
+    const double low = C.z() - Rn - slack;
+    if (floor && !(low - *floor > height + 1e-9)) return false;
+    if (!terrain) return true;
+    const double V = low + r - terrain->surfaceBoundNear(C.x(), C.y(), Rn + slack);
+    return V > 0 && V * nzMin - r > height + 1e-9;
+  };
+  if (nodeClear(y.x, tree.boundingRadius)) return true;
+  const int leafLevel = tree.leafLevel();
+  // Whether a leaf under node i of `level` (not the leaf level) is within `height`.
+  auto anyWithin = [&](auto& self, int level, std::uint32_t i) -> bool {
+    const SphereTreeLevel& lv = tree.levels[level];
+    const SphereTreeLevel& next = tree.levels[level + 1];
+    for (std::uint32_t k = lv.childBegin[i]; k < lv.childBegin[i + 1]; ++k) {
+      if (level + 1 == leafLevel) {
+        if (found(k)) return true;
+      } else if (!nodeClear(y.x + R * next.centers[k], next.radius) && self(self, level + 1, k)) {
+        return true;
+      }
     }
-  return true;
+    return false;
+  };
+  return !anyWithin(anyWithin, 0, 0);  // level 0's one node: the bounding sphere stands for it
 }
 
 }  // namespace vf

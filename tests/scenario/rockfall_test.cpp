@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "sim/core/prng.h"
 #include "sim/ground/ground_material.h"
 #include "sim/solve/ground_law.h"
 #include "sim/world.h"
@@ -173,6 +174,7 @@ TEST(Rockfall, ClearOfGroundTestsEveryLeafsGap) {
   leaves.centers = {Vec3(0, 0, 0.1), Vec3(0, 0, -0.2)};
   leaves.childBegin = {0, 0, 0};
   tree->levels = {leaves};
+  finishSphereTree(*tree);
   shape->tree = tree;
   BodyInfo b;
   b.shape = shape;
@@ -208,6 +210,48 @@ TEST(Rockfall, ClearOfGroundTestsEveryLeafsGap) {
   const double gap = 1 / std::sqrt(2.0) - 0.05;
   EXPECT_TRUE(clearOfGround(b, y, &slope, std::nullopt, gap - eps, h));
   EXPECT_FALSE(clearOfGround(b, y, &slope, std::nullopt, gap + eps, h));
+}
+
+// The same through a real sphere tree (a 0.4 x 0.3 x 0.2 m box at level 4, 8 x 8 rough
+// terrain of 0.5 m cells with a hole, sometimes a floor, random poses): against brute force
+// over every leaf, the least gap g, it must call the body clear at g - 1e-7 and not at
+// g + 1e-7 (its node bounds pass over subtrees only with 1e-9 m to spare), whatever the hint.
+TEST(Rockfall, ClearOfGroundAgreesWithTheLeastGapOfAllLeaves) {
+  BodyInfo b;
+  b.shape =
+      makeShape("box", test::boxMesh(Vec3(0, 0, 0), Vec3(0.4, 0.3, 0.2)), Vec3::Ones(), 1000, 4);
+  const SphereTreeLevel& leaves = b.shape->tree->leaves();
+  Prng rng(41);
+  Heightfield rough;
+  rough.nx = rough.ny = 8;
+  rough.cell = 0.5;
+  for (int s = 0; s < 64; ++s) rough.z.push_back(rng.uniform(0, 0.6));
+  rough.z[27] = NAN;  // sample (3, 3): a hole of four cells
+  int clearCases = 0;
+  for (int k = 0; k < 300; ++k) {
+    BodyState y;
+    y.x = Vec3(rng.uniform(-0.3, 3.8), rng.uniform(-0.3, 3.8), rng.uniform(0.3, 1.2));
+    y.q = Quat(Eigen::AngleAxisd(
+        rng.uniform(0, 6.3),
+        Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(0.1, 1)).normalized()));
+    const std::optional<double> floor =
+        k % 3 == 0 ? std::optional<double>(rng.uniform(0, 0.8)) : std::nullopt;
+    double least = INFINITY;
+    const Mat3 R = y.q.toRotationMatrix();
+    for (const Vec3& c0 : leaves.centers) {
+      const Vec3 c = y.x + R * c0;
+      if (floor) least = std::min(least, c.z() - *floor - leaves.radius);
+      const double h = rough.heightAt(c.x(), c.y());
+      if (!std::isnan(h))
+        least = std::min(least, (c.z() - h) * rough.normalAt(c.x(), c.y()).z() - leaves.radius);
+    }
+    if (!std::isfinite(least)) continue;
+    std::uint32_t hint = static_cast<std::uint32_t>(rng.uniform(0, 2 * leaves.centers.size()));
+    EXPECT_TRUE(clearOfGround(b, y, &rough, floor, least - 1e-7, hint)) << k;
+    EXPECT_FALSE(clearOfGround(b, y, &rough, floor, least + 1e-7, hint)) << k;
+    ++clearCases;
+  }
+  EXPECT_GT(clearCases, 250);
 }
 
 // Flat terrain at z = 0: nx x ny samples of 1 m from (0, 0); NaN samples are NODATA.
