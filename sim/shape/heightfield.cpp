@@ -42,9 +42,9 @@ double Heightfield::minNormalZNear(double x, double y, double r) const {
 bool Heightfield::sphereAbove(const Vec3& c, double r) const {
   const double xEnd = x0 + (nx - 1) * cell, yEnd = y0 + (ny - 1) * cell;
   if (!(c.x() - r > x0 && c.y() - r > y0 && c.x() + r < xEnd && c.y() + r < yEnd)) return false;
-  const double reach = r * (1 + 1e-9) + 1e-9, reach2 = reach * reach, cell2 = cell * cell;
+  const double reach = r * (1 + 1e-9) + 1e-9, reach2 = reach * reach;
   // The plane of the triangle under the centre (heightAt's): the centre must lie above it,
-  // farther than r (its height d above it, d^2 > r^2 (1 + (a^2 + b^2) / cell^2)).
+  // farther than r (fartherAbove).
   const double gx = (c.x() - x0) / cell, gy = (c.y() - y0) / cell;
   const int ic = cellIndex(gx, nx - 2), jc = cellIndex(gy, ny - 2);
   if (!hasCell(ic, jc)) return false;
@@ -53,7 +53,7 @@ bool Heightfield::sphereAbove(const Vec3& c, double r) const {
                z11 = at(ic + 1, jc + 1);
   const double a = u >= v ? z10 - z00 : z11 - z01, b = u >= v ? z11 - z10 : z01 - z00;
   const double d = c.z() - (z00 + u * a + v * b);
-  if (!(d > 0 && d * d * cell2 > reach2 * (cell2 + a * a + b * b))) return false;
+  if (!fartherAbove(d, a, b, reach2)) return false;
   // Then every triangle under the square out of reach.
   int i0, i1, j0, j1;
   cellRange(c.x(), c.y(), r, i0, i1, j0, j1);

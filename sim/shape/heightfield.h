@@ -115,7 +115,7 @@ struct Heightfield {
     double top = -INFINITY;
     clear = true;
     const double bottom = c.z() - r - 1e-9;
-    const double r2 = r * r, cell2 = cell * cell;
+    const double r2 = r * r;
     const double gx = (c.x() - x0) / cell, gy = (c.y() - y0) / cell;  // c in cell units
     for (int j = j0; j <= j1; ++j) {  // cellRange keeps i + 1 < nx and j + 1 < ny
       const double* row0 = z.data() + static_cast<std::size_t>(j) * nx;
@@ -134,13 +134,13 @@ struct Heightfield {
         const double u0 = std::clamp(s.gx0 - i, 0.0, 1.0), u1 = std::clamp(s.gx1 - i, 0.0, 1.0);
         const bool reaches1 = u1 >= v0, reaches2 = v1 >= u0;
         if (kPlanes && clear && bottom <= samples) {
-          // c is more than r from a plane when its height d above it (less the margin) is
-          // positive and d^2 > r^2 (1 + (a^2 + b^2) / cell^2).
+          // c is more than r from a plane when its height d above it, less the margin, is
+          // (fartherAbove).
           const double u = gx - i, v = gy - j;
           const double d1 = c.z() - (z00 + u * a1 + v * b1) - 1e-9;
           const double d2 = c.z() - (z00 + v * b2 + u * a2) - 1e-9;
-          clear = (!reaches1 || (d1 > 0 && d1 * d1 * cell2 > r2 * (cell2 + a1 * a1 + b1 * b1))) &&
-                  (!reaches2 || (d2 > 0 && d2 * d2 * cell2 > r2 * (cell2 + a2 * a2 + b2 * b2)));
+          clear = (!reaches1 || fartherAbove(d1, a1, b1, r2)) &&
+                  (!reaches2 || fartherAbove(d2, a2, b2, r2));
         }
         // An extended plane can rise above the cell's samples where the other triangle lies;
         // the surface over the cell never does. A cell whose samples are no higher than the
@@ -154,6 +154,12 @@ struct Heightfield {
       }
     }
     return top + 1e-9;
+  }
+  // Whether a point at height d above the plane z = z00 + a u + b v of a cell (u, v in cell
+  // units) lies above it and farther than sqrt(r2) from it: d > 0 and
+  // d^2 > r2 (1 + (a^2 + b^2) / cell^2).
+  bool fartherAbove(double d, double a, double b, double r2) const {
+    return d > 0 && d * d * (cell * cell) > r2 * (cell * cell + a * a + b * b);
   }
   // The square [x - r, x + r] x [y - r, y + r] relative to the grid origin, in m (o*) and in
   // cell units (g*): the cell range and the pruning bound share the divisions.
