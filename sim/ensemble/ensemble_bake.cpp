@@ -22,6 +22,7 @@ Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
   bake.records.resize(static_cast<std::size_t>(frames));
   for (int k = 0; k < frames; ++k) bake.records[static_cast<std::size_t>(k)].time = k / spec.fps;
 
+  int lastFrame = indices.empty() ? frames - 1 : 0;
   for (std::size_t b = 0; b < indices.size(); ++b) {
     int shapeIndex = 0;
     const std::unique_ptr<World> world =
@@ -39,6 +40,7 @@ Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
     bake.bodies.push_back(body);
 
     bool ended = false;
+    int endFrame = frames - 1;  // the first frame at which the realisation has ended
     for (int k = 0; k < frames; ++k) {
       const double t = bake.records[static_cast<std::size_t>(k)].time;
       // Ensemble::run's loop: steps of the scene's own sequence, ending when the rock does.
@@ -46,12 +48,22 @@ Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
              w.nextStepEnd() <= spec.duration + kTimeTolerance) {
         w.stepNext();
         ended = w.outcomes()[0].state != RockState::kMoving;
+        if (ended) endFrame = k;
       }
       BakeRecord& r = bake.records[static_cast<std::size_t>(k)];
       r.states.push_back(ended ? w.state(0) : w.statesAt(t)[0]);
       const RockState s = w.outcomes()[0].state;
       r.active.push_back(s == RockState::kLeft || s == RockState::kBuried ? 0 : 1);
     }
+    lastFrame = std::max(lastFrame, endFrame);
+  }
+  // Nothing changes after the frame at which the last realisation has ended: the bake stops
+  // there (rocks that stop early would otherwise hold still to the scene's duration, in a
+  // video of that length), and its scene's duration with it, which is what `voxfall render`
+  // counts the frames by (Recorder::frameCountFor gives lastFrame + 1 for lastFrame / fps).
+  if (lastFrame + 1 < frames) {
+    bake.records.resize(static_cast<std::size_t>(lastFrame + 1));
+    bake.scene.duration = bake.records.back().time;
   }
   return bake;
 }

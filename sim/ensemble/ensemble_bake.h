@@ -11,10 +11,12 @@
 namespace vf {
 
 // One body per realisation of `indices` (in that order), a record at every frame time
-// t = k / fps (k = 0 .. floor(duration * fps)) holding each realisation's state at t as
-// World::statesAt(t) gives it in that realisation's own world (its own step sequence, the one
-// Ensemble::run takes). A realisation that ended (stopped, left, buried) keeps its last state;
-// one that left the DEM or was buried is inactive from then on. Bodies get distinct colours.
+// t = k / fps holding each realisation's state at t as World::statesAt(t) gives it in that
+// realisation's own world (its own step sequence, the one Ensemble::run takes). A realisation
+// that ended (stopped, left, buried) keeps its last state; one that left the DEM or was buried
+// is inactive from then on. The records run from k = 0 to the first frame at which every
+// realisation of the subset has ended, or to floor(duration * fps) if one has not. Bodies get
+// distinct colours.
 Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
                   const std::vector<std::int64_t>& indices);
 

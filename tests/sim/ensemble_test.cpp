@@ -318,5 +318,33 @@ TEST_F(EnsembleRunTest, SubsetBakeHoldsEachRealisationsStateAtTheFrameTimes) {
   }
 }
 
+TEST_F(EnsembleRunTest, SubsetBakeEndsAtTheFrameWhereItsLastRealisationHasEnded) {
+  // 120 s: every rock leaves the chute's foot long before (ensemble_command_test); the bake
+  // must stop at the first frame by which all of them have ended, not hold them to 120 s.
+  const Ensemble e(load(test::kChuteEnsemble, 120.0));
+  const double fps = e.spec().fps;
+  const std::vector<std::int64_t> chosen = {3, 1};
+  int last = 0;
+  for (const std::int64_t i : chosen) {
+    // The realisation alone, step by step until its rock has ended: the first frame time at
+    // or after the step that ended it (the bake's loop takes a step ending within
+    // kTimeTolerance after a frame time with that frame).
+    const auto w = e.makeWorld(realisationSeed(5, i));
+    while (w->outcomes()[0].state == RockState::kMoving) w->stepNext();
+    int k = 0;
+    while (w->time() > k / fps + kTimeTolerance) ++k;
+    ASSERT_LT(k, Recorder::frameCountFor(fps, 120.0) - 1) << "realisation " << i;
+    last = std::max(last, k);
+  }
+  const Bake bake = ensembleBake(e, 5, chosen);
+  ASSERT_EQ(bake.records.size(), static_cast<std::size_t>(last + 1));
+  // The render counts frames by the bake scene's duration: the same count.
+  EXPECT_EQ(Recorder::frameCountFor(bake.scene.fps, bake.scene.duration), last + 1);
+  // One realisation cut off by the duration keeps the bake to it (the previous test's 2 s).
+  const Ensemble cut(load(test::kChuteEnsemble, 2.0));
+  EXPECT_EQ(ensembleBake(cut, 5, chosen).records.size(),
+            static_cast<std::size_t>(Recorder::frameCountFor(cut.spec().fps, 2.0)));
+}
+
 }  // namespace
 }  // namespace vf
