@@ -297,6 +297,15 @@ int runEnsemble(const EnsembleOptions& o) {
                jobs == 1 ? "" : "s",
                mpi.size() > 1 ? (" x " + std::to_string(mpi.size()) + " ranks").c_str() : "");
   std::printf("  wrote %s in %s\n", written.c_str(), opts.outDir.c_str());
+  // A realisation cut off by the duration records its rock where it was then: the hazard
+  // products understate the reach without saying so unless told here (--quiet or not).
+  if (states[0] > 0)
+    std::fprintf(stderr,
+                 "voxfall: warning: %d of %zu realisations ended at the scene's duration (%.4g s) "
+                 "with the rock still moving; runs.csv, the runouts and the maps show those "
+                 "rocks where they were then, not where they stop: raise [simulation] "
+                 "duration\n",
+                 states[0], all.size(), spec.duration);
   if (stop) {
     std::fprintf(stderr,
                  "voxfall: interrupted; the first %zu realisations (0 .. %zu) are written, the "

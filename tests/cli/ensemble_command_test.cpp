@@ -301,6 +301,41 @@ TEST_F(EnsembleCommandTest, AnInterruptedEnsembleWritesItsCompletePrefix) {
   }
 }
 
+// The number of runs.csv rows whose state is `state`.
+int countState(const std::string& csv, const std::string& state) {
+  const auto rows = lines(csv);
+  if (rows.empty()) return -1;
+  const auto header = split(rows[0]);
+  const auto column = std::find(header.begin(), header.end(), "state") - header.begin();
+  int n = 0;
+  for (std::size_t k = 1; k < rows.size(); ++k) {
+    const auto fields = split(rows[k]);
+    if (static_cast<std::size_t>(column) < fields.size() && fields[column] == state) ++n;
+  }
+  return n;
+}
+
+TEST_F(EnsembleCommandTest, RealisationsCutOffByTheDurationAreAWarningWithTheirCount) {
+  // 2 s: no rock gets down the 120 m chute or stops on its 35 degrees (steeper than the glacial
+  // deposits' rolling friction, atan(0.65) = 33 degrees), so every realisation is cut off.
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 2.0);
+  const auto cut = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 4 -q -o cut");
+  ASSERT_EQ(cut.code, 0) << cut.err;
+  const int moving = countState(readFile(dir_ / "cut" / "runs.csv"), "moving");
+  EXPECT_EQ(moving, 4);
+  EXPECT_NE(cut.err.find("warning: " + std::to_string(moving) +
+                         " of 4 realisations ended at the scene's duration (2 s) with the rock "
+                         "still moving"),
+            std::string::npos)
+      << cut.err;
+  // Long enough for every rock to leave the chute's foot (edge "remove"): no warning.
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 120.0);
+  const auto whole = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 4 -q -o whole");
+  ASSERT_EQ(whole.code, 0) << whole.err;
+  EXPECT_EQ(countState(readFile(dir_ / "whole" / "runs.csv"), "moving"), 0);
+  EXPECT_EQ(whole.err.find("warning"), std::string::npos) << whole.err;
+}
+
 TEST_F(EnsembleCommandTest, ExistingOutputsNeedMinusY) {
   vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
   ASSERT_EQ(runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o o").code, 0);
