@@ -64,8 +64,14 @@ void checkEsriAsciiGrid(const std::string& path) {
     std::string_view value;
     if (!next(value) || !number(value, v))
       throw fail("header key '" + std::string(token) + "' needs a number");
-    if (key == "ncols") ncols = v;
-    if (key == "nrows") nrows = v;
+    if (key == "ncols" || key == "nrows") {
+      // A count of samples: whole, positive, and no more than GDAL's int holds (the product
+      // then fits the messages' long long; libFuzzer found one of 4e18 rows).
+      if (!(v >= 1 && v <= 2147483647.0 && v == std::floor(v)))
+        throw fail("header key '" + std::string(token) + "' must be a whole number from 1 to " +
+                   "2147483647, got " + std::string(value));
+      (key == "ncols" ? ncols : nrows) = v;
+    }
   }
   const double count = ncols * nrows;
   double n = 0;

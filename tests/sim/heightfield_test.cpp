@@ -165,7 +165,7 @@ TEST(Heightfield, NoDataCellsAreHoles) {
   EXPECT_EQ(h.zMin, 1.0);
 }
 
-TEST(Heightfield, MalformedGridsNameFileAndLine) {
+TEST(Heightfield, MalformedGridsNameFileAndLineFuzzFoundHugeCountsIncluded) {
   struct Case {
     std::string text, fragment;
   } cases[] = {
@@ -176,6 +176,14 @@ TEST(Heightfield, MalformedGridsNameFileAndLine) {
       {"ncols 2\nnrows 2\nxlcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4\n",
        ":3: unknown header key 'xlcorner'"},
       {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4 5\n", "more values than"},
+      // Found by terrain_fuzz: a count beyond any grid (4e18 rows; its product with ncols
+      // overflowed the conversion that printed it), and counts that are not whole or positive.
+      {"ncols 60\nnrows 4075265075265407444.1\n4.4 2 3\n",
+       ":2: header key 'nrows' must be a whole"},
+      {"ncols 2.5\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4\n",
+       ":1: header key 'ncols' must be a whole"},
+      {"ncols 2\nnrows -2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4\n",
+       ":2: header key 'nrows' must be a whole"},
   };
   for (const Case& c : cases) {
     const std::string path = writeGrid("bad.asc", c.text);
