@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 #include "sim/core/error.h"
@@ -249,8 +250,58 @@ void DrawListBuilder::setTerrain(std::shared_ptr<const TriMesh> mesh,
   terrainColor_ = color;
   terrainSphere_ = terrain_ ? meshSphere(*terrain_) : Sphere{};
   terrainBox_.setEmpty();
-  if (terrain_) {
-    for (const Vec3& v : terrain_->vertices) terrainBox_.extend(v);
+  terrainTiles_.clear();
+  if (!terrain_) return;
+  for (const Vec3& v : terrain_->vertices) terrainBox_.extend(v);
+  const std::size_t count = terrain_->triangles.size();
+  if (count <= 2 * kTerrainTileTriangles) {
+    terrainTiles_.push_back({terrain_, terrainNormals_});
+    return;
+  }
+  // Why tiles: the renderer redraws only what can change between frames (redraw_region.h),
+  // culling instances by their boxes, but a terrain of one mesh is one instance that every
+  // redrawn part has to draw whole. On the Tyrol DEM (400,000 triangles) llvmpipe spent over
+  // half of a frame in Mesa's draw module walking all of its vertices for each part.
+  // Triangles go to the square of a grid over the terrain's box that holds their centroid (the
+  // side chosen for about kTerrainTileTriangles a square where they are spread evenly), in
+  // their own order; a tile copies the vertices (and normals) its triangles use, so every
+  // triangle reaches the GPU with exactly the values it had in the whole mesh.
+  const Eigen::Vector2d lo = terrainBox_.min().head<2>();
+  const Eigen::Vector2d size = terrainBox_.sizes().head<2>().cwiseMax(1e-9);
+  const double side =
+      std::sqrt(size.x() * size.y() * static_cast<double>(kTerrainTileTriangles) / count);
+  const int nx = std::max(1, static_cast<int>(std::ceil(size.x() / side)));
+  const int ny = std::max(1, static_cast<int>(std::ceil(size.y() / side)));
+  std::vector<std::vector<std::uint32_t>> squares(static_cast<std::size_t>(nx) * ny);
+  const std::vector<Vec3>& v = terrain_->vertices;
+  for (std::size_t k = 0; k < count; ++k) {
+    const auto& t = terrain_->triangles[k];
+    const Eigen::Vector2d c = ((v[t[0]] + v[t[1]] + v[t[2]]) / 3).head<2>();
+    const int i = std::clamp(static_cast<int>((c.x() - lo.x()) / side), 0, nx - 1);
+    const int j = std::clamp(static_cast<int>((c.y() - lo.y()) / side), 0, ny - 1);
+    squares[static_cast<std::size_t>(j) * nx + i].push_back(static_cast<std::uint32_t>(k));
+  }
+  std::vector<std::uint32_t> local(v.size(), UINT32_MAX);  // whole-mesh vertex -> tile vertex
+  for (const std::vector<std::uint32_t>& square : squares) {
+    if (square.empty()) continue;
+    auto tile = std::make_shared<TriMesh>();
+    auto tileNormals = terrainNormals_ ? std::make_shared<std::vector<Vec3>>() : nullptr;
+    std::vector<std::uint32_t> used;
+    for (const std::uint32_t k : square) {
+      std::array<std::uint32_t, 3> t = terrain_->triangles[k];
+      for (std::uint32_t& index : t) {
+        if (local[index] == UINT32_MAX) {
+          local[index] = static_cast<std::uint32_t>(tile->vertices.size());
+          tile->vertices.push_back(v[index]);
+          if (tileNormals) tileNormals->push_back((*terrainNormals_)[index]);
+          used.push_back(index);
+        }
+        index = local[index];
+      }
+      tile->triangles.push_back(t);
+    }
+    for (const std::uint32_t index : used) local[index] = UINT32_MAX;
+    terrainTiles_.push_back({std::move(tile), std::move(tileNormals)});
   }
 }
 
@@ -415,8 +466,8 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
     }
     list.instances.push_back(inst);
   }
-  if (terrain_) {
-    list.meshes.push_back(DrawMesh{terrain_.get(), terrain_, terrainNormals_});
+  for (const TerrainTile& tile : terrainTiles_) {
+    list.meshes.push_back(DrawMesh{tile.mesh.get(), tile.mesh, tile.normals});
     DrawInstance inst;
     inst.mesh = static_cast<int>(list.meshes.size()) - 1;
     inst.color = terrainColor_;

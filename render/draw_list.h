@@ -129,6 +129,9 @@ class AutoFraming {
 // The part of a camera's view from the eye out to `depth` (m) along its axis, as a sphere.
 Sphere viewSlice(const CameraView& camera, double aspect, double depth);
 
+// Terrains of more than twice this many triangles are drawn in tiles of about this many.
+constexpr std::size_t kTerrainTileTriangles = 8192;
+
 // Builds draw lists frame after frame for one run. Holds what persists between frames: the
 // camera settings, the terrain, the per-shape radii, the region the automatic camera has to
 // frame and the one the shadow map covers (every body position observe()d so far: both only
@@ -147,7 +150,9 @@ class DrawListBuilder {
   DrawListBuilder(const CameraSpec& camera, std::optional<double> groundHeight, double aspect);
 
   // A static terrain mesh in world coordinates, drawn with slope shading and casting shadows.
-  // It is not part of the automatic framing (see observe()).
+  // It is not part of the automatic framing (see observe()). A large one is drawn as tiles,
+  // one instance each (kTerrainTileTriangles), so that a partial redraw draws only the tiles
+  // it can touch; each triangle keeps its vertices and normals, so the pixels are the same.
   void setTerrain(std::shared_ptr<const TriMesh> mesh,
                   std::shared_ptr<const std::vector<Vec3>> normals = nullptr,
                   Color color = Color{0.16f, 0.22f, 0.09f});
@@ -201,6 +206,12 @@ class DrawListBuilder {
   std::map<const Shape*, std::pair<std::shared_ptr<const Shape>, double>> radii_;
   std::shared_ptr<const TriMesh> terrain_;
   std::shared_ptr<const std::vector<Vec3>> terrainNormals_;
+  // The terrain as drawn: tiles of it (setTerrain in draw_list.cpp), or the whole mesh.
+  struct TerrainTile {
+    std::shared_ptr<const TriMesh> mesh;
+    std::shared_ptr<const std::vector<Vec3>> normals;
+  };
+  std::vector<TerrainTile> terrainTiles_;
   Color terrainColor_{};
   Sphere terrainSphere_;
   Eigen::AlignedBox3d terrainBox_;

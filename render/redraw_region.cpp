@@ -407,6 +407,13 @@ void RedrawTracker::addCaster(const Frame& frame, std::size_t i,
   if (r && !r->empty()) texels.push_back(*r);
 }
 
+bool RedrawTracker::mayCast(std::size_t instance, const PixelRect& texels) const {
+  if (!last_ || instance >= last_->corners.size() || shadowMapSize_ <= 0) return true;
+  const std::optional<PixelRect> r = projectPoints(
+      last_->shadow, last_->corners[instance], 0, shadowMapSize_, shadowMapSize_, kMarginPixels, 1);
+  return !r || r->intersects(texels);
+}
+
 bool RedrawTracker::mayCover(std::size_t instance, const PixelRect& rect) const {
   if (!last_ || instance >= last_->corners.size()) return true;
   const std::optional<PixelRect> r = projectPoints(last_->viewProjection, last_->corners[instance],

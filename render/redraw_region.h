@@ -113,6 +113,9 @@ class RedrawTracker {
   // Whether instance i of the current frame can cover pixels of `rect`: false only when its
   // bounding box provably projects outside it.
   bool mayCover(std::size_t instance, const PixelRect& rect) const;
+  // The same in the shadow map: whether instance i can write texels of `texels` (rows from
+  // the bottom) when the map is drawn with the current frame's shadow projection.
+  bool mayCast(std::size_t instance, const PixelRect& texels) const;
 
  private:
   struct Frame {

@@ -253,8 +253,10 @@ void Renderer::Impl::shadowPass(const DrawList& list, const ShadowProjection& sh
   for (const std::optional<PixelRect>& part : parts) {
     scissor(part, 1);
     gl.Clear(GL_DEPTH_BUFFER_BIT);
-    for (const DrawInstance& inst : list.instances) {
+    for (std::size_t i = 0; i < list.instances.size(); ++i) {
+      const DrawInstance& inst = list.instances[i];
       if (!inst.castsShadow || inst.surface == Surface::unlit) continue;
+      if (part && !tracker.mayCast(i, *part)) continue;  // wholly outside the scissor
       setMatrix(gl, shadowProgram->uniform("uModel"), inst.model);
       mesh(list.meshes[static_cast<std::size_t>(inst.mesh)]).draw();
     }

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <numbers>
 
 #include "render/camera.h"
@@ -161,6 +164,63 @@ TEST(DrawList, TerrainIsDrawnWithSlopeShadingAndCastsShadows) {
   for (const Vec3& v : terrain->vertices) {
     EXPECT_LE((v - list.casterCentre).norm(), list.casterRadius + 1e-12);
   }
+}
+
+TEST(DrawList, LargeTerrainIsDrawnAsTilesHoldingEveryTriangleOnceInOrder) {
+  // 130 x 130 cells (33,800 triangles, over twice kTerrainTileTriangles) with smooth normals.
+  auto terrain = std::make_shared<TriMesh>();
+  constexpr int kCells = 130;
+  for (int j = 0; j <= kCells; ++j)
+    for (int i = 0; i <= kCells; ++i)
+      terrain->vertices.push_back(Vec3(0.5 * i, 0.5 * j, std::sin(0.3 * i) * std::cos(0.2 * j)));
+  auto at = [](int i, int j) { return static_cast<std::uint32_t>(j * (kCells + 1) + i); };
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      terrain->triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      terrain->triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  auto normals = std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*terrain));
+  DrawListBuilder builder(CameraSpec{}, std::nullopt, 1.0);
+  builder.setTerrain(terrain, normals);
+  const DrawList list = builder.build(std::vector<BodyView>{});
+  // Each triangle of the whole mesh by its first vertex's position and its index.
+  std::map<std::array<double, 3>, std::vector<std::size_t>> byFirst;
+  for (std::size_t k = 0; k < terrain->triangles.size(); ++k) {
+    const Vec3& p = terrain->vertices[terrain->triangles[k][0]];
+    byFirst[{p.x(), p.y(), p.z()}].push_back(k);
+  }
+  std::vector<int> seen(terrain->triangles.size(), 0);
+  std::size_t tiles = 0;
+  for (const DrawInstance& inst : list.instances) {
+    ASSERT_EQ(inst.surface, Surface::terrain);
+    EXPECT_TRUE(inst.castsShadow);
+    const DrawMesh& m = list.meshes[static_cast<std::size_t>(inst.mesh)];
+    ASSERT_TRUE(m.normals);
+    ASSERT_EQ(m.normals->size(), m.mesh->vertices.size());
+    EXPECT_LE(m.mesh->triangles.size(), 2 * kTerrainTileTriangles);
+    ++tiles;
+    std::size_t previous = 0;
+    for (const auto& t : m.mesh->triangles) {
+      // The whole mesh's triangle with these three vertices (positions and normals equal).
+      const Vec3& p = m.mesh->vertices[t[0]];
+      std::size_t found = terrain->triangles.size();
+      for (const std::size_t k : byFirst[{p.x(), p.y(), p.z()}]) {
+        bool same = true;
+        for (int c = 0; c < 3; ++c) {
+          const std::uint32_t w = terrain->triangles[k][c];
+          same = same && terrain->vertices[w] == m.mesh->vertices[t[c]] &&
+                 (*normals)[w] == (*m.normals)[t[c]];
+        }
+        if (same) found = k;
+      }
+      ASSERT_LT(found, terrain->triangles.size());
+      ++seen[found];
+      EXPECT_TRUE(previous == 0 || found > previous) << "tile order";
+      previous = found;
+    }
+  }
+  EXPECT_GE(tiles, 3u);
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<long>(seen.size()));
 }
 
 TEST(DrawList, SmoothNormalsOfATentBisectTheRidge) {

@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -41,6 +42,20 @@ struct ClipComparison {
   double meanUnshadowedFloor = 0, meanSkyFree = 0;
 };
 
+// An OSMesa context, made current, and the default settings at the tests' size.
+std::unique_ptr<gl::Context> currentContext() {
+  auto context = gl::createContext(gl::Backend::osmesa);
+  context->makeCurrent();
+  return context;
+}
+gl::RenderSettings testSettings() {
+  gl::RenderSettings settings;
+  settings.width = kWidth;
+  settings.height = kHeight;
+  settings.shaderDir = gl::findShaderDir();
+  return settings;
+}
+
 // Draws frames 0 .. last of a scene with two renderers: the first with the default settings,
 // the second with those `change` makes, and counts the frames whose bytes differ.
 ClipComparison compareClip(SceneSpec spec, int last,
@@ -48,12 +63,8 @@ ClipComparison compareClip(SceneSpec spec, int last,
                            int samples = 4) {
   spec.output.width = kWidth;
   spec.output.height = kHeight;
-  auto context = gl::createContext(gl::Backend::osmesa);
-  context->makeCurrent();
-  gl::RenderSettings settings;
-  settings.width = kWidth;
-  settings.height = kHeight;
-  settings.shaderDir = gl::findShaderDir();
+  const auto context = currentContext();
+  gl::RenderSettings settings = testSettings();
   settings.samples = samples;
   gl::Renderer first(*context, settings);
   change(settings);
@@ -245,6 +256,113 @@ bool contains(const PixelRect& r, const Eigen::Vector2d& p) {
 Vec3 shadowOnFloor(const DrawList& list, const Vec3& p) {
   const Vec3 toSun = list.sunDirection.normalized();
   return p - toSun * (p.z() / toSun.z());
+}
+
+// A rolling 100 x 100 m grid of 1 m cells (20,000 triangles: drawn as tiles, see
+// kTerrainTileTriangles), smooth normals, and its height.
+double hillHeight(double x, double y) { return 1.5 * std::sin(0.21 * x) * std::cos(0.17 * y); }
+std::shared_ptr<const TriMesh> hills() {
+  auto mesh = std::make_shared<TriMesh>();
+  constexpr int kCells = 100;
+  for (int j = 0; j <= kCells; ++j)
+    for (int i = 0; i <= kCells; ++i) mesh->vertices.push_back(Vec3(i, j, hillHeight(i, j)));
+  auto at = [](int i, int j) { return static_cast<std::uint32_t>(j * (kCells + 1) + i); };
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      mesh->triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      mesh->triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return mesh;
+}
+
+// A builder of frames over the hills (one for a clip: its terrain tiles are the same meshes
+// from frame to frame, as in a playback).
+std::unique_ptr<DrawListBuilder> hillsBuilder(
+    const std::shared_ptr<const TriMesh>& terrain,
+    const std::shared_ptr<const std::vector<Vec3>>& normals) {
+  auto builder = std::make_unique<DrawListBuilder>(CameraSpec{}, std::nullopt, kWidth, kHeight, 30);
+  builder->setTerrain(terrain, normals);
+  return builder;
+}
+
+// Frame k of the builder: a 3 m box over the hills at (x, y), seen from a fixed camera, the
+// shadow map fitted to the whole terrain.
+DrawList boxOverHills(DrawListBuilder& builder, int k, double x, double y) {
+  static const auto shape = test::boxShape(Vec3(1.5, 1.5, 1.5));
+  const std::vector<BodyView> bodies = {test::body(shape, Vec3(x, y, hillHeight(x, y) + 2.5))};
+  builder.observe(bodies);
+  DrawList list = builder.build(bodies, k);
+  list.camera.position = Vec3(50, -45, 55);
+  list.camera.lookAt = Vec3(50, 45, 0);
+  list.camera.nearPlane = 1;
+  list.camera.farPlane = 400;
+  list.casterCentre = Vec3(50, 50, 0);
+  list.casterRadius = 75;
+  list.sunDirection = Vec3(0.3, -0.4, 0.87).normalized();
+  // The builder derives these from its framing, which follows the box: hold them still.
+  list.groundFadeStart = 200;
+  list.groundFadeEnd = 400;
+  return list;
+}
+
+TEST(IncrementalRender, TiledTerrainDrawsTheSamePixelsAsTheWholeMesh) {
+  // The split changes which draw call a triangle is in and their order, never a vertex: the
+  // picture must be the same bytes as with the terrain drawn as one mesh.
+  const auto terrain = hills();
+  const auto normals = std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*terrain));
+  const DrawList tiled = boxOverHills(*hillsBuilder(terrain, normals), 0, 40, 50);
+  DrawList whole = tiled;
+  whole.instances.clear();
+  int tiles = 0;
+  for (const DrawInstance& inst : tiled.instances) {
+    if (inst.surface == Surface::terrain) {
+      ++tiles;
+      continue;
+    }
+    whole.instances.push_back(inst);
+  }
+  EXPECT_GT(tiles, 1);
+  whole.meshes.push_back(DrawMesh{terrain.get(), terrain, normals});
+  DrawInstance inst;
+  inst.mesh = static_cast<int>(whole.meshes.size()) - 1;
+  inst.color = tiled.instances.back().color;
+  inst.surface = Surface::terrain;
+  whole.instances.push_back(inst);
+
+  const auto context = currentContext();
+  const gl::RenderSettings settings = testSettings();
+  const Image a = gl::Renderer(*context, settings).render(tiled);
+  const Image b = gl::Renderer(*context, settings).render(whole);
+  EXPECT_TRUE(a.rgb == b.rgb);
+  // Not trivially equal: the hills fill the view with shades.
+  int distinct = 0;
+  for (std::size_t i = 3; i < a.rgb.size(); i += 3) distinct += a.rgb[i] != a.rgb[i - 3];
+  EXPECT_GT(distinct, 5000);
+}
+
+TEST(IncrementalRender, BoxOverTiledTerrainIsByteIdenticalToWholeFrames) {
+  // Partial redraws draw only the tiles whose boxes reach the redrawn pixels, and redraw the
+  // shadow map only with the tiles that reach its changed texels: the same bytes as every
+  // frame drawn whole, with most of each frame skipped.
+  const auto terrain = hills();
+  const auto normals = std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*terrain));
+  const auto context = currentContext();
+  gl::RenderSettings settings = testSettings();
+  gl::Renderer incremental(*context, settings);
+  settings.incremental = false;
+  gl::Renderer whole(*context, settings);
+  const auto builder = hillsBuilder(terrain, normals);
+  double redrawn = 0;
+  constexpr int kFrames = 8;
+  for (int k = 0; k < kFrames; ++k) {
+    const DrawList list = boxOverHills(*builder, k, 30 + 3 * k, 40 + k);
+    const Image a = incremental.render(list);
+    const Image b = whole.render(list);
+    EXPECT_TRUE(a.rgb == b.rgb) << "frame " << k;
+    if (k > 0) redrawn += incremental.redrawnFraction();
+  }
+  // A box and its shadow: a small part of the view (a half would mean nothing was skipped).
+  EXPECT_LT(redrawn / (kFrames - 1), 0.5);
 }
 
 TEST(RedrawTracker, FirstFrameIsWholeAndAnUnchangedOneIsEmpty) {
