@@ -143,8 +143,30 @@ TriMesh importMesh(const std::string& path) {
   Assimp::Importer importer;
   // Triangulate only; no vertex joining, no degenerate removal (validateClosedMesh reports
   // those problems instead of having them silently "repaired").
-  const aiScene* scene =
-      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
+  const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
+  if (scene == nullptr)
+    throw InputError(path, std::string("cannot read mesh: ") + importer.GetErrorString());
+  // Each mesh's primitive types set from its faces before triangulating, and a face without
+  // vertices refused: assimp 5.2's PLY reader makes one from a garbled face line (found by
+  // mesh_ply_fuzz), its validation lets it through, and its triangulation, counting it as a
+  // polygon, aborts the process on an assertion. The scene is the importer's own; setting the
+  // types is the bookkeeping its post-processing steps keep themselves.
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    aiMesh& mesh = *const_cast<aiMesh*>(scene->mMeshes[m]);
+    unsigned types = 0;
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const unsigned n = mesh.mFaces[f].mNumIndices;
+      if (n == 0)
+        throw InputError(path, "cannot read mesh: face " + std::to_string(f) + " of mesh " +
+                                   std::to_string(m) + " has no vertices");
+      types |= n == 1   ? aiPrimitiveType_POINT
+               : n == 2 ? aiPrimitiveType_LINE
+               : n == 3 ? aiPrimitiveType_TRIANGLE
+                        : aiPrimitiveType_POLYGON;
+    }
+    mesh.mPrimitiveTypes = types;
+  }
+  scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
   if (scene == nullptr)
     throw InputError(path, std::string("cannot read mesh: ") + importer.GetErrorString());
   if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || scene->mRootNode == nullptr)

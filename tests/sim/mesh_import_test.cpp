@@ -158,6 +158,28 @@ TEST(MeshImport, FuzzFoundCutOffPlyHeaderIsAnError) {
   }
 }
 
+// Regression for a fuzz finding (tests/fuzz, mesh_ply_fuzz): an ASCII PLY cube with one face
+// line garbled (bytes 0xe0 0xd2 for an index, the next line a comment) made assimp 5.2 flag
+// polygons in a mesh of triangles, and its triangulation aborted the process on an assertion.
+// assimp read the garbled line as a face without vertices: now an error naming the file.
+TEST(MeshImport, FuzzFoundGarbledPlyFaceIsAnErrorNotAnAbort) {
+  test::TempDir dir;
+  std::string s =
+      "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 12\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
+      "3 0 2 3\n3 0 3 1\n3 4 5 7\n3 4 7 6\n3 0 1 5\n3 0 5\xe0\xd2\n# 2 6 7\n3 2 7 3\n"
+      "3 0 4 6\n3 0 6 2\n3 1 3 7\n3 1 7 5\n";
+  writeFile(dir.file("garbled.ply"), s);
+  try {
+    importMesh(dir.file("garbled.ply"));
+    ADD_FAILURE() << "a face without vertices should be refused";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), dir.file("garbled.ply"));
+    EXPECT_NE(e.message().find("has no vertices"), std::string::npos) << e.message();
+  }
+}
+
 TEST(MeshImport, AsciiPlyWithQuads) {
   test::TempDir dir;
   std::ostringstream s;
