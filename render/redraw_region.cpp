@@ -414,6 +414,32 @@ bool RedrawTracker::mayCast(std::size_t instance, const PixelRect& texels) const
   return !r || r->intersects(texels);
 }
 
+bool RedrawTracker::maySee(std::size_t instance) const {
+  if (!last_ || instance >= last_->corners.size()) return true;
+  // The corners in clip space: wholly behind the eye (w <= 0) nothing is drawn; with some
+  // behind, the projection is unbounded (kept); all in front, the box's projection is the box
+  // of the corners' projections, compared with the frame widened by the margin.
+  int behind = 0;
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  for (const Vec3& p : last_->corners[instance]) {
+    const Vec4 c = last_->viewProjection * Vec4(p.x(), p.y(), p.z(), 1);
+    if (!(c.w() > 1e-9)) {
+      ++behind;
+      continue;
+    }
+    for (int a = 0; a < 2; ++a)
+      lo[a] = std::min(lo[a], c[a] / c.w()), hi[a] = std::max(hi[a], c[a] / c.w());
+  }
+  if (behind == 8) return false;
+  if (behind > 0) return true;
+  const double size[2] = {static_cast<double>(width_), static_cast<double>(height_)};
+  for (int a = 0; a < 2; ++a) {
+    const double margin = 2.0 * kMarginPixels / size[a];  // in NDC, which spans 2
+    if (hi[a] < -1 - margin || lo[a] > 1 + margin) return false;
+  }
+  return true;
+}
+
 bool RedrawTracker::mayCover(std::size_t instance, const PixelRect& rect) const {
   if (!last_ || instance >= last_->corners.size()) return true;
   const std::optional<PixelRect> r = projectPoints(last_->viewProjection, last_->corners[instance],

@@ -116,6 +116,10 @@ class RedrawTracker {
   // The same in the shadow map: whether instance i can write texels of `texels` (rows from
   // the bottom) when the map is drawn with the current frame's shadow projection.
   bool mayCast(std::size_t instance, const PixelRect& texels) const;
+  // Whether instance i of the current frame can cover any pixel of the frame: false only when
+  // its bounding box lies wholly behind the eye, or wholly in front of it and projects
+  // beyond one edge of the frame (by more than the margin).
+  bool maySee(std::size_t instance) const;
 
  private:
   struct Frame {

@@ -323,7 +323,8 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
   setCommon(*sceneProgram);
   for (std::size_t i = 0; i < list.instances.size(); ++i) {
     const DrawInstance& inst = list.instances[i];
-    if (region && !tracker.mayCover(i, *region)) continue;  // wholly outside the scissor
+    // Wholly outside the scissor, or, drawing the whole frame, out of view.
+    if (region ? !tracker.mayCover(i, *region) : !tracker.maySee(i)) continue;
     const GpuTransform transform = gpuTransform(inst.model);
     setMatrix(gl, sceneProgram->uniform("uModel"), transform.model);
     setMatrix3(gl, sceneProgram->uniform("uNormalMatrix"), transform.normal);
