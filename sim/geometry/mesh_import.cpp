@@ -11,8 +11,10 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <array>
 #include <assimp/Importer.hpp>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -116,13 +118,19 @@ TriMesh weld(const Soup& soup) {
   return mesh;
 }
 
-// A PLY file ("ply" on its first line) must have a whole header: assimp 5.2 (Debian 12) loops
-// forever on an ASCII PLY whose header ends inside a property line (found by the PLY fuzz
-// target, tests/fuzz). Only the header's end is looked for here; assimp reads the rest.
+// A PLY file must have a whole header: assimp 5.2 (Debian 12) loops forever on an ASCII PLY
+// whose header ends inside a property line (found by the PLY fuzz target, tests/fuzz). Only
+// the header's end is looked for here; assimp reads the rest. A file is taken for a PLY when
+// it starts with "ply" (assimp's reader takes "plyCCC..." on its first line as the magic
+// number too: the fuzz target found that hang as well) or when its name ends in .ply.
 void checkPlyHeader(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
-  if (!std::getline(in, line) || (line != "ply" && line != "ply\r")) return;
+  if (!std::getline(in, line)) return;
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  if (line.rfind("ply", 0) != 0 && extension != ".ply") return;
   constexpr int kMaxHeaderLines = 100000;
   for (int n = 0; n < kMaxHeaderLines && std::getline(in, line);) {
     ++n;

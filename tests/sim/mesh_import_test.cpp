@@ -180,6 +180,23 @@ TEST(MeshImport, FuzzFoundGarbledPlyFaceIsAnErrorNotAnAbort) {
   }
 }
 
+// Regression for a fuzz finding (tests/fuzz, mesh_ply_fuzz): the same hang with the magic
+// number followed by other bytes on its line ("plyCCC..."), which assimp still reads as a PLY
+// and the check above did not take for one.
+TEST(MeshImport, FuzzFoundPlyMagicWithTrailingBytesAndCutHeaderIsAnError) {
+  test::TempDir dir;
+  writeFile(dir.file("cut.ply"), "ply" + std::string(42, 'C') +
+                                     "\nformat ascii 1.0\nelement vertex 8\nproperty fply\n"
+                                     "format aloat x\n.mat as");
+  try {
+    importMesh(dir.file("cut.ply"));
+    ADD_FAILURE() << "a PLY without a whole header should be refused";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), dir.file("cut.ply"));
+    EXPECT_EQ(e.message(), "PLY header has no 'end_header' line (is the file cut off?)");
+  }
+}
+
 TEST(MeshImport, AsciiPlyWithQuads) {
   test::TempDir dir;
   std::ostringstream s;
