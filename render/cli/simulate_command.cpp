@@ -154,6 +154,15 @@ int runSimulate(const SimulateOptions& o) {
     std::printf(
         "  rocks: %d stopped, %d left the terrain, %d buried, %d still moving (t = %.3f s)\n",
         count[1], count[2], count[3], count[0], built.world->time());
+    // The outcomes of rocks cut off by the duration are where they were then, which reads
+    // like a runout unless told (an interrupted run says so below instead).
+    if (outcomes && count[0] > 0 && !stop)
+      std::fprintf(stderr,
+                   "voxfall: warning: %d of %d rocks were still moving at the end (t = %.4g s); "
+                   "%s records them where they were then, not where they stop: raise "
+                   "[simulation] duration\n",
+                   count[0], count[0] + count[1] + count[2] + count[3], built.world->time(),
+                   o.outcomes.c_str());
   }
   if (stop) {
     std::fprintf(stderr, "voxfall: interrupted; frames 0..%d (t = 0 .. %.6g s) written%s%s\n",

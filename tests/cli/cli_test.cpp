@@ -204,6 +204,7 @@ TEST_F(CliTest, RockfallOutcomesCsvAndGeoJsonAndStopWhenSettled) {
                                            "0 still moving \\(t = ([0-9.]+) s\\)")))
       << out_;
   EXPECT_LT(std::stod(m[1].str()), 10.0);  // ended when settled, not at 30 s
+  EXPECT_EQ(err_.find("still moving"), std::string::npos) << err_;  // none was
   const auto rows = lines(readFile(csv));
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[0].rfind("body,state,release_time_s,release_x,", 0), 0u) << rows[0];
@@ -220,6 +221,23 @@ TEST_F(CliTest, RockfallOutcomesCsvAndGeoJsonAndStopWhenSettled) {
   EXPECT_NE(g.find("\"LineString\""), std::string::npos);
   EXPECT_NE(g.find("\"state\": \"left\""), std::string::npos) << g.substr(0, 400);
   EXPECT_NE(g.find("\"bounces\": 0"), std::string::npos) << g.substr(0, 400);
+
+  // Cut off at 0.5 s, before either cube has been still for the rest criterion's 1 s: both
+  // outcomes say "moving", and the run warns with that count and the file's name.
+  const std::string cut = write(
+      "cut.toml", readFile(scene).replace(readFile(scene).find("duration = 30"),
+                                          std::string("duration = 30").size(), "duration = 0.5"));
+  ASSERT_EQ(run("simulate " + quote(cut) + " -q -y --outcomes " + quote(csv.string())), 0) << err_;
+  int moving = 0;
+  for (const std::string& row : lines(readFile(csv)))
+    moving += row.find(",moving,") != std::string::npos;
+  EXPECT_EQ(moving, 2);
+  EXPECT_NE(err_.find("voxfall: warning: 2 of 2 rocks were still moving at the end (t = 0.4"),
+            std::string::npos)
+      << err_;
+  EXPECT_NE(err_.find("; " + csv.string() + " records them where they were then"),
+            std::string::npos)
+      << err_;
 }
 
 TEST_F(CliTest, OverridesChangeTheRunAndRunsRepeat) {
