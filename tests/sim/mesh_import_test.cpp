@@ -45,6 +45,19 @@ std::string inputErrorOf(F&& f) {
   return "";
 }
 
+// The message of the InputError that importing `path` throws, which must name that file ("" and
+// a test failure if none is thrown).
+std::string importErrorOf(const std::string& path) {
+  try {
+    importMesh(path);
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), path);
+    return e.message();
+  }
+  ADD_FAILURE() << "the import of " << path << " should be refused";
+  return "";
+}
+
 // A unit box [0,1]^3 and the expected result of importing it once.
 const TriMesh kUnitBox = test::boxMesh(Vec3(0, 0, 0), Vec3(1, 1, 1));
 
@@ -131,14 +144,9 @@ TEST(MeshImport, FuzzFoundNonFiniteStlCoordinatesAreAnError) {
       appendRaw<std::uint16_t>(b, 0);
     }
     writeFile(dir.file("bad.stl"), b);
-    try {
-      importMesh(dir.file("bad.stl"));
-      ADD_FAILURE() << "a non-finite coordinate should be refused";
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.where(), dir.file("bad.stl"));
-      // Coordinate 13 is in corner 4, the second corner of triangle 1.
-      EXPECT_EQ(e.message(), "triangle 1 has a non-finite coordinate (NaN or infinity)");
-    }
+    // Coordinate 13 is in corner 4, the second corner of triangle 1.
+    EXPECT_EQ(importErrorOf(dir.file("bad.stl")),
+              "triangle 1 has a non-finite coordinate (NaN or infinity)");
   }
 }
 
@@ -149,13 +157,8 @@ TEST(MeshImport, FuzzFoundNonFiniteStlCoordinatesAreAnError) {
 TEST(MeshImport, FuzzFoundCutOffPlyHeaderIsAnError) {
   test::TempDir dir;
   writeFile(dir.file("cut.ply"), "ply\nformat ascii 1.0\nelement vertex 8\nproperty flo");
-  try {
-    importMesh(dir.file("cut.ply"));
-    ADD_FAILURE() << "a PLY without a whole header should be refused";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.where(), dir.file("cut.ply"));
-    EXPECT_EQ(e.message(), "PLY header has no 'end_header' line (is the file cut off?)");
-  }
+  EXPECT_EQ(importErrorOf(dir.file("cut.ply")),
+            "PLY header has no 'end_header' line (is the file cut off?)");
 }
 
 // Regression for a fuzz finding (tests/fuzz, mesh_ply_fuzz): an ASCII PLY cube with one face
@@ -171,13 +174,9 @@ TEST(MeshImport, FuzzFoundGarbledPlyFaceIsAnErrorNotAnAbort) {
       "3 0 2 3\n3 0 3 1\n3 4 5 7\n3 4 7 6\n3 0 1 5\n3 0 5\xe0\xd2\n# 2 6 7\n3 2 7 3\n"
       "3 0 4 6\n3 0 6 2\n3 1 3 7\n3 1 7 5\n";
   writeFile(dir.file("garbled.ply"), s);
-  try {
-    importMesh(dir.file("garbled.ply"));
-    ADD_FAILURE() << "a face without vertices should be refused";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.where(), dir.file("garbled.ply"));
-    EXPECT_NE(e.message().find("has no vertices"), std::string::npos) << e.message();
-  }
+  // Which face number assimp's reader gives the garbled line is its business: not pinned.
+  const std::string message = importErrorOf(dir.file("garbled.ply"));
+  EXPECT_NE(message.find("has no vertices"), std::string::npos) << message;
 }
 
 // Regression for a fuzz finding (tests/fuzz, mesh_ply_fuzz): the same hang with the magic
@@ -188,13 +187,8 @@ TEST(MeshImport, FuzzFoundPlyMagicWithTrailingBytesAndCutHeaderIsAnError) {
   writeFile(dir.file("cut.ply"), "ply" + std::string(42, 'C') +
                                      "\nformat ascii 1.0\nelement vertex 8\nproperty fply\n"
                                      "format aloat x\n.mat as");
-  try {
-    importMesh(dir.file("cut.ply"));
-    ADD_FAILURE() << "a PLY without a whole header should be refused";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.where(), dir.file("cut.ply"));
-    EXPECT_EQ(e.message(), "PLY header has no 'end_header' line (is the file cut off?)");
-  }
+  EXPECT_EQ(importErrorOf(dir.file("cut.ply")),
+            "PLY header has no 'end_header' line (is the file cut off?)");
 }
 
 TEST(MeshImport, AsciiPlyWithQuads) {
