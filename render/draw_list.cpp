@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "sim/core/error.h"
+#include "sim/geometry/cell_grid.h"
 
 namespace vf {
 namespace {
@@ -277,8 +278,8 @@ void DrawListBuilder::setTerrain(std::shared_ptr<const TriMesh> mesh,
   for (std::size_t k = 0; k < count; ++k) {
     const auto& t = terrain_->triangles[k];
     const Eigen::Vector2d c = ((v[t[0]] + v[t[1]] + v[t[2]]) / 3).head<2>();
-    const int i = std::clamp(static_cast<int>((c.x() - lo.x()) / side), 0, nx - 1);
-    const int j = std::clamp(static_cast<int>((c.y() - lo.y()) / side), 0, ny - 1);
+    const int i = cellIndex((c.x() - lo.x()) / side, nx - 1);
+    const int j = cellIndex((c.y() - lo.y()) / side, ny - 1);
     squares[static_cast<std::size_t>(j) * nx + i].push_back(static_cast<std::uint32_t>(k));
   }
   std::vector<std::uint32_t> local(v.size(), UINT32_MAX);  // whole-mesh vertex -> tile vertex
