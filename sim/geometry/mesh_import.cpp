@@ -11,19 +11,18 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include <algorithm>
 #include <array>
 #include <assimp/Importer.hpp>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <map>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "sim/core/error.h"
+#include "sim/geometry/ply_check.h"
 
 namespace vf {
 namespace {
@@ -118,35 +117,13 @@ TriMesh weld(const Soup& soup) {
   return mesh;
 }
 
-// A PLY file must have a whole header: assimp 5.2 (Debian 12) loops forever on an ASCII PLY
-// whose header ends inside a property line (found by the PLY fuzz target, tests/fuzz). Only
-// the header's end is looked for here; assimp reads the rest. A file is taken for a PLY when
-// it starts with "ply" (assimp's reader takes "plyCCC..." on its first line as the magic
-// number too: the fuzz target found that hang as well) or when its name ends in .ply.
-void checkPlyHeader(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  if (!std::getline(in, line)) return;
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  if (line.rfind("ply", 0) != 0 && extension != ".ply") return;
-  constexpr int kMaxHeaderLines = 100000;
-  for (int n = 0; n < kMaxHeaderLines && std::getline(in, line);) {
-    ++n;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line == "end_header") return;
-  }
-  throw InputError(path, "PLY header has no 'end_header' line (is the file cut off?)");
-}
-
 }  // namespace
 
 TriMesh importMesh(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(path, "no such file (or not a regular file)");
-  checkPlyHeader(path);
+  checkPlyLayout(path);  // assimp 5.2 trusts a PLY file's counts (ply_check.h)
 
   Assimp::Importer importer;
   // Triangulate only; no vertex joining, no degenerate removal (validateClosedMesh reports
