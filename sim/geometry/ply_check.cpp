@@ -48,22 +48,26 @@ struct Type {
   bool isSigned;
 };
 
-constexpr const char* kTypeNames =
-    "char, uchar, short, ushort, int, uint, float, double, int8, uint8, int16, uint16, int32, "
-    "uint32, float32, float64";
+constexpr Type kTypes[] = {
+    {"char", 1, true, true},    {"uchar", 1, true, false},  {"short", 2, true, true},
+    {"ushort", 2, true, false}, {"int", 4, true, true},     {"uint", 4, true, false},
+    {"float", 4, false, true},  {"double", 8, false, true}, {"int8", 1, true, true},
+    {"uint8", 1, true, false},  {"int16", 2, true, true},   {"uint16", 2, true, false},
+    {"int32", 4, true, true},   {"uint32", 4, true, false}, {"float32", 4, false, true},
+    {"float64", 8, false, true}};
 
 // The type of that name; size 0 when PLY has none.
 Type typeNamed(const std::string& name) {
-  static const Type kTypes[] = {
-      {"char", 1, true, true},    {"int8", 1, true, true},     {"uchar", 1, true, false},
-      {"uint8", 1, true, false},  {"short", 2, true, true},    {"int16", 2, true, true},
-      {"ushort", 2, true, false}, {"uint16", 2, true, false},  {"int", 4, true, true},
-      {"int32", 4, true, true},   {"uint", 4, true, false},    {"uint32", 4, true, false},
-      {"float", 4, false, true},  {"float32", 4, false, true}, {"double", 8, false, true},
-      {"float64", 8, false, true}};
   for (const Type& t : kTypes)
     if (name == t.name) return t;
   return {"", 0, false, false};
+}
+
+// PLY's type names, for a message.
+std::string typeNames() {
+  std::string names;
+  for (const Type& t : kTypes) names += (names.empty() ? "" : ", ") + std::string(t.name);
+  return names;
 }
 
 // A header line for a message: bytes outside printable ASCII as '?', at most 60 of them.
@@ -271,11 +275,16 @@ void checkBinary(const std::string& path, const std::string& data, std::size_t b
 
 void checkPlyLayout(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::string extension = std::filesystem::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return std::tolower(c); });
-  if (data.rfind("ply", 0) != 0 && extension != ".ply") return;
+  if (extension != ".ply") {  // an OBJ or STL is not read here: only its first bytes
+    char magic[3] = {};
+    in.read(magic, sizeof magic);
+    if (in.gcount() != sizeof magic || std::string_view(magic, sizeof magic) != "ply") return;
+    in.seekg(0);
+  }
+  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 
   // The header, line by line. Lines this check does not know (comment, obj_info, anything
   // else) are left to assimp.
@@ -403,7 +412,7 @@ void checkPlyLayout(const std::string& path) {
       p.size = typeNamed(type).size;
       if (p.size == 0)
         refuse("has type '" + printable(type) + "': it should be one of PLY's types (" +
-               kTypeNames + ")");
+               typeNames() + ")");
       words >> p.name;
       elements.back().properties.push_back(std::move(p));
     }

@@ -27,8 +27,9 @@
 
 namespace vf {
 
-// Throws InputError naming the file (and, for ASCII data, the line) when `path` is a PLY file
-// (it starts with "ply", or its name ends in .ply) with one of the faults above.
+// Throws InputError naming the file (and the line for a fault in the header or in ASCII data)
+// when `path` is a PLY file (it starts with "ply", or its name ends in .ply) with one of the
+// faults above. Other files are not read beyond their first three bytes.
 void checkPlyLayout(const std::string& path);
 
 }  // namespace vf

@@ -259,6 +259,11 @@ TEST(MeshImport, FuzzFoundPlyElementLineWithoutAWholeCountIsRefused) {
               std::string("PLY header line holds the control character ") + byte +
                   "; a PLY header is text");
   }
+  // A file is taken for a PLY by its magic number too, whatever its name (assimp does).
+  writeFile(dir.file("e.mesh"), "ply\nformat ascii 1.0\nelement face x\nend_header\n");
+  EXPECT_EQ(importErrorOf(dir.file("e.mesh"), dir.file("e.mesh") + ":3"),
+            "PLY header line 'element face x' should be 'element NAME COUNT', a name that does "
+            "not start with a digit and a whole number");
   // Bytes outside printable ASCII (here UTF-8 for "é") are shown as '?' in the message.
   writeFile(dir.file("e.ply"), "ply\nformat ascii 1.0\nelement vertex 3\xc3\xa9\nend_header\n");
   EXPECT_EQ(importErrorOf(dir.file("e.ply"), dir.file("e.ply") + ":3"),
