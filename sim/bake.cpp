@@ -254,7 +254,7 @@ void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
          {{"width", s.output.width}, {"height", s.output.height}, {"crf", s.output.crf}}}}},
       {"shapes", shapes},
       {"bodies", bodies},
-      {"summary", summaryJson(bake.summary)},
+      {"summary", bake.ensemble ? json(nullptr) : summaryJson(bake.summary)},
       {"records", bake.records.size()}};
   std::fputs(kSignature, out);
   const std::string text = header.dump();
@@ -344,7 +344,9 @@ Bake readBake(const std::string& path) {
         for (int k = 0; k < 3; ++k) b.inertiaBodyInv(r, k) = m.at(3 * r + k).get<double>();
       bake.bodies.push_back(b);
     }
-    bake.summary = readSummary(h.at("summary"));
+    const json& summary = h.at("summary");
+    bake.ensemble = summary.is_null();
+    if (!bake.ensemble) bake.summary = readSummary(summary);
     records = h.at("records").get<std::size_t>();
   } catch (const json::exception& e) {
     throw InputError(path + ":2", std::string("bad bake header: ") + e.what());

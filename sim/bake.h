@@ -41,6 +41,9 @@ struct Bake {
   std::vector<BakeBody> bodies;
   std::vector<BakeRecord> records;  // in time order
   RunSummary summary;               // of the run that made the bake (checksum, steps, ...)
+  // A subset of an ensemble (ensembleBake): each body is a realisation that was stepped alone,
+  // so there is no run to summarise; `summary` stays empty and is written as null.
+  bool ensemble = false;
 
   // Every body's state and active flag at time t, exactly as World::statesAt(t) after
   // World::advanceTo(t) in the run that made the bake: the last record at or before t (within

@@ -152,6 +152,16 @@ int runRender(const RenderOptions& o) {
 
   // 4. The world, simulated through every frame.
   std::optional<ScenePlayback> played;
+  // An ensemble's bake holds realisations each stepped alone: no run to summarise (Bake::ensemble).
+  const bool ensembleBake = bake && bake->ensemble;
+  const std::size_t realisations = ensembleBake ? bake->bodies.size() : 0;
+  auto summarise = [&](const ScenePlayback& playback) {
+    if (!ensembleBake) return printSummary(stdout, spec.name, playback.summary());
+    std::printf(
+        "%s: %d frames of %zu ensemble realisations from the bake %s (each was stepped "
+        "alone by `voxfall ensemble`: no run summary or checksum)\n",
+        spec.name.c_str(), playback.frameCount(), realisations, o.scene.c_str());
+  };
   if (bake) {
     bake->scene = spec;  // fps, size and quality from the command line
     played.emplace(std::make_shared<const Bake>(std::move(*bake)), width, height);
@@ -218,13 +228,14 @@ int runRender(const RenderOptions& o) {
   if (stopSignal()) {
     std::fprintf(stderr, "voxfall: interrupted; %s written to %s (playable, incomplete)\n",
                  frameSpan(range.first, lastDone).c_str(), sink->path().c_str());
-    printSummary(stdout, spec.name, playback.summary());
+    summarise(playback);
     return 128 + stopSignal();  // 130 for SIGINT, 143 for SIGTERM, as the shell would say
   }
 
   const int drawn = range.last - range.first + 1;
-  printSummary(stdout, spec.name, playback.summary());
-  if (bake) std::printf("  steps simulated: 0 (states from the bake %s)\n", o.scene.c_str());
+  summarise(playback);
+  if (bake && !ensembleBake)
+    std::printf("  steps simulated: 0 (states from the bake %s)\n", o.scene.c_str());
   std::printf(
       "  rendered %s (%dx%d, %s, %s) in %.2f s: %.2f frames/s, %.0f%% of the pixels "
       "redrawn\n",
@@ -252,8 +263,11 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   // Owned by the callback: CLI11 fills it during parse, after this function has returned.
   auto o = std::make_shared<RenderOptions>();
   CLI::App* sub = app.add_subcommand(
-      "render", "Simulate a scene and render its frames to an MP4 or a PNG sequence");
-  sub->add_option("SCENE", o->scene, "scene file (TOML)")->required()->type_name("");
+      "render",
+      "Simulate a scene (or read a bake) and render its frames to an MP4 or a PNG sequence");
+  sub->add_option("INPUT", o->scene, "scene file (TOML) or bake (voxfall simulate --bake)")
+      ->required()
+      ->type_name("");
   sub->add_option("-o,--output", o->output,
                   "OUT.mp4 (H.264), or a PNG pattern whose '#' run becomes the frame number, "
                   "e.g. out/cubes/frame_####.png (default: out/<scene name>.mp4)")
@@ -266,8 +280,8 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--fps", o->fps, "frames per second (overrides [simulation] fps)")
       ->check(CLI::Range(0.001, 1000.0))
       ->type_name("N");
-  addPhysicsOptions(*sub, o->overrides);
-  addThreadsOption(*sub, o->overrides);
+  addPhysicsOptions(*sub, o->overrides, " (scenes only)");
+  addThreadsOption(*sub, o->overrides, " (scenes only)");
   sub->add_option("--crf", o->crf, "H.264 quality, 0..51, lower is better (default: 18)")
       ->check(CLI::Range(0, 51))
       ->type_name("N");

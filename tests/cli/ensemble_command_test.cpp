@@ -255,6 +255,13 @@ TEST_F(EnsembleCommandTest, SubsetVideoIsTheRenderOfItsBake) {
   ASSERT_TRUE(fs::exists(dir_ / "v" / "trajectories.mp4"));
   const auto again = runVoxfall(kExe, dir_, "render v/ensemble_subset.bake -o again.mp4 -q");
   ASSERT_EQ(again.code, 0) << again.err;
+  // The realisations were each stepped alone: the header has no run summary, and the render
+  // says so rather than printing a summary of zeros (once it printed "checksum 0000000000000000").
+  const std::string bake = readFile(dir_ / "v" / "ensemble_subset.bake");
+  EXPECT_NE(bake.find("\"summary\":null"), std::string::npos);
+  EXPECT_NE(again.out.find("frames of 3 ensemble realisations"), std::string::npos) << again.out;
+  EXPECT_EQ(again.out.find("  checksum "), std::string::npos) << again.out;  // printSummary's line
+  EXPECT_EQ(again.out.find("steps simulated"), std::string::npos) << again.out;
   const std::string video = readFile(dir_ / "v" / "trajectories.mp4");
   EXPECT_GT(video.size(), 1000u);
   EXPECT_TRUE(video == readFile(dir_ / "again.mp4"));
