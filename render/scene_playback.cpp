@@ -117,8 +117,9 @@ ScenePlayback::~ScenePlayback() = default;
 
 int ScenePlayback::frameCount() const { return impl_->frameCount(); }
 
-const RunSummary& ScenePlayback::summary() const {
-  return impl_->bake ? impl_->bake->summary : impl_->recorder->summary();
+const RunSummary* ScenePlayback::summary() const {
+  if (impl_->bake) return impl_->bake->summary ? &*impl_->bake->summary : nullptr;
+  return &impl_->recorder->summary();
 }
 
 std::uint64_t ScenePlayback::stepsSimulated() const {
@@ -186,7 +187,7 @@ RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& 
     if (adjust) adjust(list);
     out.images.push_back(renderer.render(list));
   }
-  out.summary = playback.summary();
+  out.summary = *playback.summary();  // a scene: always a run
   return out;
 }
 

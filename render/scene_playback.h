@@ -39,8 +39,8 @@ class ScenePlayback {
   // Frames k = 0 .. floor(duration * fps).
   int frameCount() const;
   // The run's numbers (checksum included), complete after simulate(); a bake's are the run's
-  // that made it.
-  const RunSummary& summary() const;
+  // that made it, and null for a bake without a run (an ensemble's subset, Bake::summary).
+  const RunSummary* summary() const;
   // Steps this playback simulated: the run's, or 0 for a bake.
   std::uint64_t stepsSimulated() const;
   // Pass 2: what to draw for frame k (after simulate()).

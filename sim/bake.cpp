@@ -254,7 +254,7 @@ void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
          {{"width", s.output.width}, {"height", s.output.height}, {"crf", s.output.crf}}}}},
       {"shapes", shapes},
       {"bodies", bodies},
-      {"summary", bake.ensemble ? json(nullptr) : summaryJson(bake.summary)},
+      {"summary", bake.summary ? summaryJson(*bake.summary) : json(nullptr)},
       {"records", bake.records.size()}};
   std::fputs(kSignature, out);
   const std::string text = header.dump();
@@ -344,9 +344,8 @@ Bake readBake(const std::string& path) {
         for (int k = 0; k < 3; ++k) b.inertiaBodyInv(r, k) = m.at(3 * r + k).get<double>();
       bake.bodies.push_back(b);
     }
-    const json& summary = h.at("summary");
-    bake.ensemble = summary.is_null();
-    if (!bake.ensemble) bake.summary = readSummary(summary);
+    if (const json& summary = h.at("summary"); !summary.is_null())
+      bake.summary = readSummary(summary);
     records = h.at("records").get<std::size_t>();
   } catch (const json::exception& e) {
     throw InputError(path + ":2", std::string("bad bake header: ") + e.what());

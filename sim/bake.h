@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,10 +41,10 @@ struct Bake {
   SceneSpec scene;
   std::vector<BakeBody> bodies;
   std::vector<BakeRecord> records;  // in time order
-  RunSummary summary;               // of the run that made the bake (checksum, steps, ...)
-  // A subset of an ensemble (ensembleBake): each body is a realisation that was stepped alone,
-  // so there is no run to summarise; `summary` stays empty and is written as null.
-  bool ensemble = false;
+  // The run that made the bake (checksum, steps, ...). Absent (null in the file) in a subset of
+  // an ensemble (ensembleBake): each body is a realisation that was stepped alone, so there is
+  // no run to summarise.
+  std::optional<RunSummary> summary;
 
   // Every body's state and active flag at time t, exactly as World::statesAt(t) after
   // World::advanceTo(t) in the run that made the bake: the last record at or before t (within

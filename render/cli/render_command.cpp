@@ -152,15 +152,15 @@ int runRender(const RenderOptions& o) {
 
   // 4. The world, simulated through every frame.
   std::optional<ScenePlayback> played;
-  // An ensemble's bake holds realisations each stepped alone: no run to summarise (Bake::ensemble).
-  const bool ensembleBake = bake && bake->ensemble;
-  const std::size_t realisations = ensembleBake ? bake->bodies.size() : 0;
+  // A bake without a run summary is an ensemble's subset (Bake::summary): its bodies are
+  // realisations, each stepped alone, so it says that instead.
+  const std::size_t bakedBodies = bake ? bake->bodies.size() : 0;
   auto summarise = [&](const ScenePlayback& playback) {
-    if (!ensembleBake) return printSummary(stdout, spec.name, playback.summary());
+    if (const RunSummary* run = playback.summary()) return printSummary(stdout, spec.name, *run);
     std::printf(
         "%s: %d frames of %zu ensemble realisations from the bake %s (each was stepped "
         "alone by `voxfall ensemble`: no run summary or checksum)\n",
-        spec.name.c_str(), playback.frameCount(), realisations, o.scene.c_str());
+        spec.name.c_str(), playback.frameCount(), bakedBodies, o.scene.c_str());
   };
   if (bake) {
     bake->scene = spec;  // fps, size and quality from the command line
@@ -234,7 +234,7 @@ int runRender(const RenderOptions& o) {
 
   const int drawn = range.last - range.first + 1;
   summarise(playback);
-  if (bake && !ensembleBake)
+  if (bake && playback.summary())
     std::printf("  steps simulated: 0 (states from the bake %s)\n", o.scene.c_str());
   std::printf(
       "  rendered %s (%dx%d, %s, %s) in %.2f s: %.2f frames/s, %.0f%% of the pixels "

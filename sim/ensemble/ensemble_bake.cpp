@@ -14,7 +14,6 @@ Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
                   const std::vector<std::int64_t>& indices) {
   const SceneSpec& spec = ensemble.spec();
   Bake bake;
-  bake.ensemble = true;
   bake.scene = spec;
   bake.scene.bodies.clear();
   bake.scene.emitters.clear();

@@ -292,7 +292,7 @@ TEST_F(EnsembleRunTest, SubsetBakeHoldsEachRealisationsStateAtTheFrameTimes) {
   const std::vector<std::int64_t> chosen = {3, 1};
   const Bake bake = ensembleBake(e, 5, chosen);
   ASSERT_EQ(bake.bodies.size(), 2u);
-  EXPECT_TRUE(bake.ensemble);  // no run summary: written as null (ensemble_command_test)
+  EXPECT_FALSE(bake.summary.has_value());  // written as null (ensemble_command_test)
   const int frames = Recorder::frameCountFor(e.spec().fps, 2.0);
   ASSERT_EQ(bake.records.size(), static_cast<std::size_t>(frames));
   for (std::size_t b = 0; b < chosen.size(); ++b) {
