@@ -16,6 +16,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Realisations of one ensemble case: each is stepped to its end and drawn with the others, so a
+// suite case of more than a few hundred is a mistake, not a test.
+constexpr int kMaxRuns = 1000;
+
 class SuiteReader {
  public:
   explicit SuiteReader(std::string file) : file_(std::move(file)) {}
@@ -121,14 +125,16 @@ class SuiteReader {
           fail(node.source(), "'size' must be [width, height] in pixels");
         c.width = integer(*a->get(0), "size", 1, kMaxImageSide);
         c.height = integer(*a->get(1), "size", 1, kMaxImageSide);
+      } else if (k == "runs") {
+        c.runs = integer(node, k, 1, kMaxRuns);
       } else if (k == "threshold") {
         c.tolerance.threshold = integer(node, k, 0, 255);
       } else if (k == "max_fraction") {
         c.tolerance.maxFraction = fraction(node, k);
       } else {
         fail(key.source(), "unknown key '" + k +
-                               "' in [[case]] (valid: name, scene, frames, size, threshold, "
-                               "max_fraction)");
+                               "' in [[case]] (valid: name, scene, frames, size, runs, "
+                               "threshold, max_fraction)");
       }
     }
     if (c.scene.empty()) throw InputError(c.where, "[[case]] needs 'scene = \"path.toml\"'");

@@ -17,6 +17,9 @@ struct SuiteCase {
   std::vector<int> frames;   // frame numbers k (t = k / fps), in the order given
   std::optional<int> width;  // default: the scene's [output] size
   std::optional<int> height;
+  // An ensemble scene's first `runs` realisations drawn together, as `voxfall ensemble
+  // --video-runs K` draws them (ensemble_subset.bake); unset: the scene as `render` draws it.
+  std::optional<int> runs;
   DiffTolerance tolerance;
   std::string where;  // "suite.toml:LINE" of its [[case]] header
 };
@@ -27,7 +30,7 @@ struct Suite {
 };
 
 // Reads a suite file. Keys: top-level `threshold` and `max_fraction` (defaults for every
-// case), then [[case]] tables with `scene`, `frames`, and optional `name`, `size`,
+// case), then [[case]] tables with `scene`, `frames`, and optional `name`, `size`, `runs`,
 // `threshold`, `max_fraction`. Errors: InputError at "suite.toml:LINE:COLUMN".
 Suite readSuite(const std::string& suiteFile);
 

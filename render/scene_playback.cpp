@@ -158,37 +158,62 @@ std::vector<BodyView> ScenePlayback::bodiesAt(int k) {
 
 std::shared_ptr<const TriMesh> ScenePlayback::terrainMesh() const { return impl_->terrainMesh; }
 
-RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& frames,
-                                 gl::Context& context, const std::string& shaderDir,
-                                 const std::function<void(DrawList&)>& adjust) {
-  const int width = spec.output.width, height = spec.output.height;
-  // Checked before the expensive shape building, as `render` does.
-  const int frameCount = Recorder::frameCountFor(spec.fps, spec.duration);
+namespace {
+
+// Throws InputError naming `where` unless every frame lies in 0 .. frameCount - 1.
+void checkFrames(const std::string& where, const std::vector<int>& frames, int frameCount,
+                 const std::string& whose) {
   for (const int k : frames) {
     if (k < 0 || k >= frameCount) {
-      throw InputError(spec.path,
-                       "frame " + std::to_string(k) +
-                           " is outside the scene's frames 0:" + std::to_string(frameCount - 1));
+      throw InputError(where, "frame " + std::to_string(k) + " is outside " + whose +
+                                  " frames 0:" + std::to_string(frameCount - 1));
     }
   }
+}
+
+// Pass 1 over the whole playback, then `frames` drawn at width x height.
+std::vector<Image> drawFrames(ScenePlayback& playback, const std::vector<int>& frames, int width,
+                              int height, gl::Context& context, const std::string& shaderDir,
+                              const std::function<void(DrawList&)>& adjust) {
   context.makeCurrent();
   gl::RenderSettings settings;
   settings.width = width;
   settings.height = height;
   settings.shaderDir = shaderDir;
   gl::Renderer renderer(context, settings);
-
-  ScenePlayback playback(spec, width, height);
   playback.simulate(false);
-  RenderedFrames out;
-  out.images.reserve(frames.size());
+  std::vector<Image> images;
+  images.reserve(frames.size());
   for (const int k : frames) {
     DrawList list = playback.drawList(k);
     if (adjust) adjust(list);
-    out.images.push_back(renderer.render(list));
+    images.push_back(renderer.render(list));
   }
+  return images;
+}
+
+}  // namespace
+
+RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& frames,
+                                 gl::Context& context, const std::string& shaderDir,
+                                 const std::function<void(DrawList&)>& adjust) {
+  const int width = spec.output.width, height = spec.output.height;
+  // Checked before the expensive shape building, as `render` does.
+  checkFrames(spec.path, frames, Recorder::frameCountFor(spec.fps, spec.duration), "the scene's");
+  ScenePlayback playback(spec, width, height);
+  RenderedFrames out;
+  out.images = drawFrames(playback, frames, width, height, context, shaderDir, adjust);
   out.summary = *playback.summary();  // a scene: always a run
   return out;
+}
+
+std::vector<Image> renderBakeFrames(std::shared_ptr<const Bake> bake, const std::string& where,
+                                    const std::vector<int>& frames, int width, int height,
+                                    gl::Context& context, const std::string& shaderDir) {
+  checkFrames(where, frames, Recorder::frameCountFor(bake->scene.fps, bake->scene.duration),
+              "the bake's");
+  ScenePlayback playback(std::move(bake), width, height);
+  return drawFrames(playback, frames, width, height, context, shaderDir, {});
 }
 
 }  // namespace vf

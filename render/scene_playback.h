@@ -67,5 +67,10 @@ struct RenderedFrames {
 RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& frames,
                                  gl::Context& context, const std::string& shaderDir,
                                  const std::function<void(DrawList&)>& adjust = {});
+// Draws `frames` of a bake at width x height, as `voxfall render BAKE --frames k:k --size WxH`
+// would; a frame outside the bake's is an InputError naming `where`.
+std::vector<Image> renderBakeFrames(std::shared_ptr<const Bake> bake, const std::string& where,
+                                    const std::vector<int>& frames, int width, int height,
+                                    gl::Context& context, const std::string& shaderDir);
 
 }  // namespace vf

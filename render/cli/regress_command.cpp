@@ -12,6 +12,12 @@
 // REPORT_DIR/<case>/frame_NNNN_compare.png: expected | actual | diff side by side.
 // Exit code 0 when everything passes, 1 when something failed (or bad input), 2 usage.
 //
+// A case with `runs = K` checks an ensemble scene instead: its first K realisations, each
+// stepped alone as `voxfall ensemble` steps it, drawn together from their bake exactly as
+// `voxfall ensemble --video-runs K` writes ensemble_subset.bake and `voxfall render` draws it.
+// Its checksum.txt holds K words, runs.csv's checksums of realisations 0..K-1, and a failure
+// names the realisations whose states changed.
+//
 // --update writes the goldens that are missing or fail (each through a temporary file and a
 // rename) and keeps the ones within tolerance, so that a review of the change (`git diff`,
 // looking at the PNGs) shows only what really changed. To regenerate a case from scratch,
@@ -28,8 +34,10 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -43,6 +51,8 @@
 #include "render/regress_suite.h"
 #include "render/scene_playback.h"
 #include "sim/core/error.h"
+#include "sim/ensemble/ensemble.h"
+#include "sim/ensemble/ensemble_bake.h"
 #include "sim/scene/scene.h"
 
 namespace vf::cli {
@@ -79,11 +89,20 @@ class ReportLog {
   std::string text_;
 };
 
+// checksum.txt's words joined by single spaces: one for a scene, one per realisation for an
+// ensemble case; "" when the file is missing.
 std::string readChecksum(const fs::path& path) {
   std::ifstream in(path);
-  std::string word;
-  in >> word;
-  return word;
+  std::string all, word;
+  while (in >> word) all += (all.empty() ? "" : " ") + word;
+  return all;
+}
+
+std::vector<std::string> words(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string w; in >> w;) out.push_back(w);
+  return out;
 }
 
 // checksum.txt through a temporary file and a rename (OutputFile), like every other output.
@@ -115,13 +134,65 @@ struct Counts {
   int casesFailed = 0;  // cases that could not run
 };
 
-void runCase(const SuiteCase& c, const fs::path& suiteDir, const fs::path& reportDir, bool update,
-             gl::Context& context, const std::string& shaderDir, ReportLog& log, Counts& counts) {
-  const auto start = std::chrono::steady_clock::now();
+// What a case made: its frames and its trajectory checksum.
+struct CaseRun {
+  std::vector<Image> images;
+  // A scene: the run's checksum (16 hex digits). An ensemble case: one per realisation, in
+  // index order, separated by spaces: runs.csv's `checksum` column of `voxfall ensemble`.
+  std::string checksum;
+  int width = 0, height = 0;
+  std::string what;  // "" or ", 3 ensemble realisations"
+};
+
+CaseRun runCaseFrames(const SuiteCase& c, gl::Context& context, const std::string& shaderDir) {
   SceneSpec spec = loadScene(c.scene);
   if (c.width) spec.output.width = *c.width;
   if (c.height) spec.output.height = *c.height;
-  const RenderedFrames rendered = renderSceneFrames(spec, c.frames, context, shaderDir);
+  CaseRun run;
+  run.width = spec.output.width;
+  run.height = spec.output.height;
+  if (!c.runs) {
+    RenderedFrames rendered = renderSceneFrames(spec, c.frames, context, shaderDir);
+    run.images = std::move(rendered.images);
+    run.checksum = rendered.summary.checksumHex();
+    return run;
+  }
+  // An ensemble's first K realisations, each stepped alone (Ensemble::run's steps) and drawn
+  // together from their bake, as `voxfall ensemble --runs N --video-runs K` (N >= K) writes
+  // ensemble_subset.bake and `voxfall render` draws it.
+  if (!spec.ensemble)
+    throw InputError(c.where, "'runs' is for a scene with an [ensemble] table, and " + c.scene +
+                                  " has none (leave 'runs' out to draw the scene itself)");
+  const Ensemble ensemble(spec);
+  std::vector<std::int64_t> indices(static_cast<std::size_t>(*c.runs));
+  std::iota(indices.begin(), indices.end(), std::int64_t{0});
+  std::vector<std::uint64_t> checksums;
+  auto bake = std::make_shared<const Bake>(
+      ensembleBake(ensemble, spec.ensemble->seed, indices, &checksums));
+  run.images = renderBakeFrames(bake, c.where, c.frames, run.width, run.height, context, shaderDir);
+  for (const std::uint64_t sum : checksums) {
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(sum));
+    run.checksum += (run.checksum.empty() ? "" : " ") + std::string(hex);
+  }
+  run.what = ", " + std::to_string(*c.runs) + " ensemble realisation" + (*c.runs == 1 ? "" : "s");
+  return run;
+}
+
+// For a changed ensemble checksum: which realisations changed ("" when the counts differ).
+std::string changedRealisations(const std::string& actual, const std::string& golden) {
+  const std::vector<std::string> a = words(actual), g = words(golden);
+  if (a.size() < 2 || a.size() != g.size()) return "";
+  std::string list;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i] != g[i]) list += (list.empty() ? "" : ", ") + std::to_string(i);
+  return " (realisations " + list + ")";
+}
+
+void runCase(const SuiteCase& c, const fs::path& suiteDir, const fs::path& reportDir, bool update,
+             gl::Context& context, const std::string& shaderDir, ReportLog& log, Counts& counts) {
+  const auto start = std::chrono::steady_clock::now();
+  const CaseRun rendered = runCaseFrames(c, context, shaderDir);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -134,13 +205,13 @@ void runCase(const SuiteCase& c, const fs::path& suiteDir, const fs::path& repor
     if (ec)
       throw InputError(goldenDir.string(), "cannot create the golden folder: " + ec.message());
   }
-  char head[160];
-  std::snprintf(head, sizeof head, "%s: %zu frames at %dx%d in %.1f s", c.name.c_str(),
-                c.frames.size(), spec.output.width, spec.output.height, seconds);
+  char head[200];
+  std::snprintf(head, sizeof head, "%s: %zu frames at %dx%d%s in %.1f s", c.name.c_str(),
+                c.frames.size(), rendered.width, rendered.height, rendered.what.c_str(), seconds);
   log.line(head);
 
-  // The trajectory checksum.
-  const std::string checksum = rendered.summary.checksumHex();
+  // The trajectory checksum (one per realisation for an ensemble case).
+  const std::string& checksum = rendered.checksum;
   const fs::path checksumPath = goldenDir / kChecksumFile;
   const std::string golden = readChecksum(checksumPath);
   if (golden == checksum) {
@@ -155,8 +226,9 @@ void runCase(const SuiteCase& c, const fs::path& suiteDir, const fs::path& repor
              " (run with --update to create it)");
     ++counts.checksumsFailed;
   } else {
-    log.line("  checksum " + checksum + ": FAIL, golden " + golden +
-             ": the physics changed (the simulated states are not bit-identical; the frames "
+    log.line("  checksum " + checksum + ": FAIL, golden " + golden + ": the physics changed" +
+             changedRealisations(checksum, golden) +
+             " (the simulated states are not bit-identical; the frames "
              "below show whether it is visible)");
     ++counts.checksumsFailed;
   }

@@ -11,7 +11,7 @@
 namespace vf {
 
 Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
-                  const std::vector<std::int64_t>& indices) {
+                  const std::vector<std::int64_t>& indices, std::vector<std::uint64_t>* checksums) {
   const SceneSpec& spec = ensemble.spec();
   Bake bake;
   bake.scene = spec;
@@ -56,6 +56,16 @@ Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
       r.active.push_back(s == RockState::kLeft || s == RockState::kBuried ? 0 : 1);
     }
     lastFrame = std::max(lastFrame, endFrame);
+    if (checksums) {
+      // A realisation still moving at the last frame time takes Ensemble::run's remaining
+      // steps up to the duration (none when the duration is a whole number of frames), so the
+      // checksum covers the same steps as its row in runs.csv.
+      while (!ended && w.nextStepEnd() <= spec.duration + kTimeTolerance) {
+        w.stepNext();
+        ended = w.outcomes()[0].state != RockState::kMoving;
+      }
+      checksums->push_back(w.stepsHash());
+    }
   }
   // Nothing changes after the frame at which the last realisation has ended: the bake stops
   // there (rocks that stop early would otherwise hold still to the scene's duration, in a

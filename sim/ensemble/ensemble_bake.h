@@ -16,8 +16,11 @@ namespace vf {
 // that ended (stopped, left, buried) keeps its last state; one that left the DEM or was buried
 // is inactive from then on. The records run from k = 0 to the first frame at which every
 // realisation of the subset has ended, or to floor(duration * fps) if one has not. Bodies get
-// distinct colours.
+// distinct colours. `checksums`, when given, receives each realisation's trajectory checksum
+// (World::stepsHash after the steps Ensemble::run takes: runs.csv's `checksum`), in the order
+// of `indices`.
 Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
-                  const std::vector<std::int64_t>& indices);
+                  const std::vector<std::int64_t>& indices,
+                  std::vector<std::uint64_t>* checksums = nullptr);
 
 }  // namespace vf

@@ -13,7 +13,9 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -269,6 +271,69 @@ TEST_F(EnsembleCommandTest, SubsetVideoIsTheRenderOfItsBake) {
       kExe, dir_, "render v/ensemble_subset.bake --frames 30:30 --size 160x120 -o f.png -q");
   ASSERT_EQ(frame.code, 0) << frame.err;
   EXPECT_GT(fs::file_size(dir_ / "f.png"), 1000u);
+}
+
+TEST_F(EnsembleCommandTest, RegressCaseIsTheSubsetBakeAndChecksTheRealisations) {
+  // A regress case with `runs = 3` must be exactly what `voxfall ensemble --video-runs 3` makes:
+  // its checksums are runs.csv's for realisations 0-2, and its frames are `voxfall render`'s
+  // frames of ensemble_subset.bake, byte for byte. Both come through another path (Ensemble::run
+  // over four realisations; the bake written to disk and read back).
+  vf::test::writeChuteScene(
+      dir_, std::string(vf::test::kChuteEnsemble) + "[output]\nwidth = 160\nheight = 120\n");
+  fs::create_directories(dir_ / "s");
+  std::ofstream(dir_ / "s" / "suite.toml")
+      << "[[case]]\nname = \"chute\"\nscene = \"../scene.toml\"\nruns = 3\n"
+         "frames = [0, 30, 60]\n";
+  const auto update = runVoxfall(kExe, dir_, "regress s --update -o rep");
+  ASSERT_EQ(update.code, 0) << update.out << update.err;
+  EXPECT_NE(update.out.find("chute: 3 frames at 160x120, 3 ensemble realisations"),
+            std::string::npos)
+      << update.out;
+
+  const auto ens = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 4 --video-runs 3 -q -o v");
+  ASSERT_EQ(ens.code, 0) << ens.err;
+  const std::vector<std::string> rows = lines(readFile(dir_ / "v" / "runs.csv"));
+  ASSERT_EQ(rows.size(), 5u);
+  ASSERT_EQ(split(rows[0]).back(), "checksum");
+  std::string expected;
+  for (int i = 1; i <= 3; ++i) expected += (i > 1 ? " " : "") + split(rows[i]).back();
+  EXPECT_EQ(readFile(dir_ / "s" / "chute" / "checksum.txt"), expected + "\n");
+  for (const int k : {0, 30, 60}) {
+    const std::string png = "f" + std::to_string(k) + ".png";
+    const auto frame = runVoxfall(kExe, dir_,
+                                  "render v/ensemble_subset.bake --frames " + std::to_string(k) +
+                                      ":" + std::to_string(k) + " -o " + png + " -q");
+    ASSERT_EQ(frame.code, 0) << frame.err;
+    char golden[32];
+    std::snprintf(golden, sizeof golden, "frame_%04d.png", k);
+    EXPECT_TRUE(readFile(dir_ / png) == readFile(dir_ / "s" / "chute" / golden)) << golden;
+  }
+
+  const auto pass = runVoxfall(kExe, dir_, "regress s -o rep");
+  EXPECT_EQ(pass.code, 0) << pass.out;
+
+  // One realisation's golden checksum altered: the failure names that realisation alone.
+  std::vector<std::string> words;
+  std::istringstream in(expected);
+  for (std::string w; in >> w;) words.push_back(w);
+  words[1] = "0123456789abcdef";
+  std::ofstream(dir_ / "s" / "chute" / "checksum.txt")
+      << words[0] << " " << words[1] << " " << words[2] << "\n";
+  const auto one = runVoxfall(kExe, dir_, "regress s -o rep");
+  EXPECT_EQ(one.code, 1);
+  EXPECT_NE(one.out.find("the physics changed (realisations 1) "), std::string::npos) << one.out;
+
+  // The scene's physics changed (the ground's restitution range): every realisation differs.
+  std::string bouncier = vf::test::kChuteEnsemble;
+  const std::size_t at = bouncier.find("restitution = [0.3, 0.4]");
+  ASSERT_NE(at, std::string::npos) << "kChuteEnsemble changed";
+  bouncier.replace(at, 24, "restitution = [0.6, 0.7]");
+  vf::test::writeChuteScene(dir_, bouncier + "[output]\nwidth = 160\nheight = 120\n");
+  std::ofstream(dir_ / "s" / "chute" / "checksum.txt") << expected << "\n";
+  const auto changed = runVoxfall(kExe, dir_, "regress s -o rep");
+  EXPECT_EQ(changed.code, 1);
+  EXPECT_NE(changed.out.find("the physics changed (realisations 0, 1, 2) "), std::string::npos)
+      << changed.out;
 }
 
 TEST_F(EnsembleCommandTest, AnInterruptedEnsembleWritesItsCompletePrefix) {

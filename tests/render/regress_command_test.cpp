@@ -236,6 +236,7 @@ TEST_F(RegressCommand, SuiteErrorsNameFileLineAndColumn) {
               "[width, height]");
   expectError("[[case]]\nscene = \"cubes.toml\"\nframes = [0]\nthreshold = 300\n", "4:13",
               "0..255");
+  expectError("[[case]]\nscene = \"cubes.toml\"\nframes = [0]\nruns = 0\n", "4:8", "1..1000");
   expectError("[[case]]\nscene = \"cubes.toml\"\n", "1", "needs 'frames");
   expectError(
       "[[case]]\nscene = \"cubes.toml\"\nframes = [0]\n\n[[case]]\nscene = "
@@ -254,6 +255,17 @@ TEST_F(RegressCommand, ABrokenCaseFailsAloneAndUsageExits2) {
   EXPECT_NE(out_.find("outside the scene's frames 0:60"), std::string::npos) << out_;
   EXPECT_TRUE(fs::exists(path("s/cubes/frame_0000.png")));  // the other case ran
   EXPECT_TRUE(fs::exists(path("out/regress/report.txt")));  // the default report folder
+
+  // 'runs' draws an ensemble's realisations; on a scene without [ensemble] it is that case's
+  // error, naming the case's line, and nothing is written for it.
+  writeFile(path("s/suite.toml"),
+            "[[case]]\nname = \"many\"\nscene = \"cubes.toml\"\nframes = [0]\nruns = 3\n");
+  ASSERT_EQ(run("s --update"), 1) << out_ << err_;
+  EXPECT_NE(out_.find("many (s/suite.toml:1): ERROR s/suite.toml:1: 'runs' is for a scene with "
+                      "an [ensemble] table, and s/cubes.toml has none"),
+            std::string::npos)
+      << out_;
+  EXPECT_FALSE(fs::exists(path("s/many")));
 
   EXPECT_EQ(run("no_such_suite"), 1);
   EXPECT_NE(err_.find("no_such_suite: not a folder"), std::string::npos) << err_;

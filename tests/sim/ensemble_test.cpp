@@ -347,5 +347,29 @@ TEST_F(EnsembleRunTest, SubsetBakeEndsAtTheFrameWhereItsLastRealisationHasEnded)
             static_cast<std::size_t>(Recorder::frameCountFor(cut.spec().fps, 2.0)));
 }
 
+TEST_F(EnsembleRunTest, SubsetBakeChecksumsAreThoseOfTheRealisationsRunAlone) {
+  // The checksums the bake reports must be runs.csv's: Ensemble::run's, an independent loop
+  // over the same realisation. 2.05 s is not a whole number of frames, and the rocks still
+  // move then, so the steps after the last frame time count too; at 120 s every rock ends.
+  for (const double duration : {2.05, 120.0}) {
+    const Ensemble e(load(test::kChuteEnsemble, duration));
+    const std::vector<std::int64_t> chosen = {3, 1, 6};
+    std::vector<std::uint64_t> checksums;
+    ensembleBake(e, 5, chosen, &checksums);
+    ASSERT_EQ(checksums.size(), chosen.size());
+    for (std::size_t b = 0; b < chosen.size(); ++b) {
+      const RealisationResult r = e.run(chosen[b], realisationSeed(5, chosen[b]), false);
+      EXPECT_EQ(checksums[b], r.checksum) << "duration " << duration << ", realisation " << b;
+      if (duration < 3) {
+        EXPECT_EQ(r.state, RockState::kMoving) << "the tail after the last frame is not tested";
+        const double lastFrame =
+            (Recorder::frameCountFor(e.spec().fps, duration) - 1) / e.spec().fps;
+        EXPECT_GT(duration - lastFrame, 1e-3);
+      }
+    }
+    EXPECT_NE(checksums[0], checksums[1]);
+  }
+}
+
 }  // namespace
 }  // namespace vf
