@@ -9,11 +9,13 @@
 
 namespace vf {
 
-std::string RunSummary::checksumHex() const {
+std::string checksumHex(std::uint64_t checksum) {
   char buf[17];
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(checksum));
   return buf;
 }
+
+std::string RunSummary::checksumHex() const { return vf::checksumHex(checksum); }
 
 int Recorder::frameCountFor(double fps, double duration) {
   return static_cast<int>(std::floor(duration * fps + 1e-9)) + 1;

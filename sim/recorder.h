@@ -30,6 +30,9 @@ struct RunSummary {
   std::string checksumHex() const;      // 16 lowercase hex digits
 };
 
+// A trajectory checksum as 16 lowercase hex digits, as `simulate` prints it and runs.csv holds it.
+std::string checksumHex(std::uint64_t checksum);
+
 class Recorder {
  public:
   Recorder(World& world, double fps, double duration);

@@ -53,6 +53,7 @@
 #include "sim/core/error.h"
 #include "sim/ensemble/ensemble.h"
 #include "sim/ensemble/ensemble_bake.h"
+#include "sim/recorder.h"
 #include "sim/scene/scene.h"
 
 namespace vf::cli {
@@ -170,11 +171,8 @@ CaseRun runCaseFrames(const SuiteCase& c, gl::Context& context, const std::strin
   auto bake = std::make_shared<const Bake>(
       ensembleBake(ensemble, spec.ensemble->seed, indices, &checksums));
   run.images = renderBakeFrames(bake, c.where, c.frames, run.width, run.height, context, shaderDir);
-  for (const std::uint64_t sum : checksums) {
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(sum));
-    run.checksum += (run.checksum.empty() ? "" : " ") + std::string(hex);
-  }
+  for (const std::uint64_t sum : checksums)
+    run.checksum += (run.checksum.empty() ? "" : " ") + checksumHex(sum);
   run.what = ", " + std::to_string(*c.runs) + " ensemble realisation" + (*c.runs == 1 ? "" : "s");
   return run;
 }
