@@ -68,6 +68,7 @@ void RunStats::add(const StepStats& s) {
   solverPasses += s.solverPasses;
   pairsByCandidates += s.pairsByCandidates;
   pairsByDescent += s.pairsByDescent;
+  awakeBodySteps += s.awake;
   sleepingBodySteps += s.sleeping;
   secondsStepSize += s.secondsStepSize;
   secondsPairs += s.secondsPairs;
@@ -206,6 +207,7 @@ void World::stepToward(double target) {
     for (int i : woken) states_[i].P = (s.dt / bodies_[i].invMass) * def_.gravity;
     contacts();
   }
+  for (const BodyInfo& b : bodies_) s.awake += b.moves() ? 1 : 0;
   s.pairsByCandidates = candidates_.served - served0;
   s.pairsByDescent = candidates_.descents - descents0;
   s.contacts = contacts_.size();

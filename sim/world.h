@@ -97,6 +97,9 @@ struct StepStats {
   // Sphere-tree collider pairs (body-body, body-plane) whose contacts came from last steps'
   // candidates, and those found by a descent (narrow_phase.h, PairCandidates).
   std::uint64_t pairsByCandidates = 0, pairsByDescent = 0;
+  // Bodies the step moved: released, dynamic and awake once the sleeping islands that its
+  // contacts touched had woken (BodyInfo::moves); what a step's cost grows with.
+  std::uint64_t awake = 0;
   std::uint64_t sleeping = 0;             // bodies asleep at the end of the step
   std::uint64_t nonFinite = 0;            // bodies whose state went non-finite and were frozen
   std::uint64_t floored = 0;              // 1 if eq. 20 asked for less than WorldDef::minStep
@@ -116,6 +119,7 @@ struct RunStats {
   std::uint64_t leafContacts = 0;
   std::uint64_t solverPasses = 0;
   std::uint64_t pairsByCandidates = 0, pairsByDescent = 0;
+  std::uint64_t awakeBodySteps = 0;     // sum over steps of the bodies moved (StepStats::awake)
   std::uint64_t sleepingBodySteps = 0;  // sum over steps of the bodies asleep
   double secondsStepSize = 0, secondsPairs = 0, secondsContacts = 0, secondsSolve = 0,
          secondsIntegrate = 0, secondsSleep = 0, secondsRelease = 0;

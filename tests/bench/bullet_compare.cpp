@@ -14,7 +14,10 @@
 // interleaved rounds. Interpenetration: one checker for both, World::measure's true-mesh test
 // (collide/penetration.h), applied at every 1/60 s instant of an untimed identical run.
 // A second table splits each time into steps per simulated second (eq. 20's, or Bullet's 60)
-// and CPU time per step.
+// and CPU time per step; a third counts awake bodies, since a step's cost grows with the bodies
+// it moves and both engines let bodies at rest sleep (voxfall's extensions; Bullet's default
+// deactivation): awake body-steps per simulated second (voxfall: World's StepStats::awake;
+// Bullet: the dynamic bodies isActive() before each step) and CPU time per awake body-step.
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
 #include <BulletCollision/Gimpact/btGImpactCollisionAlgorithm.h>
 #include <BulletCollision/Gimpact/btGImpactShape.h>
@@ -23,6 +26,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -55,6 +59,7 @@ struct Spawn {
 struct Outcome {
   double cpuPerSimSecond = 0;
   double stepsPerSimSecond = 0;  // the same in every round (the runs are deterministic)
+  double awakePerSimSecond = 0;  // awake body-steps per simulated s (the same in every round)
   double maxPenetration = 0;     // m, body-body and body-ground
 };
 
@@ -95,6 +100,8 @@ Outcome runVoxfall(const vf::SceneSpec& spec, bool check, std::vector<std::vecto
     for (int k = 1; k <= frames; ++k) built.world->advanceTo(k * kFrame);
     out.cpuPerSimSecond = (threadSeconds() - t0) / spec.duration;
     out.stepsPerSimSecond = static_cast<double>(built.world->totals().steps) / spec.duration;
+    out.awakePerSimSecond =
+        static_cast<double>(built.world->totals().awakeBodySteps) / spec.duration;
   }
   if (!check && spawns == nullptr) return out;
   vf::BuiltScene built = vf::buildScene(spec);
@@ -205,6 +212,12 @@ class BulletScene {
     }
     return out;
   }
+  // Dynamic bodies that Bullet's next step moves (not deactivated).
+  int awake() const {
+    int n = 0;
+    for (const btRigidBody* b : bodies_) n += b && !b->isStaticObject() && b->isActive() ? 1 : 0;
+    return n;
+  }
   std::vector<char> active() const {
     std::vector<char> a(bodies_.size());
     for (std::size_t i = 0; i < bodies_.size(); ++i) a[i] = bodies_[i] != nullptr;
@@ -267,8 +280,10 @@ Outcome runBullet(const vf::SceneSpec& spec, const std::vector<std::vector<Spawn
   BulletScene scene(*built.world, spec);
   Outcome out;
   double cpu = 0;
+  std::uint64_t awake = 0;
   for (std::size_t k = 0; k < spawns.size(); ++k) {
     if (k > 0) {
+      awake += static_cast<std::uint64_t>(scene.awake());  // untimed
       const double t0 = threadSeconds();
       scene.step();
       cpu += threadSeconds() - t0;
@@ -281,6 +296,7 @@ Outcome runBullet(const vf::SceneSpec& spec, const std::vector<std::vector<Spawn
   out.cpuPerSimSecond = cpu / spec.duration;
   // One substep per 1/60 s frame, for every frame after the first instant.
   out.stepsPerSimSecond = static_cast<double>(spawns.size() - 1) / spec.duration;
+  out.awakePerSimSecond = static_cast<double>(awake) / spec.duration;
   return out;
 }
 
@@ -295,6 +311,7 @@ struct StepRow {
   std::string scene;
   double steps[4];      // per simulated s: paper, ext, ext + clearance, Bullet
   double usPerStep[4];  // median CPU us per step, the same order
+  double awake[4];      // awake body-steps per simulated s, the same order
 };
 
 }  // namespace
@@ -334,7 +351,8 @@ int main(int argc, char** argv) {
     StepRow row{
         name,
         {pv.stepsPerSimSecond, ev.stepsPerSimSecond, cv.stepsPerSimSecond, bb.stepsPerSimSecond},
-        {}};
+        {},
+        {pv.awakePerSimSecond, ev.awakePerSimSecond, cv.awakePerSimSecond, bb.awakePerSimSecond}};
     const double times[4] = {p, e, c, b};
     for (int i = 0; i < 4; ++i) row.usPerStep[i] = 1e6 * times[i] / row.steps[i];
     stepRows.push_back(row);
@@ -348,5 +366,18 @@ int main(int argc, char** argv) {
                 r.scene.c_str(), r.steps[0], r.steps[1], r.steps[2], r.steps[3], r.usPerStep[0],
                 r.usPerStep[1], r.usPerStep[2], r.usPerStep[3], r.steps[1] / r.steps[3],
                 r.usPerStep[1] / r.usPerStep[3]);
+  std::printf(
+      "\n| scene | awake bodies per step: ext, Bullet | awake body-steps per simulated s: ext, "
+      "Bullet | CPU us per awake body-step: ext, Bullet | ext / Bullet: awake body-steps, per "
+      "awake body-step |\n");
+  std::printf("|---|---|---|---|---|\n");
+  for (const StepRow& r : stepRows) {
+    const double usPerAwake[2] = {r.usPerStep[1] * r.steps[1] / r.awake[1],
+                                  r.usPerStep[3] * r.steps[3] / r.awake[3]};
+    std::printf("| %s | %.2f, %.2f | %.0f, %.0f | %.2f, %.2f | %.2fx, %.2fx |\n", r.scene.c_str(),
+                r.awake[1] / r.steps[1], r.awake[3] / r.steps[3], r.awake[1], r.awake[3],
+                usPerAwake[0], usPerAwake[1], r.awake[1] / r.awake[3],
+                usPerAwake[0] / usPerAwake[1]);
+  }
   return 0;
 }

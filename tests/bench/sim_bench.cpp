@@ -9,8 +9,9 @@
 //     true-mesh diagnostics (diag_s, timed around World::measure; diag_pct, their share of the
 //     run, the rest being frame states and the timers themselves); the share of each stage of the
 //     step (pct_*); steps, sphere tests, leaf contacts and contacts after reduction per step, mean
-//     bodies asleep per step; the label carries the trajectory checksum, so every benchmark run
-//     is also a determinism check (it must not change with the thread count).
+//     bodies awake (StepStats::awake) and asleep per step; the label carries the trajectory
+//     checksum, so every benchmark run is also a determinism check (it must not change with the
+//     thread count).
 //   Rockfall/<n>/<threads>: n rocks released together over the cliff terrain
 //     (scenes/cliff.toml's shapes and ground) at level 3 with reduction and sleeping, 4
 //     simulated seconds. Adds cpu_per_sim_s (CPU seconds of the whole process, every thread,
@@ -113,6 +114,7 @@ double runSpec(benchmark::State& state, vf::SceneSpec spec) {
       static_cast<double>(std::max<std::uint64_t>(1, t.pairsByCandidates + t.pairsByDescent));
   state.counters["contacts_per_step"] = static_cast<double>(t.contacts) / steps;
   state.counters["asleep_per_step"] = static_cast<double>(t.sleepingBodySteps) / steps;
+  state.counters["awake_per_step"] = static_cast<double>(t.awakeBodySteps) / steps;
   state.counters["max_pen_mm"] =
       1e3 * std::max(summary.maxPenetrationBodyBody, summary.maxPenetrationBodyGround);
   state.SetLabel("checksum " + summary.checksumHex());

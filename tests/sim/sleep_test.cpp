@@ -27,6 +27,7 @@ TEST(Sleep, BodyAtRestSleepsAndThenCostsNothing) {
   world.addBody(test::bodyAt(s, Vec3(0, 0, test::restOffset(*s) + 0.2)));
   world.advanceTo(0.3);
   EXPECT_FALSE(world.isSleeping(0)) << "still falling or settling";
+  EXPECT_EQ(world.lastStep().awake, 1u);
   world.advanceTo(3.0);  // lands at ~0.2 s, settles, then rests SleepSettings::time = 0.5 s
   ASSERT_TRUE(world.isSleeping(0));
   const BodyState before = world.state(0);
@@ -34,6 +35,7 @@ TEST(Sleep, BodyAtRestSleepsAndThenCostsNothing) {
   EXPECT_EQ(world.lastStep().sphereTests, 0u);
   EXPECT_EQ(world.lastStep().contacts, 0u);
   EXPECT_EQ(world.lastStep().sleeping, 1u);
+  EXPECT_EQ(world.lastStep().awake, 0u);
   EXPECT_EQ(world.state(0).x, before.x);
   EXPECT_EQ(world.state(0).q.coeffs(), before.q.coeffs());
   EXPECT_TRUE(world.state(0).P.isZero());
@@ -51,10 +53,16 @@ TEST(Sleep, DroppedBodyWakesThePileAndAllComeToRestAgain) {
     world.addBody(dropped);
     world.advanceTo(2.4);
     EXPECT_TRUE(world.isSleeping(0) && world.isSleeping(1)) << "the pile settled first";
+    EXPECT_EQ(world.lastStep().awake, 0u) << "the pile asleep, the third body not yet released";
     bool woke = false;
     while (world.time() < 3.0) {
       world.step(1.0 / 60);
-      woke = woke || (!world.isSleeping(0) && !world.isSleeping(1));
+      const bool pileAwake = !world.isSleeping(0) && !world.isSleeping(1);
+      // Counted once the touched island has woken: the step of the impact moves all three.
+      if (world.time() > 2.5 + 1e-9) {
+        EXPECT_EQ(world.lastStep().awake, pileAwake ? 3u : 1u) << "t = " << world.time();
+      }
+      woke = woke || pileAwake;
     }
     EXPECT_TRUE(woke) << "the impact must wake the pile (both bodies: one island)";
     world.advanceTo(6.0);
