@@ -5,7 +5,9 @@
 //     (no interpenetration, no tunnelling) and asleep again;
 //   - a body drifting slower than the threshold in empty space never sleeps (it touches
 //     nothing) and keeps its exact free-flight motion;
-//   - the same run twice gives the same state hash (sleep decisions depend on the state only).
+//   - the same run twice gives the same state hash (sleep decisions depend on the state only);
+//   - StepStats::awake counts the bodies a step moves: none while all sleep, the woken pile
+//     already in the step whose contact wakes it.
 #include <gtest/gtest.h>
 
 #include "sim/world.h"
