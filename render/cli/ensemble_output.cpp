@@ -7,6 +7,7 @@
 #include <string>
 
 #include "sim/core/error.h"
+#include "sim/recorder.h"
 
 namespace vf::cli {
 namespace {
@@ -52,12 +53,12 @@ void writeRunsCsv(std::FILE* f, const Ensemble& ens, const std::vector<Realisati
     const Vec3 a = worldToDem(dem, r.release), b = worldToDem(dem, r.end);
     std::fprintf(f,
                  "%lld,%llu,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%lld,"
-                 "%016llx\n",
+                 "%s\n",
                  static_cast<long long>(r.index), static_cast<unsigned long long>(r.seed),
                  ens.ensemble().shapes[static_cast<std::size_t>(r.shape)].c_str(), a.x(), a.y(),
                  a.z(), b.x(), b.y(), b.z(), r.endTime, r.runout, r.reachAngle, r.maxSpeed,
                  r.maxEnergy / 1000.0, r.maxJumpHeight, rockStateName(r.state),
-                 static_cast<long long>(r.steps), static_cast<unsigned long long>(r.checksum));
+                 static_cast<long long>(r.steps), checksumHex(r.checksum).c_str());
   }
 }
 
