@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <mutex>
+#include <new>
 #include <string>
 #include <string_view>
 
@@ -107,6 +108,15 @@ Heightfield loadDem(const std::string& path) {
   if (nx < 2 || ny < 2 || GDALGetRasterCount(ds.h) < 1)
     throw InputError(path, "terrain raster needs at least 2 x 2 samples and one band, got " +
                                std::to_string(nx) + " x " + std::to_string(ny));
+  // The header's size is checked before anything is allocated: a broken or hostile header
+  // (the fuzzer found a 383-byte file that GDAL reads as 10^17 samples) must get a message,
+  // not an allocation failure, and indices j * nx + i must fit in 32 bits (heightfield.h).
+  const auto samples = static_cast<std::int64_t>(nx) * ny;
+  if (samples > kMaxDemSamples)
+    throw InputError(path, "terrain raster has " + std::to_string(nx) + " x " + std::to_string(ny) +
+                               " samples, more than voxfall's limit of " +
+                               std::to_string(kMaxDemSamples) +
+                               "; crop or resample it (e.g. gdal_translate -projwin or -tr)");
   double gt[6];
   if (GDALGetGeoTransform(ds.h, gt) != CE_None)
     throw InputError(path, "terrain raster has no georeference (geotransform)");
@@ -126,7 +136,12 @@ Heightfield loadDem(const std::string& path) {
   h.cell = gt[1];
   h.x0 = gt[0] + 0.5 * gt[1];         // centre of the western column
   h.y0 = gt[3] + (ny - 0.5) * gt[5];  // centre of the southern row
-  h.z.assign(static_cast<std::size_t>(nx) * ny, NAN);
+  try {
+    h.z.assign(static_cast<std::size_t>(nx) * ny, NAN);
+  } catch (const std::bad_alloc&) {
+    throw InputError(path, "not enough memory for the terrain raster's " + std::to_string(nx) +
+                               " x " + std::to_string(ny) + " samples; crop or resample it");
+  }
   // GDAL's rows run from the north; ours from the south: read with a negative line stride
   // into the last row first.
   double* last = h.z.data() + static_cast<std::size_t>(ny - 1) * nx;

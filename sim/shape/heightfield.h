@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -189,9 +190,12 @@ struct Heightfield {
 // Reads a DEM in any raster format GDAL reads (GeoTIFF, ESRI ASCII with xllcorner or
 // xllcenter, ...): band 1, heights in metres, NODATA cells become NaN. Samples sit at the
 // pixel centres; the raster must be north-up with square cells. Keeps the CRS. Throws
-// InputError naming the file and GDAL's reason. (sim/shape/dem_import.cpp: the only GDAL
-// include.)
+// InputError naming the file and GDAL's reason, or a raster of more than kMaxDemSamples
+// samples. (sim/shape/dem_import.cpp: the only GDAL include.)
 Heightfield loadDem(const std::string& path);
+// The most samples a DEM may have: 2^28 (16,384 x 16,384; 2 GiB of heights), far below what
+// 32-bit sample indices allow; larger grids are cropped or resampled first.
+inline constexpr std::int64_t kMaxDemSamples = std::int64_t{1} << 28;
 
 // The world position of a point given in the DEM file's coordinates, and back.
 inline Vec3 demToWorld(const Heightfield& h, const Vec3& p) { return p + h.shift; }

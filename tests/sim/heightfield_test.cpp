@@ -3,9 +3,11 @@
 #include "sim/shape/heightfield.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -196,6 +198,75 @@ TEST(Heightfield, MalformedGridsNameFileAndLineFuzzFoundHugeCountsIncluded) {
     }
   }
   EXPECT_THROW(loadDem("/nonexistent/grid.asc"), InputError);
+}
+
+// Found by terrain_fuzz: a 383-byte file that GDAL's CTable2 driver (datum shift grids) reads
+// as 235,802,126 x 235,802,126 samples, which loadDem tried to allocate. Any format's header
+// may promise more than the file holds, so the size is checked before allocating. Here a
+// 160-byte CTable2 header (16-byte magic, 80-byte id, four doubles, then width and height as
+// little-endian int32) promises one column more than the limit of 2^28 samples.
+std::string ctable2Header(std::int32_t width, std::int32_t height) {
+  std::string header = "CTABLE V2.0     " + std::string(80, ' ');
+  auto put = [&](const auto& value) {
+    header.append(reinterpret_cast<const char*>(&value), sizeof value);
+  };
+  for (double v : {0.0, 0.0, 1e-5, 1e-5}) put(v);
+  put(width);
+  put(height);
+  header.resize(160, '\0');
+  return header;
+}
+
+TEST(Heightfield, FuzzFoundRasterHeaderPromisingTooManySamplesIsRefused) {
+  static_assert(kMaxDemSamples == std::int64_t{16384} * 16384);
+  const std::string path = writeGrid("huge.ct2", ctable2Header(16385, 16384));
+  try {
+    loadDem(path);
+    ADD_FAILURE() << "accepted a raster of 16385 x 16384 samples";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("16385 x 16384 samples, more than voxfall's limit of "
+                                         "268435456"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// A raster within the limit that the machine cannot hold: one message naming the file, not
+// std::bad_alloc. The limit's own 16384 x 16384 (2 GiB of heights) in a child process whose
+// address space is capped at 1 GiB. Not under AddressSanitizer, whose shadow memory needs
+// terabytes of address space.
+#if defined(__SANITIZE_ADDRESS__)
+#define VF_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define VF_ASAN 1
+#endif
+#endif
+TEST(Heightfield, RasterTooLargeForMemoryIsAnInputError) {
+#ifdef VF_ASAN
+  GTEST_SKIP() << "address-space cap and AddressSanitizer exclude each other";
+#else
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  const std::string path = writeGrid("limit.ct2", ctable2Header(16384, 16384));
+  // In the child: 0 for the message, 2 for another error, 3 for none.
+  auto loadUnderCap = [&path] {
+    const rlimit cap{std::uint64_t{1} << 30, std::uint64_t{1} << 30};
+    setrlimit(RLIMIT_AS, &cap);
+    try {
+      loadDem(path);
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      const bool named = what.find(path) != std::string::npos &&
+                         what.find(
+                             "not enough memory for the terrain raster's 16384 x 16384 "
+                             "samples") != std::string::npos;
+      std::exit(named ? 0 : 2);
+    }
+    std::exit(3);
+  };
+  EXPECT_EXIT(loadUnderCap(), testing::ExitedWithCode(0), "");
+#endif
 }
 
 TEST(Heightfield, ReadsTheRealTschamutTerrain) {
