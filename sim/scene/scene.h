@@ -197,8 +197,11 @@ std::string frameSideProblem(const std::string& side, std::int64_t pixels);
 // same options build the same world and report the same checksum.
 // Every shape uses voxel level `level` (per-shape levels in the scene are overridden too).
 void applyLevelOverride(SceneSpec& spec, int level);
-// "" when `text` is "auto" (eq. 20) or a step in seconds > 0 ("0.005" or "1/120"), else what is
-// wrong with it.
+// A step rule written as text, as `--step` and the scene's `step` key take it: "auto" (eq. 20),
+// "clearance", or a fixed step in seconds > 0 ("0.005", or "1/120" as the paper writes steps);
+// nothing for anything else.
+std::optional<StepRule> parseStepRule(const std::string& text);
+// "" when parseStepRule accepts `text`, else what is wrong with it.
 std::string checkStepOption(const std::string& text);
 // Applies a step that passed checkStepOption; throws InputError otherwise.
 void applyStepOverride(SceneSpec& spec, const std::string& text);

@@ -326,11 +326,12 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
   if (const auto* n = t.get("step")) {
     const std::string valid =
         "'step' must be \"auto\" (eq. 20), \"clearance\" (eq. 17 only where a body could "
-        "touch something within the step) or a fixed step in seconds > 0";
-    if (const auto* s = n->as_string()) {
-      if (s->get() != "auto" && s->get() != "clearance")
-        r.fail(*n, valid + ", got \"" + s->get() + "\"");
-      spec.step = s->get() == "auto" ? StepRule::eq20() : StepRule::clearance();
+        "touch something within the step) or a fixed step in seconds > 0 (a number, or a "
+        "fraction such as \"1/120\")";
+    if (const auto* s = n->as_string()) {  // the text --step takes
+      const auto rule = parseStepRule(s->get());
+      if (!rule) r.fail(*n, valid + ", got \"" + s->get() + "\"");
+      spec.step = *rule;
     } else if (n->is_number()) {
       const double v = r.number(*n, "step");
       if (!(v > 0)) r.fail(*n, valid + ", got " + formatNumber(v));

@@ -17,7 +17,7 @@ void applyLevelOverride(SceneSpec& spec, int level) {
 }
 
 namespace {
-// "0.005", or "1/120" as the paper writes steps; nothing unless finite and > 0.
+// "0.005", or "1/120"; nothing unless finite and > 0.
 std::optional<double> parseStepSeconds(const std::string& text) {
   auto parse = [](const std::string& s) -> std::optional<double> {
     if (s.empty()) return std::nullopt;
@@ -39,21 +39,24 @@ std::optional<double> parseStepSeconds(const std::string& text) {
 }
 }  // namespace
 
+std::optional<StepRule> parseStepRule(const std::string& text) {
+  if (text == "auto") return StepRule::eq20();
+  if (text == "clearance") return StepRule::clearance();
+  if (const auto v = parseStepSeconds(text)) return StepRule::fixed(*v);
+  return std::nullopt;
+}
+
 std::string checkStepOption(const std::string& text) {
-  if (text == "auto" || text == "clearance" || parseStepSeconds(text)) return "";
+  if (parseStepRule(text)) return "";
   return "expected 'auto' (eq. 20), 'clearance' (eq. 17 only where a body could touch something "
          "within the step) or a fixed step in seconds > 0 (e.g. 0.005 or 1/120), got '" +
          text + "'";
 }
 
 void applyStepOverride(SceneSpec& spec, const std::string& text) {
-  if (text == "auto" || text == "clearance") {
-    spec.step = text == "auto" ? StepRule::eq20() : StepRule::clearance();
-    return;
-  }
-  const auto v = parseStepSeconds(text);
-  if (!v) throw InputError("", "--step: " + checkStepOption(text));
-  spec.step = StepRule::fixed(*v);
+  const auto rule = parseStepRule(text);
+  if (!rule) throw InputError("", "--step: " + checkStepOption(text));
+  spec.step = *rule;
 }
 
 void applyColliderOverride(SceneSpec& spec, const std::string& method) {

@@ -187,6 +187,22 @@ TEST_F(SceneTest, ClearanceStepIsAnAutomaticRule) {
   EXPECT_EQ(eq20.step.kind, Kind::kClearance);
 }
 
+// The scene's `step` takes the text `--step` takes: "1/120" as the paper writes its steps.
+// 1/120 is not a double: the step must be the one division, as --step 1/120 gives.
+TEST_F(SceneTest, StepAsAFraction) {
+  const SceneSpec spec = loadScene(write("scene.toml", "[simulation]\nstep = \"1/120\"\n"));
+  EXPECT_EQ(spec.step.kind, StepRule::Kind::kFixed);
+  EXPECT_EQ(spec.step.seconds, 1.0 / 120.0);
+  SceneSpec option = spec;
+  option.step = StepRule::eq20();
+  applyStepOverride(option, "1/120");
+  EXPECT_EQ(option.step.seconds, spec.step.seconds);
+  EXPECT_EQ(loadScene(write("scene.toml", "[simulation]\nstep = \"0.005\"\n")).step.seconds, 0.005);
+  expectError("[simulation]\nstep = \"1/0\"\n", "\"1/0\"", "got \"1/0\"");
+  expectError("[simulation]\nstep = \"-1/120\"\n", "\"-1/120\"", "seconds > 0 (a number, or");
+  expectError("[simulation]\nstep = \"1/120s\"\n", "\"1/120s\"", "got \"1/120s\"");
+}
+
 TEST_F(SceneTest, IntegersAreNumbers) {
   const std::string path =
       write("scene.toml", "[simulation]\nduration = 3\nstep = 1\ngravity = [0, 0, -10]\n");
