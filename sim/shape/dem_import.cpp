@@ -109,7 +109,7 @@ Heightfield loadDem(const std::string& path) {
     throw InputError(path, "terrain raster needs at least 2 x 2 samples and one band, got " +
                                std::to_string(nx) + " x " + std::to_string(ny));
   // The header's size is checked before anything is allocated: a broken or hostile header
-  // (the fuzzer found a 383-byte file that GDAL reads as 10^17 samples) must get a message,
+  // (the fuzzer found a 383-byte file that GDAL reads as 5.6e16 samples) must get a message,
   // not an allocation failure, and indices j * nx + i must fit in 32 bits (heightfield.h).
   const auto samples = static_cast<std::int64_t>(nx) * ny;
   if (samples > kMaxDemSamples)
