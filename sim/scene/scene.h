@@ -201,6 +201,8 @@ void applyLevelOverride(SceneSpec& spec, int level);
 // "clearance", or a fixed step in seconds > 0 ("0.005", or "1/120" as the paper writes steps);
 // nothing for anything else.
 std::optional<StepRule> parseStepRule(const std::string& text);
+// What parseStepRule accepts, in words, for the messages of both (the option's and the key's).
+std::string stepRuleChoices();
 // "" when parseStepRule accepts `text`, else what is wrong with it.
 std::string checkStepOption(const std::string& text);
 // Applies a step that passed checkStepOption; throws InputError otherwise.

@@ -324,10 +324,7 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
   if (const auto* n = t.get("level"))
     spec.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
   if (const auto* n = t.get("step")) {
-    const std::string valid =
-        "'step' must be \"auto\" (eq. 20), \"clearance\" (eq. 17 only where a body could "
-        "touch something within the step) or a fixed step in seconds > 0 (a number, or a "
-        "fraction such as \"1/120\")";
+    const std::string valid = "'step' must be " + stepRuleChoices();
     if (const auto* s = n->as_string()) {  // the text --step takes
       const auto rule = parseStepRule(s->get());
       if (!rule) r.fail(*n, valid + ", got \"" + s->get() + "\"");

@@ -46,11 +46,14 @@ std::optional<StepRule> parseStepRule(const std::string& text) {
   return std::nullopt;
 }
 
+std::string stepRuleChoices() {
+  return "\"auto\" (eq. 20), \"clearance\" (eq. 17 only where a body could touch something "
+         "within the step) or a fixed step in seconds > 0, e.g. 0.005 or \"1/120\"";
+}
+
 std::string checkStepOption(const std::string& text) {
   if (parseStepRule(text)) return "";
-  return "expected 'auto' (eq. 20), 'clearance' (eq. 17 only where a body could touch something "
-         "within the step) or a fixed step in seconds > 0 (e.g. 0.005 or 1/120), got '" +
-         text + "'";
+  return "expected " + stepRuleChoices() + ", got '" + text + "'";
 }
 
 void applyStepOverride(SceneSpec& spec, const std::string& text) {

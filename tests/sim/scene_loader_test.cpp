@@ -199,7 +199,8 @@ TEST_F(SceneTest, StepAsAFraction) {
   EXPECT_EQ(option.step.seconds, spec.step.seconds);
   EXPECT_EQ(loadScene(write("scene.toml", "[simulation]\nstep = \"0.005\"\n")).step.seconds, 0.005);
   expectError("[simulation]\nstep = \"1/0\"\n", "\"1/0\"", "got \"1/0\"");
-  expectError("[simulation]\nstep = \"-1/120\"\n", "\"-1/120\"", "seconds > 0 (a number, or");
+  expectError("[simulation]\nstep = \"-1/120\"\n", "\"-1/120\"",
+              "seconds > 0, e.g. 0.005 or \"1/120\", got \"-1/120\"");
   expectError("[simulation]\nstep = \"1/120s\"\n", "\"1/120s\"", "got \"1/120s\"");
 }
 
