@@ -23,6 +23,9 @@
 // it moves and both engines let bodies at rest sleep (voxfall's extensions; Bullet's default
 // deactivation): awake body-steps per simulated second (voxfall: World's StepStats::awake;
 // Bullet: the dynamic bodies isActive() before each step) and CPU time per awake body-step.
+// A fourth table runs Bullet again at about eq. 20's rate (the whole number of steps per 1/60 s
+// nearest to voxfall's with the extensions): the two engines at equal step counts, and how deep
+// Bullet goes at the step at which voxfall does not interpenetrate.
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
 #include <BulletCollision/Gimpact/btGImpactCollisionAlgorithm.h>
 #include <BulletCollision/Gimpact/btGImpactShape.h>
@@ -262,7 +265,9 @@ class BulletScene {
     bodies_[s.id] = body;
   }
 
-  void step() { world_->stepSimulation(kFrame, 1, kFrame); }
+  // One Bullet step of dt (every call takes exactly one: Bullet's fixed step equals the time
+  // it is given).
+  void step(double dt) { world_->stepSimulation(dt, 1, dt); }
 
   std::vector<vf::BodyState> states() const {
     std::vector<vf::BodyState> out(bodies_.size());
@@ -350,18 +355,20 @@ class BulletScene {
   double bodyRestitution_ = 0, groundRestitution_ = 0, bodyFriction_ = 0, groundFriction_ = 0;
 };
 
+// `substeps`: Bullet steps per 1/60 s frame (1: Bullet's usual 1/60 s; more: the rate at which
+// voxfall's eq. 20 steps, for the comparison at equal step counts).
 Outcome runBullet(const vf::SceneSpec& spec, const std::vector<std::vector<Spawn>>& spawns,
-                  bool check, bool compound) {
+                  bool check, bool compound, int substeps = 1) {
   vf::BuiltScene built = vf::buildScene(spec);  // shapes, ground, and the checker's world
   BulletScene scene(*built.world, spec, compound);
   Outcome out;
   double cpu = 0;
   std::uint64_t awake = 0;
   for (std::size_t k = 0; k < spawns.size(); ++k) {
-    if (k > 0) {
+    for (int s = 0; k > 0 && s < substeps; ++s) {
       awake += static_cast<std::uint64_t>(scene.awake());  // untimed
       const double t0 = threadSeconds();
-      scene.step();
+      scene.step(kFrame / substeps);
       cpu += threadSeconds() - t0;
     }
     for (const Spawn& s : spawns[k]) scene.spawn(s);
@@ -370,8 +377,8 @@ Outcome runBullet(const vf::SceneSpec& spec, const std::vector<std::vector<Spawn
           std::max(out.maxPenetration, penetration(*built.world, scene.active(), scene.states()));
   }
   out.cpuPerSimSecond = cpu / spec.duration;
-  // One substep per 1/60 s frame, for every frame after the first instant.
-  out.stepsPerSimSecond = static_cast<double>(spawns.size() - 1) / spec.duration;
+  // `substeps` steps per 1/60 s frame, for every frame after the first instant.
+  out.stepsPerSimSecond = static_cast<double>((spawns.size() - 1) * substeps) / spec.duration;
   out.awakePerSimSecond = static_cast<double>(awake) / spec.duration;
   return out;
 }
@@ -388,6 +395,16 @@ struct StepRow {
   double steps[4];      // per simulated s: paper, ext, ext + clearance, Bullet
   double usPerStep[4];  // median CPU us per step, the same order
   double awake[4];      // awake body-steps per simulated s, the same order
+};
+
+// A row of the fourth table: voxfall with the extensions against Bullet stepping about as often
+// as eq. 20 does (eq. 20's steps per 1/60 s, rounded to a whole number of Bullet steps).
+struct RateRow {
+  std::string scene;
+  int substeps;       // Bullet steps per 1/60 s
+  double steps[2];    // per simulated s: ext, Bullet
+  double cpu[2];      // median CPU s per simulated s, the same order
+  double deepest[2];  // m, the same order
 };
 
 // A row of the tables: a scene, Bullet's shape for non-convex bodies, and how many throws (the
@@ -433,6 +450,7 @@ int compare(int argc, char** argv) {
       "Bullet, voxfall paper, ext, ext + clearance (mm) |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   std::vector<StepRow> stepRows;
+  std::vector<RateRow> rateRows;
   for (const Case& k : cases) {
     std::vector<vf::SceneSpec> paper, ext, clear;
     for (int t = 0; t < k.throws; ++t) {
@@ -442,28 +460,35 @@ int compare(int argc, char** argv) {
       for (auto* spec : {&paper.back(), &ext.back(), &clear.back()})
         for (vf::EmitterSpec& e : spec->emitters) e.seed += static_cast<std::uint64_t>(t);
     }
-    // Round 0 checks and records the spawns; every round times all four, interleaved.
+    // Round 0 checks and records the spawns; every round times all five, interleaved.
     std::vector<std::vector<std::vector<Spawn>>> spawns(k.throws);
-    Outcome pv, ev, cv, bb;
-    std::vector<double> tp, te, tc, tb;
+    Outcome pv, ev, cv, bb, bq;
+    std::vector<double> tp, te, tc, tb, tq;
+    int substeps = 1;  // Bullet's steps per 1/60 s at eq. 20's rate, set in round 0
     for (int r = 0; r < rounds; ++r) {
       const bool check = r == 0;
-      std::vector<Outcome> p, e, c, b;
+      std::vector<Outcome> p, e, c, b, q;
       for (int t = 0; t < k.throws; ++t)
         p.push_back(runVoxfall(paper[t], check, check ? &spawns[t] : nullptr));
       for (int t = 0; t < k.throws; ++t) e.push_back(runVoxfall(ext[t], check, nullptr));
+      const Outcome oe = together(e, ext);
+      if (check)
+        substeps = std::max(1, static_cast<int>(std::lround(oe.stepsPerSimSecond * kFrame)));
       for (int t = 0; t < k.throws; ++t) c.push_back(runVoxfall(clear[t], check, nullptr));
       for (int t = 0; t < k.throws; ++t)
         b.push_back(runBullet(paper[t], spawns[t], check, k.compound));
-      const Outcome op = together(p, paper), oe = together(e, ext), oc = together(c, clear),
-                    ob = together(b, paper);
-      if (check) pv = op, ev = oe, cv = oc, bb = ob;
+      for (int t = 0; t < k.throws; ++t)
+        q.push_back(runBullet(paper[t], spawns[t], check, k.compound, substeps));
+      const Outcome op = together(p, paper), oc = together(c, clear), ob = together(b, paper),
+                    oq = together(q, paper);
+      if (check) pv = op, ev = oe, cv = oc, bb = ob, bq = oq;
       tp.push_back(op.cpuPerSimSecond);
       te.push_back(oe.cpuPerSimSecond);
       tc.push_back(oc.cpuPerSimSecond);
       tb.push_back(ob.cpuPerSimSecond);
+      tq.push_back(oq.cpuPerSimSecond);
     }
-    const double p = median(tp), e = median(te), c = median(tc), b = median(tb);
+    const double p = median(tp), e = median(te), c = median(tc), b = median(tb), q = median(tq);
     std::printf(
         "| %s | %.1f | %.1f | %.1f | %.1f | %.2fx | %.2fx | %.2fx | %.0f, %.1f, %.1f, %.1f |\n",
         k.label, 1e3 * p, 1e3 * e, 1e3 * c, 1e3 * b, p / b, e / b, c / b, 1e3 * bb.maxPenetration,
@@ -477,6 +502,8 @@ int compare(int argc, char** argv) {
     const double times[4] = {p, e, c, b};
     for (int i = 0; i < 4; ++i) row.usPerStep[i] = 1e6 * times[i] / row.steps[i];
     stepRows.push_back(row);
+    rateRows.push_back({k.label, substeps, ev.stepsPerSimSecond, bq.stepsPerSimSecond, e, q,
+                        ev.maxPenetration, bq.maxPenetration});
   }
   std::printf(
       "\n| scene | steps per simulated s: paper, ext, ext + clearance, Bullet | CPU us per step: "
@@ -500,6 +527,15 @@ int compare(int argc, char** argv) {
                 usPerAwake[0], usPerAwake[1], r.awake[1] / r.awake[3],
                 usPerAwake[0] / usPerAwake[1]);
   }
+  std::printf(
+      "\n| scene | Bullet steps per 1/60 s | steps per simulated s: ext, Bullet | CPU ms per "
+      "simulated s: ext, Bullet | ext / Bullet: time, per step | deepest (mm): ext, Bullet |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  for (const RateRow& r : rateRows)
+    std::printf("| %s | %d | %.0f, %.0f | %.1f, %.1f | %.2fx, %.2fx | %.1f, %.0f |\n",
+                r.scene.c_str(), r.substeps, r.steps[0], r.steps[1], 1e3 * r.cpu[0], 1e3 * r.cpu[1],
+                r.cpu[0] / r.cpu[1], (r.cpu[0] / r.steps[0]) / (r.cpu[1] / r.steps[1]),
+                1e3 * r.deepest[0], 1e3 * r.deepest[1]);
   return 0;
 }
 
