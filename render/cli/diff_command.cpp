@@ -19,6 +19,7 @@
 
 #include "render/cli/commands.h"
 #include "render/output/image_diff.h"
+#include "render/output/output_file.h"
 #include "render/output/png_writer.h"
 #include "sim/core/error.h"
 
@@ -53,17 +54,27 @@ std::vector<std::string> pngNames(const fs::path& folder) {
   return names;
 }
 
+// Diff images replace earlier ones, as reports do, but never one of the two compared images.
+OutputRules diffImageRules(const fs::path& expectedPath, const fs::path& actualPath) {
+  OutputRules rules = replaceOutputs();
+  rules.inputs = {expectedPath.string(), actualPath.string()};
+  return rules;
+}
+
 // Compares one pair, prints its line, writes its diff image when `diffPath` is given.
 // Returns true when within tolerance.
 bool comparePair(const std::string& label, const fs::path& expectedPath, const fs::path& actualPath,
                  const DiffTolerance& tolerance, const std::string& diffPath) {
+  const OutputRules rules = diffImageRules(expectedPath, actualPath);
+  if (!diffPath.empty()) checkOutputPath(diffPath, rules);  // before anything is printed
   const Image expected = readPng(expectedPath.string());
   const Image actual = readPng(actualPath.string());
   const DiffMetrics m = compareImages(expected, actual, tolerance.threshold);
   const bool ok = withinTolerance(m, tolerance);
   std::printf("%s: %-4s  %s\n", label.c_str(), ok ? "ok" : "FAIL",
               describe(m, expected, actual).c_str());
-  if (!diffPath.empty()) writePng(diffPath, diffImage(expected, actual, tolerance.threshold));
+  if (!diffPath.empty())
+    writePng(diffPath, diffImage(expected, actual, tolerance.threshold), rules);
   return ok;
 }
 
@@ -99,6 +110,12 @@ int runDiff(const DiffOptions& o) {
   const std::vector<std::string> expectedNames = pngNames(o.expected);
   if (expectedNames.empty()) throw InputError(o.expected, "no PNG files in this folder");
   if (!o.out.empty()) {
+    // The diff images take the frames' names: in either compared folder they would replace
+    // the frames themselves.
+    for (const std::string& compared : {o.expected, o.actual})
+      if (fs::equivalent(o.out, compared, ec))
+        throw InputError(o.out, "is the folder of the compared frames (" + compared +
+                                    "); the diff images would overwrite them: give another folder");
     fs::create_directories(o.out, ec);
     if (ec) throw InputError(o.out, "cannot create the diff folder: " + ec.message());
   }

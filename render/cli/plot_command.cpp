@@ -38,6 +38,7 @@ int runPlot(const PlotOptions& o) {
     }
     p.gravity = spec.gravity;
     p.title = spec.name;
+    p.inputs = runOutputRules(spec, o.scene, false, false).inputs;  // scene, meshes: never written
   }
   fig::plotRun(o.run, p);
   std::printf("plots written to %s (energy, speed, trajectories: PNG, SVG; CSV data)\n",

@@ -607,6 +607,23 @@ Section figure16(const PaperFigureOptions& o, int repeats, RunProgress& progress
   return {"fig16", md.str()};
 }
 
+// The first line of the README.md the figures write. The folder's other files have the
+// figures' own names, but README.md is a name users give their files too: one that does not
+// start with this line was not written here and is never replaced.
+constexpr const char* kReadmeHeading = "# The paper's comparisons, reproduced";
+
+void checkReadmeIsOurs(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return;
+  std::ifstream in(path);
+  std::string first;
+  std::getline(in, first);
+  if (first != kReadmeHeading)
+    throw InputError(path,
+                     "exists and was not written by voxfall figures; not replaced: choose "
+                     "another output folder (-o) or move the file");
+}
+
 }  // namespace
 
 const std::vector<std::string>& paperFigureNames() {
@@ -620,6 +637,8 @@ void makePaperFigures(const std::vector<std::string>& requested, const PaperFigu
     if (std::find(paperFigureNames().begin(), paperFigureNames().end(), n) ==
         paperFigureNames().end())
       throw InputError("", "unknown figure '" + n + "' (known: fig10, fig13, fig14, fig16)");
+  const std::string readme = (fs::path(o.outDir) / "README.md").string();
+  checkReadmeIsOurs(readme);  // before minutes of runs
   std::error_code ec;
   fs::create_directories(o.outDir, ec);
   if (ec) throw InputError(o.outDir, "cannot create the output folder: " + ec.message());
@@ -646,7 +665,7 @@ void makePaperFigures(const std::vector<std::string>& requested, const PaperFigu
     if (n == "fig16") sections.push_back(figure16(o, repeats, progress));
   }
   std::ostringstream md;
-  md << "# The paper's comparisons, reproduced\n\n"
+  md << kReadmeHeading << "\n\n"
      << "Made by `voxfall figures" << (o.quick ? " --quick" : "") << "` on " << machineName()
      << ". Compute time is the stepping time (no loading, no drawing, no diagnostics), median "
         "of "
@@ -659,7 +678,7 @@ void makePaperFigures(const std::vector<std::string>& requested, const PaperFigu
      << mm(kInterpenetrationThreshold) << " mm." << (o.quick ? " `--quick`: reduced set." : "")
      << "\n\n";
   for (const Section& s : sections) md << s.markdown;
-  writeText((fs::path(o.outDir) / "README.md").string(), md.str());
+  writeText(readme, md.str());
 }
 
 }  // namespace vf::fig

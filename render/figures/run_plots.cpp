@@ -76,6 +76,20 @@ void writeText(const std::string& path, const std::string& text) {
 }  // namespace
 
 void plotRun(const std::string& runCsv, const RunPlotOptions& o) {
+  const fs::path dir(o.outDir);
+  const std::string energyCsv = (dir / "energy.csv").string();
+  const std::string bodiesCsv = (dir / "bodies.csv").string();
+  const std::string energyBase = (dir / "energy").string(), speedBase = (dir / "speed").string(),
+                    tracksBase = (dir / "trajectories").string();  // + .png, .svg
+  OutputRules rules = replaceOutputs();
+  rules.inputs = o.inputs;
+  rules.inputs.push_back(runCsv);
+  for (const std::string& path : {energyCsv, bodiesCsv})  // before anything is written
+    checkOutputPath(path, rules);
+  for (const std::string& base : {energyBase, speedBase, tracksBase}) {
+    checkOutputPath(base + ".png", rules);
+    checkOutputPath(base + ".svg", rules);
+  }
   const std::vector<Row> rows = readRun(runCsv);
   std::error_code ec;
   fs::create_directories(o.outDir, ec);
@@ -116,9 +130,6 @@ void plotRun(const std::string& runCsv, const RunPlotOptions& o) {
   std::string bodies = "body,time_s,speed_m_s,x_m,y_m,z_m\n";
   for (const auto& [id, text] : perBodyRows) bodies += text;
 
-  const fs::path dir(o.outDir);
-  const std::string energyCsv = (dir / "energy.csv").string();
-  const std::string bodiesCsv = (dir / "bodies.csv").string();
   writeText(energyCsv, energy.str());
   writeText(bodiesCsv, bodies);
 
@@ -137,7 +148,7 @@ void plotRun(const std::string& runCsv, const RunPlotOptions& o) {
                 {"potential", energyCsv, "2:4", "lines", 1, false},
                 {"total", energyCsv, "2:5", "lines", 6, false}},
                {"set key top right"}}};
-  drawFigure(e, (dir / "energy").string());
+  drawFigure(e, energyBase);
 
   const bool legend = maxBody < 10;
   auto perBody = [&](const std::string& csv, const std::string& xy, int bodyColumn,
@@ -160,7 +171,7 @@ void plotRun(const std::string& runCsv, const RunPlotOptions& o) {
                false,
                perBody(bodiesCsv, "$2:$3", 1, "lines"),
                {legend ? "set key top right" : "unset key"}}};
-  drawFigure(v, (dir / "speed").string());
+  drawFigure(v, speedBase);
 
   Figure t;
   t.title = o.title + ": trajectories of the centres of mass";
@@ -180,7 +191,7 @@ void plotRun(const std::string& runCsv, const RunPlotOptions& o) {
                perBody(bodiesCsv, "$4:$6", 1, "lines"),
                {"set size ratio -1", "unset key"}}};
   t.width = 1200;
-  drawFigure(t, (dir / "trajectories").string());
+  drawFigure(t, tracksBase);
 }
 
 }  // namespace vf::fig

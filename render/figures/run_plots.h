@@ -21,6 +21,7 @@ struct RunPlotOptions {
   std::vector<BodyMass> bodies;      // by body id; empty: 1 kg each, no rotation
   Vec3 gravity = Vec3(0, 0, -9.81);  // m/s^2
   std::string title;                 // e.g. the scene name
+  std::vector<std::string> inputs;   // files read besides RUN.csv (scene, meshes): never written
 };
 
 // Reads RUN.csv (frame,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz; InputError with file:line
@@ -28,6 +29,8 @@ struct RunPlotOptions {
 // OUT/trajectories.{png,svg} and OUT/bodies.csv (body, time, speed, x, y, z: what the speed and
 // trajectory plots draw, grouped by body). Energies per frame: kinetic sum of m v^2 / 2 + w.I(t)w /
 // 2, potential -m g.x (relative to the origin, as `simulate`'s summary), over non-static bodies.
+// Earlier files of these names are replaced, but RUN.csv and `inputs` never are: an output that
+// is one of them is refused (InputError) before anything is written.
 void plotRun(const std::string& runCsv, const RunPlotOptions& options);
 
 }  // namespace vf::fig

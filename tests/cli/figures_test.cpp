@@ -120,6 +120,26 @@ TEST(FilmstripCommand, EachFrameIsExactlyTheRenderedFrame) {
   EXPECT_EQ(strip.height, 2 * (64 + fig::kFilmstripLabelBand) + 3 * fig::kFilmstripGap);
 }
 
+// The figures replace their own README.md on a second run, but a README.md they did not write
+// (a user's folder given as -o) is refused before any run, and nothing is written there.
+TEST(FiguresCommand, AReadmeItDidNotWriteIsNeverReplaced) {
+  test::ScratchDir dir("figures_readme");
+  const std::string out = dir.file("project");
+  fs::create_directories(out);
+  std::ofstream(out + "/README.md") << "# My project\n";
+  const std::string args = "figures fig10 --quick --quiet --scenes '" + kScenes + "' -o '";
+  EXPECT_EQ(voxfall(args + out + "'"), 1);
+  EXPECT_TRUE(contains(out + "/README.md", "# My project"));
+  EXPECT_FALSE(fs::exists(out + "/fig10.csv"));
+  // Its own README.md is replaced by the next run.
+  const std::string figs = dir.file("figs");
+  ASSERT_EQ(voxfall(args + figs + "'"), 0);
+  std::ofstream(figs + "/README.md", std::ios::app) << "stale line\n";
+  ASSERT_EQ(voxfall(args + figs + "'"), 0);
+  EXPECT_FALSE(contains(figs + "/README.md", "stale line"));
+  EXPECT_TRUE(contains(figs + "/README.md", "## Fig. 10"));
+}
+
 TEST(PlotCommand, WritesItsFilesAndPlotsWhatTheRunSays) {
   test::ScratchDir dir("plot");
   const std::string scene = kScenes + "/cubes.toml";
@@ -168,6 +188,37 @@ TEST(PlotCommand, WritesItsFilesAndPlotsWhatTheRunSays) {
     EXPECT_EQ(std::stod(bodies[i][3]), std::stod(r[3]));
     EXPECT_EQ(std::stod(bodies[i][5]), std::stod(r[5]));
   }
+}
+
+// The plots replace their own earlier files but never what they read: a run CSV named like
+// one of the outputs, plotted into its own folder, or a scene file there, is refused before
+// anything is written.
+TEST(PlotCommand, NeverOverwritesTheRunOrTheScene) {
+  test::ScratchDir dir("plot_inputs");
+  const std::string scene = kScenes + "/cubes.toml";
+  ASSERT_EQ(voxfall("simulate '" + scene + "' --quiet --csv '" + dir.file("energy.csv") + "'"), 0);
+  std::ifstream in(dir.file("energy.csv"));
+  std::stringstream before;
+  before << in.rdbuf();
+  EXPECT_EQ(voxfall("plot '" + dir.file("energy.csv") + "' -o '" + dir.path().string() + "'"), 1);
+  std::ifstream again(dir.file("energy.csv"));
+  std::stringstream after;
+  after << again.rdbuf();
+  EXPECT_EQ(after.str(), before.str());
+  EXPECT_FALSE(fs::exists(dir.file("bodies.csv")));  // nothing written
+  // The scene given for the masses is an input too.
+  fs::copy_file(dir.file("energy.csv"), dir.file("run.csv"));
+  fs::create_directories(dir.file("scene/meshes"));
+  fs::copy_file(kScenes + "/meshes/cube.obj", dir.file("scene/meshes/cube.obj"));
+  fs::copy_file(scene, dir.file("scene/speed.svg"));
+  EXPECT_EQ(voxfall("plot '" + dir.file("run.csv") + "' --scene '" + dir.file("scene/speed.svg") +
+                    "' -o '" + dir.file("scene") + "'"),
+            1);
+  EXPECT_FALSE(fs::exists(dir.file("scene/energy.csv")));
+  // Into another folder the same plot is written, and written again over its earlier files.
+  EXPECT_EQ(voxfall("plot '" + dir.file("energy.csv") + "' -o '" + dir.file("plots") + "'"), 0);
+  EXPECT_EQ(voxfall("plot '" + dir.file("energy.csv") + "' -o '" + dir.file("plots") + "'"), 0);
+  EXPECT_TRUE(fs::exists(dir.file("plots/bodies.csv")));
 }
 
 }  // namespace

@@ -138,5 +138,36 @@ TEST_F(DiffCommand, BadInputExits1UsageExits2) {
   EXPECT_EQ(run("a.png a.png --max-fraction 2"), 2);
 }
 
+// The diff image never replaces a compared image: `--out` naming EXPECTED or ACTUAL (a file, or
+// for folders the folder whose frames the diff images would be named after) is refused before
+// anything is written, and both images are left as they were.
+TEST_F(DiffCommand, TheDiffNeverOverwritesWhatItCompares) {
+  write("a.png", frame());
+  write("b.png", frame(20));
+  const std::string a = readFile(dir_.path() / "a.png"), b = readFile(dir_.path() / "b.png");
+  EXPECT_EQ(run("a.png b.png --out a.png"), 1);
+  EXPECT_NE(err_.find("voxfall: error: a.png: is an input of this run"), std::string::npos) << err_;
+  EXPECT_EQ(out_, "");  // refused before comparing
+  EXPECT_EQ(run("a.png b.png --out ./b.png"), 1);
+  EXPECT_EQ(readFile(dir_.path() / "a.png"), a);
+  EXPECT_EQ(readFile(dir_.path() / "b.png"), b);
+
+  write("exp/f_0001.png", frame());
+  write("act/f_0001.png", frame(20));
+  const std::string golden = readFile(dir_.path() / "exp/f_0001.png");
+  const std::string actual = readFile(dir_.path() / "act/f_0001.png");
+  EXPECT_EQ(run("exp act --out exp"), 1);
+  EXPECT_NE(err_.find("exp: is the folder of the compared frames (exp)"), std::string::npos)
+      << err_;
+  EXPECT_EQ(run("exp act --out act/"), 1);
+  EXPECT_NE(err_.find("the diff images would overwrite them"), std::string::npos) << err_;
+  EXPECT_EQ(readFile(dir_.path() / "exp/f_0001.png"), golden);
+  EXPECT_EQ(readFile(dir_.path() / "act/f_0001.png"), actual);
+  // Another folder still gets the diff image, and replaces an earlier one.
+  EXPECT_EQ(run("exp act --out diffs"), 1);
+  EXPECT_EQ(run("exp act --out diffs"), 1);
+  EXPECT_TRUE(fs::exists(dir_.path() / "diffs/f_0001.png"));
+}
+
 }  // namespace
 }  // namespace vf
