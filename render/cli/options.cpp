@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 
 #include "sim/scene/scene.h"
@@ -16,6 +17,29 @@ void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite)
       command.add_flag("-n", neverOverwrite, "never overwrite: exit if an output exists");
   yes->excludes(no);
 }
+
+namespace {
+
+// The limits take what the scene's [simulation] keys take (scene_loader.cpp), read whole:
+// CLI11's own conversion clamped 2^64 and more to the largest count, and its positive-number
+// check let "nan" through and answered "inf" with a 309-digit range.
+std::string checkMaxStepsOption(std::string& text) {
+  std::int64_t v = 0;
+  const char* end = text.data() + text.size();
+  const auto [at, ec] = std::from_chars(text.data(), end, v);
+  if (ec == std::errc() && at == end && v >= 1) return "";
+  return "must be an integer from 1 to 9223372036854775807, got " + text;
+}
+
+std::string checkMaxSpeedOption(std::string& text) {
+  double v = 0;
+  const char* end = text.data() + text.size();
+  const auto [at, ec] = std::from_chars(text.data(), end, v);
+  if (ec == std::errc() && at == end && std::isfinite(v) && v > 0) return "";
+  return "must be a finite number > 0 (m/s), got " + text;
+}
+
+}  // namespace
 
 void addPhysicsOptions(CLI::App& command, SceneOverrides& o, const std::string& what) {
   command
@@ -42,12 +66,12 @@ void addPhysicsOptions(CLI::App& command, SceneOverrides& o, const std::string& 
       .add_option("--max-steps", o.maxSteps,
                   "refuse runs needing more steps than this (default 10000000)" + what)
       ->type_name("N")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Validator(checkMaxStepsOption, "", "MAX_STEPS"));
   command
       .add_option("--max-speed", o.maxSpeed,
                   "stop the run when a body moves faster than this, m/s (default 1000)" + what)
       ->type_name("V")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Validator(checkMaxSpeedOption, "", "MAX_SPEED"));
   command.add_flag("--repair", o.repair,
                    "repair every shape's mesh: fill small holes, remove duplicate and degenerate "
                    "triangles, fix the winding" +

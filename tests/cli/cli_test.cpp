@@ -92,6 +92,30 @@ TEST_F(CliTest, UsageErrorsExitWith2) {
   EXPECT_EQ(run(""), 2);  // a subcommand is required
 }
 
+// The run limits take what the scene's keys take: counts from 1 to 2^63 - 1 and finite
+// speeds > 0. Each answer was wrong before: 1e20 steps was clamped and the run went ahead,
+// "nan" m/s passed the option and failed later as a body "over the limit of nan m/s", and
+// "inf" got a 309-digit range.
+TEST_F(CliTest, RunLimitsOutsideWhatTheSceneTakesAreUsageErrors) {
+  const std::string cubes = "simulate " + quote(kScenes + "/cubes.toml") + " --quiet ";
+  const std::pair<std::string, std::string> cases[] = {
+      {"--max-steps 100000000000000000000",
+       "--max-steps: must be an integer from 1 to 9223372036854775807, got 100000000000000000000"},
+      {"--max-steps 0", "--max-steps: must be an integer from 1 to"},
+      {"--max-steps 1.5", "--max-steps: must be an integer from 1 to"},
+      {"--max-speed nan", "--max-speed: must be a finite number > 0 (m/s), got nan"},
+      {"--max-speed inf", "--max-speed: must be a finite number > 0 (m/s), got inf"},
+      {"--max-speed 1e400", "--max-speed: must be a finite number > 0 (m/s), got 1e400"},
+      {"--max-speed -5", "--max-speed: must be a finite number > 0"},
+  };
+  for (const auto& [option, message] : cases) {
+    EXPECT_EQ(run(cubes + option), 2) << option;
+    ASSERT_FALSE(errorLines().empty()) << option;
+    EXPECT_NE(errorLines()[0].find("voxfall: error: " + message), std::string::npos) << err_;
+  }
+  EXPECT_EQ(run(cubes + "--max-steps 9223372036854775807 --max-speed 1e3"), 0) << err_;
+}
+
 TEST_F(CliTest, BadSceneIsOneErrorLineNamingFileAndLine) {
   const std::string scene = write("bad.toml", "[simulation]\nduration = 2.0\nfsp = 30\n");
   EXPECT_EQ(run("simulate " + quote(scene)), 1);

@@ -247,6 +247,26 @@ TEST_F(EnsembleCommandTest, MalformedEnsembleKeysAreClearErrors) {
   }
 }
 
+// --seed takes the whole range of a 64-bit seed and nothing else: "-1" and 2^64 were taken
+// as 2^64 - 1 by the option parser's unsigned conversion, silently.
+TEST_F(EnsembleCommandTest, SeedOutsideItsRangeIsAUsageError) {
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+  for (const std::string seed : {"-1", "18446744073709551616", "1e3", "7x"}) {
+    const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 1 -q -o bad --seed " + seed);
+    EXPECT_EQ(r.code, 2) << seed;
+    EXPECT_NE(r.err.find("--seed: must be an integer from 0 to 18446744073709551615, got " + seed),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "bad")) << seed;
+  }
+  const auto top = runVoxfall(kExe, dir_,
+                              "ensemble scene.toml --runs 1 -q -o top --seed "
+                              "18446744073709551615");
+  ASSERT_EQ(top.code, 0) << top.err;
+  EXPECT_NE(readFile(dir_ / "top" / "summary.json").find("\"seed\": 18446744073709551615"),
+            std::string::npos);
+}
+
 TEST_F(EnsembleCommandTest, SubsetVideoIsTheRenderOfItsBake) {
   // --video-runs writes the subset's bake and renders it: trajectories.mp4 must be the very
   // MP4 that `voxfall render` makes of that bake (the encoder is deterministic for a setting).
