@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "render/cli/commands.h"
+#include "render/cli/options.h"
 #include "render/output/image_diff.h"
 #include "render/output/output_file.h"
 #include "render/output/png_writer.h"
@@ -173,7 +174,7 @@ void addDiffCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--max-fraction,-f", o->tolerance.maxFraction,
                   std::string("fail when more than this share of pixels differ (0..1; default ") +
                       fraction + ")")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(finiteNumberIn(0.0, 1.0))
       ->type_name("F");
   sub->add_option("--out,-o", o->out,
                   "write the diff image (grey expected, red where over the threshold, blue "

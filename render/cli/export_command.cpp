@@ -74,7 +74,7 @@ void addExportCommand(CLI::App& app, int& exitCode) {
   sub->add_option("-o,--output", o->output, "FILE.glb (default: out/<scene name>.glb)")
       ->type_name("FILE");
   sub->add_option("--fps", o->fps, "key frames per second (overrides [simulation] fps)")
-      ->check(CLI::Range(0.001, 1000.0))
+      ->check(finiteNumberIn(0.001, 1000.0))
       ->type_name("N");
   addPhysicsOptions(*sub, o->overrides, " (scenes only)");
   addThreadsOption(*sub, o->overrides, " (scenes only)");

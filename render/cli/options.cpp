@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 
 #include "sim/scene/scene.h"
 #include "sim/shape/sphere_tree.h"
@@ -40,6 +41,20 @@ std::string checkMaxSpeedOption(std::string& text) {
 }
 
 }  // namespace
+
+CLI::Validator finiteNumberIn(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        double v = 0;
+        const char* end = text.data() + text.size();
+        const auto [at, ec] = std::from_chars(text.data(), end, v);
+        if (ec == std::errc() && at == end && std::isfinite(v) && v >= lo && v <= hi) return "";
+        char range[64];
+        std::snprintf(range, sizeof range, "%g to %g", lo, hi);
+        return std::string("must be a number from ") + range + ", got " + text;
+      },
+      "", "FINITE_RANGE");
+}
 
 void addPhysicsOptions(CLI::App& command, SceneOverrides& o, const std::string& what) {
   command

@@ -12,9 +12,14 @@ struct SceneOverrides;
 
 namespace CLI {
 class App;
-}
+class Validator;
+}  // namespace CLI
 
 namespace vf::cli {
+
+// A check for a number option: its text read whole as a finite number from lo to hi. CLI11's
+// own Range lets "nan" through (every comparison with it is false).
+CLI::Validator finiteNumberIn(double lo, double hi);
 
 // -y (overwrite existing outputs) and -n (never overwrite, exit instead), ffmpeg's flags.
 void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite);

@@ -278,7 +278,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       ->type_name("A:B");
   addSizeOption(*sub, o->size);
   sub->add_option("--fps", o->fps, "frames per second (overrides [simulation] fps)")
-      ->check(CLI::Range(0.001, 1000.0))
+      ->check(finiteNumberIn(0.001, 1000.0))
       ->type_name("N");
   addPhysicsOptions(*sub, o->overrides, " (scenes only)");
   addThreadsOption(*sub, o->overrides, " (scenes only)");

@@ -116,6 +116,25 @@ TEST_F(CliTest, RunLimitsOutsideWhatTheSceneTakesAreUsageErrors) {
   EXPECT_EQ(run(cubes + "--max-steps 9223372036854775807 --max-speed 1e3"), 0) << err_;
 }
 
+// CLI11's range check lets "nan" through (every comparison with it is false): `render --fps
+// nan` then failed on an empty frame range, `export --fps nan` with "cannot create std::vector
+// larger than max_size()", and `diff --max-fraction nan` passed every frame. The number options
+// read their text whole.
+TEST_F(CliTest, NumberOptionsRefuseNan) {
+  const std::string scene = quote(kScenes + "/cubes.toml");
+  const std::pair<std::string, std::string> cases[] = {
+      {"render " + scene + " --fps nan -o x.mp4", "--fps: must be a number from 0.001 to 1000"},
+      {"export " + scene + " --fps nan -o x.glb", "--fps: must be a number from 0.001 to 1000"},
+      {"render " + scene + " --fps 1e400 -o x.mp4", "--fps: must be a number from"},
+      {"diff a.png b.png --max-fraction nan", "--max-fraction: must be a number from 0 to 1"},
+  };
+  for (const auto& [args, message] : cases) {
+    EXPECT_EQ(run(args), 2) << args;
+    ASSERT_FALSE(errorLines().empty()) << args;
+    EXPECT_NE(errorLines()[0].find("voxfall: error: " + message), std::string::npos) << err_;
+  }
+}
+
 TEST_F(CliTest, BadSceneIsOneErrorLineNamingFileAndLine) {
   const std::string scene = write("bad.toml", "[simulation]\nduration = 2.0\nfsp = 30\n");
   EXPECT_EQ(run("simulate " + quote(scene)), 1);
