@@ -21,6 +21,15 @@ void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite)
 
 namespace {
 
+// `text` read whole as a finite number; nothing for anything else ("nan", "inf", "1e400", "5x").
+std::optional<double> readFinite(const std::string& text) {
+  double v = 0;
+  const char* end = text.data() + text.size();
+  const auto [at, ec] = std::from_chars(text.data(), end, v);
+  if (ec != std::errc() || at != end || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
 // The limits take what the scene's [simulation] keys take (scene_loader.cpp), read whole:
 // CLI11's own conversion clamped 2^64 and more to the largest count, and its positive-number
 // check let "nan" through and answered "inf" with a 309-digit range.
@@ -33,11 +42,8 @@ std::string checkMaxStepsOption(std::string& text) {
 }
 
 std::string checkMaxSpeedOption(std::string& text) {
-  double v = 0;
-  const char* end = text.data() + text.size();
-  const auto [at, ec] = std::from_chars(text.data(), end, v);
-  if (ec == std::errc() && at == end && std::isfinite(v) && v > 0) return "";
-  return "must be a finite number > 0 (m/s), got " + text;
+  const std::optional<double> v = readFinite(text);
+  return v && *v > 0 ? "" : "must be a finite number > 0 (m/s), got " + text;
 }
 
 }  // namespace
@@ -45,10 +51,8 @@ std::string checkMaxSpeedOption(std::string& text) {
 CLI::Validator finiteNumberIn(double lo, double hi) {
   return CLI::Validator(
       [lo, hi](std::string& text) -> std::string {
-        double v = 0;
-        const char* end = text.data() + text.size();
-        const auto [at, ec] = std::from_chars(text.data(), end, v);
-        if (ec == std::errc() && at == end && std::isfinite(v) && v >= lo && v <= hi) return "";
+        const std::optional<double> v = readFinite(text);
+        if (v && *v >= lo && *v <= hi) return "";
         char range[64];
         std::snprintf(range, sizeof range, "%g to %g", lo, hi);
         return std::string("must be a number from ") + range + ", got " + text;
