@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +17,7 @@
 
 #include "sim/core/error.h"
 #include "sim/geometry/mesh_import.h"
+#include "sim/shape/sphere_tree.h"
 #include "sim/solve/integrate.h"
 
 namespace vf {
@@ -281,6 +284,94 @@ bool isBakeFile(const std::string& path) {
   return in && std::memcmp(head, kSignature, sizeof head) == 0;
 }
 
+// The values a bake's header may hold: what a scene file may give (scene_loader.cpp) and what a
+// run writes. A header edited by hand or damaged gets the first problem, named by its key in
+// the header, instead of a drawing of nonsense or an allocation that fails.
+void checkHeader(const Bake& bake, const std::string& where) {
+  const auto fail = [&](const std::string& key, const std::string& rule, double got) {
+    char value[64];
+    std::snprintf(value, sizeof value, "%.17g", got);
+    throw InputError(where, "bad bake header: '" + key + "' " + rule + ", got " + value);
+  };
+  const auto positive = [&](const std::string& key, double v) {
+    if (!(std::isfinite(v) && v > 0)) fail(key, "must be a finite number > 0", v);
+  };
+  const auto nonNegative = [&](const std::string& key, double v) {
+    if (!(std::isfinite(v) && v >= 0)) fail(key, "must be a finite number >= 0", v);
+  };
+  const auto finite = [&](const std::string& key, double v) {
+    if (!std::isfinite(v)) fail(key, "must be finite", v);
+  };
+  const auto finiteAll = [&](const std::string& key, const auto& v) {  // a vector or matrix
+    for (const double x : v.reshaped())
+      if (!std::isfinite(x)) fail(key, "must hold finite numbers", x);
+  };
+  const auto colour = [&](const std::string& key, const Color& c) {
+    for (const float v : c)
+      if (!(v >= 0 && v <= 1)) fail(key, "must hold numbers in 0..1", v);
+  };
+  const auto fov = [&](const std::string& key, double v) {
+    if (!(v > 0 && v < 180)) fail(key, "must be in degrees, 0 < fov < 180", v);
+  };
+  const SceneSpec& s = bake.scene;
+  positive("scene.duration", s.duration);
+  positive("scene.fps", s.fps);
+  if (s.duration * s.fps > kMaxSceneFrames)
+    fail("scene.duration", "times fps must be at most 1e7 frames", s.duration);
+  finiteAll("scene.gravity", s.gravity);
+  finiteAll("scene.terrain_offset", s.terrainShift);
+  if (s.groundPlane) finite("scene.ground_plane", *s.groundPlane);
+  for (const auto& [side, pixels] :
+       {std::pair{"width", s.output.width}, {"height", s.output.height}})
+    if (const std::string problem = frameSideProblem(side, pixels); !problem.empty())
+      throw InputError(where, "bad bake header: scene.output: " + problem);
+  if (s.output.crf < 0 || s.output.crf > 51)
+    fail("scene.output.crf", "must be 0..51", s.output.crf);
+  // Keys are named by their place in the header's JSON.
+  std::vector<std::pair<std::string, const CameraSpec*>> cameras{{"scene.camera.", &s.camera}};
+  for (std::size_t i = 0; i < s.cameras.size(); ++i)
+    cameras.emplace_back("scene.cameras[" + std::to_string(i) + "].", &s.cameras[i]);
+  const int bodies = static_cast<int>(bake.bodies.size());
+  for (const auto& [key, c] : cameras) {
+    finiteAll(key + "position", c->position);
+    finiteAll(key + "look_at", c->lookAt);
+    finiteAll(key + "up", c->up);
+    if (!(c->up.norm() > 0)) fail(key + "up", "must be a non-zero vector", 0);
+    fov(key + "fov", c->fovDegrees);
+    nonNegative(key + "smoothing", c->smoothing);
+    nonNegative(key + "min_pixels", c->minPixels);
+    nonNegative(key + "trail", c->trailSeconds);
+    std::vector<int> followed = c->followGroup;
+    if (c->followBody) followed.push_back(*c->followBody);
+    for (const int id : followed)
+      if (id < 0 || id >= bodies) fail(key + "follow", "must name a body of the bake", id);
+    for (const CameraKey& k : c->path) {
+      finite(key + "path[].time", k.time);
+      finiteAll(key + "path[].position", k.position);
+      finiteAll(key + "path[].look_at", k.lookAt);
+      fov(key + "path[].fov", k.fovDegrees);
+    }
+  }
+  for (std::size_t i = 0; i < s.shapes.size(); ++i) {
+    const ShapeSpec& shape = s.shapes[i];
+    const std::string key = "shapes[" + std::to_string(i) + "].";
+    for (int i = 0; i < 3; ++i) positive(key + "scale", shape.scale[i]);
+    positive(key + "density", shape.density);
+    const int level = shape.level.value_or(kMinLevel);
+    if (level < kMinLevel || level > kMaxLevel)
+      fail(key + "level", "must be " + std::to_string(kMinLevel) + ".." + std::to_string(kMaxLevel),
+           level);
+    if (shape.color) colour(key + "color", *shape.color);
+  }
+  for (int i = 0; i < bodies; ++i) {
+    const BakeBody& b = bake.bodies[static_cast<std::size_t>(i)];
+    const std::string key = "bodies[" + std::to_string(i) + "].";
+    nonNegative(key + "inv_mass", b.invMass);
+    finiteAll(key + "inertia_body_inv", b.inertiaBodyInv);
+    colour(key + "color", b.color);
+  }
+}
+
 Bake readBake(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open the bake");
@@ -350,23 +441,44 @@ Bake readBake(const std::string& path) {
   } catch (const json::exception& e) {
     throw InputError(path + ":2", std::string("bad bake header: ") + e.what());
   }
+  checkHeader(bake, path + ":2");
   const std::size_t width = 1 + kValuesPerBody * bake.bodies.size();
   const std::size_t body = data.size() - end - 1;
-  if (records == 0 || body != records * width * sizeof(double))
+  // Divided, not multiplied: a record count near 2^64 / width would wrap to the body's size.
+  if (records == 0 || body % (width * sizeof(double)) != 0 ||
+      records != body / (width * sizeof(double)))
     throw InputError(path, "the bake body holds " + std::to_string(body) + " bytes, not the " +
                                std::to_string(records) + " records of " + std::to_string(width) +
                                " float64 its header announces");
   const char* p = data.data() + end + 1;
   std::vector<double> row(width);
   bake.records.resize(records);
-  for (BakeRecord& r : bake.records) {
+  for (std::size_t k = 0; k < records; ++k) {
+    BakeRecord& r = bake.records[k];
     std::memcpy(row.data(), p, width * sizeof(double));
     p += width * sizeof(double);
+    // What a run writes: finite numbers, flags of 0 or 1, unit quaternions (to rounding; the
+    // integrator normalises them every step). Anything else is a damaged file, which would
+    // draw nothing and export NaN into glTF.
+    const auto damaged = [&](const std::string& what) {
+      return InputError(path, "record " + std::to_string(k) + ": " + what +
+                                  "; the bake is damaged (simulate the scene again)");
+    };
+    for (std::size_t j = 0; j < width; ++j)
+      if (!std::isfinite(row[j]))
+        throw damaged(j == 0 ? "the time is not finite"
+                             : "body " + std::to_string((j - 1) / kValuesPerBody) +
+                                   "'s state holds a value that is not finite");
     r.time = row[0];
     r.states.resize(bake.bodies.size());
     r.active.resize(bake.bodies.size());
     for (std::size_t i = 0; i < bake.bodies.size(); ++i) {
       const double* v = &row[1 + kValuesPerBody * i];
+      const double qNorm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
+      if ((v[0] != 0 && v[0] != 1) || std::abs(qNorm - 1) > 1e-6)
+        throw damaged("body " + std::to_string(i) +
+                      (v[0] != 0 && v[0] != 1 ? "'s active flag is not 0 or 1"
+                                              : "'s orientation is not a unit quaternion"));
       r.active[i] = v[0] != 0 ? 1 : 0;
       r.states[i].x = Vec3(v[1], v[2], v[3]);
       r.states[i].q = Quat(v[4], v[5], v[6], v[7]);

@@ -183,6 +183,10 @@ struct SceneSpec {
 // mesh files throw InputError("file:line:column", "what is wrong; did you mean 'key'?").
 SceneSpec loadScene(const std::string& path);
 
+// The most frames a scene may have (duration * fps): frame arrays are allocated whole. A
+// scene's [simulation] and a bake's header are checked against it.
+inline constexpr double kMaxSceneFrames = 1e7;
+
 // Frame sizes in pixels per side: one limit for [output], --size, suite sizes and the renderer.
 inline constexpr int kMaxImageSide = 16384;
 

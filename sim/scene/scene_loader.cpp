@@ -31,8 +31,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Guards against values that parse but cannot be run (allocation of frame or body arrays).
-constexpr double kMaxFrames = 1e7;
+// Guards against values that parse but cannot be run (allocation of body arrays; frames:
+// kMaxSceneFrames).
 constexpr std::int64_t kMaxEmitterCount = 1000000;
 
 std::string lower(std::string_view s) {
@@ -1058,11 +1058,11 @@ SceneSpec loadScene(const std::string& path) {
     readEnsemble(r, r.table(*n, "ensemble"), sceneFolder, spec);
 
   // Frame k is at k / fps for k = 0 .. floor(duration * fps): keep that count allocatable.
-  if (spec.duration * spec.fps > kMaxFrames) {
+  if (spec.duration * spec.fps > kMaxSceneFrames) {
     const toml::node* n = root.at_path("simulation.duration").node();
     throw InputError(n != nullptr ? r.where(*n) : path,
                      "duration * fps = " + formatNumber(spec.duration * spec.fps) +
-                         " frames; at most " + formatNumber(kMaxFrames) + " are supported");
+                         " frames; at most " + formatNumber(kMaxSceneFrames) + " are supported");
   }
   return spec;
 }

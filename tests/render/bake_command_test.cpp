@@ -169,4 +169,54 @@ TEST_F(BakeCommand, PhysicsOptionsAndBrokenBakesAreRefused) {
   EXPECT_FALSE(fs::exists(dir_.path() / "y.mp4"));
 }
 
+// A damaged or hand-edited bake gets one message naming the header key or the record, from
+// `render` and `export` alike, and writes nothing. Before, a negative fps or duration gave
+// "cannot create std::vector larger than max_size()" (no file named), and a NaN state, a
+// field of view of 500 degrees or a zero up vector drew nonsense (or exported NaN into glTF)
+// with exit 0.
+TEST_F(BakeCommand, DamagedHeadersAndRecordsAreRefusedByName) {
+  ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
+  const std::string bytes = readFile(dir_.path() / "run.bake");
+  const std::size_t start = bytes.find('\n') + 1, end = bytes.find('\n', start);
+  const std::string header = bytes.substr(start, end - start);
+  auto edited = [&](const std::string& from, const std::string& to) {
+    const std::size_t at = header.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return bytes.substr(0, start) + std::string(header).replace(at, from.size(), to) +
+           bytes.substr(end);
+  };
+  const std::pair<std::string, std::string> cases[] = {
+      {edited(R"("fps":30.0)", R"("fps":-1.0)"),
+       ":2: bad bake header: 'scene.fps' must be a finite number > 0, got -1"},
+      {edited(R"("duration":2.0)", R"("duration":-2.0)"), "'scene.duration' must be a finite"},
+      {edited(R"("fov":40.0)", R"("fov":500.0)"), "'scene.camera.fov' must be in degrees"},
+      {edited(R"("up":[0.0,0.0,1.0])", R"("up":[0.0,0.0,0.0])"),
+       "'scene.camera.up' must be a non-zero vector"},
+      {edited(R"("level":4)", R"("level":99)"), "'shapes[0].level' must be 1..10, got 99"},
+      {edited(R"("width":1280)", R"("width":0)"), "scene.output: the frame width must be"},
+      {edited(R"("inv_mass":0.0462)", R"("inv_mass":-0.0462)"),
+       "'bodies[0].inv_mass' must be a finite number >= 0"},
+      // Records: body 0's x in record 5 made NaN, its quaternion's w made 0.
+      {bytes.substr(0, end + 1 + (5 * 29 + 2) * 8) + std::string("\0\0\0\0\0\0\xf8\x7f", 8) +
+           bytes.substr(end + 1 + (5 * 29 + 3) * 8),
+       "record 5: body 0's state holds a value that is not finite"},
+      {bytes.substr(0, end + 1 + (5 * 29 + 5) * 8) + std::string(8, '\0') +
+           bytes.substr(end + 1 + (5 * 29 + 6) * 8),
+       "record 5: body 0's orientation is not a unit quaternion"},
+  };
+  for (const auto& [file, message] : cases) {
+    std::ofstream(dir_.path() / "damaged.bake", std::ios::binary) << file;
+    for (const std::string command :
+         {"render damaged.bake --size 32x32 -o out.mp4", "export damaged.bake -o out.glb"}) {
+      EXPECT_EQ(run(command), 1) << command;
+      EXPECT_EQ(err_.rfind("voxfall: error: damaged.bake", 0), 0u) << err_;
+      EXPECT_NE(err_.find(message), std::string::npos) << err_;
+    }
+    EXPECT_FALSE(fs::exists(dir_.path() / "out.mp4"));
+    EXPECT_FALSE(fs::exists(dir_.path() / "out.glb"));
+  }
+  // The undamaged bake reads.
+  EXPECT_EQ(run("export run.bake -o out.glb"), 0) << err_;
+}
+
 }  // namespace
