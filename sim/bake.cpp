@@ -6,14 +6,18 @@
 
 #include <algorithm>
 #include <bit>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <utility>
 
 #include "sim/core/error.h"
 #include "sim/geometry/mesh_import.h"
@@ -70,13 +74,35 @@ json summaryJson(const RunSummary& s) {
           {"checksum", s.checksumHex()}};
 }
 
+// A header integer as T. nlohmann's get<T>() casts whatever number it finds, and a float past
+// T's range (5e88 as an int: found by bake_fuzz) is undefined behaviour; so integers only, in
+// T's range, else std::domain_error naming the key (readBake wraps it with the file).
+template <class T>
+T readInteger(const json& j, const char* key) {
+  if (j.is_number_unsigned() && std::in_range<T>(j.get<std::uint64_t>()))
+    return static_cast<T>(j.get<std::uint64_t>());
+  if (j.is_number_integer() && !j.is_number_unsigned() && std::in_range<T>(j.get<std::int64_t>()))
+    return static_cast<T>(j.get<std::int64_t>());
+  throw std::domain_error(std::string("'") + key + "' must be an integer from " +
+                          std::to_string(std::numeric_limits<T>::min()) + " to " +
+                          std::to_string(std::numeric_limits<T>::max()) + ", got " + j.dump());
+}
+
 Vec3 readVec(const json& j) {
   return Vec3(j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>());
 }
 
 std::optional<Color> readColor(const json& j) {
   if (j.is_null()) return std::nullopt;
-  return Color{j.at(0).get<float>(), j.at(1).get<float>(), j.at(2).get<float>()};
+  Color c{};
+  for (int i = 0; i < 3; ++i) {
+    // Read as a double: a double past float's range converted to float is undefined.
+    const double v = j.at(i).get<double>();
+    if (!(v >= 0 && v <= 1))
+      throw std::domain_error("colours must hold numbers in 0..1, got " + j.at(i).dump());
+    c[static_cast<std::size_t>(i)] = static_cast<float>(v);
+  }
+  return c;
 }
 
 // A camera as the header stores it: every key of a [camera] or [cameras.NAME] table, resolved.
@@ -113,8 +139,9 @@ CameraSpec readCamera(const json& j) {
   c.lookAt = readVec(j.at("look_at"));
   c.up = readVec(j.at("up"));
   c.fovDegrees = j.at("fov").get<double>();
-  if (!j.at("follow").is_null()) c.followBody = j.at("follow").get<int>();
-  c.followGroup = j.at("follow_group").get<std::vector<int>>();
+  if (!j.at("follow").is_null()) c.followBody = readInteger<int>(j.at("follow"), "follow");
+  for (const json& id : j.at("follow_group"))
+    c.followGroup.push_back(readInteger<int>(id, "follow_group"));
   c.smoothing = j.at("smoothing").get<double>();
   for (const json& k : j.at("path"))
     c.path.push_back(CameraKey{k.at("time").get<double>(), readVec(k.at("position")),
@@ -126,19 +153,24 @@ CameraSpec readCamera(const json& j) {
 
 RunSummary readSummary(const json& j) {
   RunSummary s;
-  s.frames = j.at("frames").get<int>();
-  s.totals.steps = j.at("steps").get<std::uint64_t>();
+  s.frames = readInteger<int>(j.at("frames"), "summary.frames");
+  s.totals.steps = readInteger<std::uint64_t>(j.at("steps"), "summary.steps");
   s.totals.dtMin = j.at("dt_min").get<double>();
   s.totals.dtMax = j.at("dt_max").get<double>();
   s.wallSeconds = j.at("wall_seconds").get<double>();
-  s.totals.sphereTests = j.at("sphere_tests").get<std::uint64_t>();
-  s.totals.contacts = j.at("contacts").get<std::uint64_t>();
+  s.totals.sphereTests = readInteger<std::uint64_t>(j.at("sphere_tests"), "summary.sphere_tests");
+  s.totals.contacts = readInteger<std::uint64_t>(j.at("contacts"), "summary.contacts");
   s.maxPenetrationBodyBody = j.at("max_penetration_body_body").get<double>();
   s.maxPenetrationBodyGround = j.at("max_penetration_body_ground").get<double>();
-  s.tunnelled = j.at("tunnelled").get<int>();
+  s.tunnelled = readInteger<int>(j.at("tunnelled"), "summary.tunnelled");
   s.kineticEnergy = j.at("kinetic_energy").get<double>();
   s.potentialEnergy = j.at("potential_energy").get<double>();
-  s.checksum = std::stoull(j.at("checksum").get<std::string>(), nullptr, 16);
+  const std::string checksum = j.at("checksum").get<std::string>();
+  const auto [at, ec] =
+      std::from_chars(checksum.data(), checksum.data() + checksum.size(), s.checksum, 16);
+  if (ec != std::errc() || at != checksum.data() + checksum.size() || checksum.size() != 16)
+    throw std::domain_error("'summary.checksum' must be 16 hexadecimal digits, got '" + checksum +
+                            "'");
   return s;
 }
 
@@ -286,7 +318,8 @@ bool isBakeFile(const std::string& path) {
 
 // The values a bake's header may hold: what a scene file may give (scene_loader.cpp) and what a
 // run writes. A header edited by hand or damaged gets the first problem, named by its key in
-// the header, instead of a drawing of nonsense or an allocation that fails.
+// the header, instead of a drawing of nonsense or an allocation that fails. (Colours and
+// integers are checked as they are read: readColor, readInteger.)
 void checkHeader(const Bake& bake, const std::string& where) {
   const auto fail = [&](const std::string& key, const std::string& rule, double got) {
     char value[64];
@@ -305,10 +338,6 @@ void checkHeader(const Bake& bake, const std::string& where) {
   const auto finiteAll = [&](const std::string& key, const auto& v) {  // a vector or matrix
     for (const double x : v.reshaped())
       if (!std::isfinite(x)) fail(key, "must hold finite numbers", x);
-  };
-  const auto colour = [&](const std::string& key, const Color& c) {
-    for (const float v : c)
-      if (!(v >= 0 && v <= 1)) fail(key, "must hold numbers in 0..1", v);
   };
   const auto fov = [&](const std::string& key, double v) {
     if (!(v > 0 && v < 180)) fail(key, "must be in degrees, 0 < fov < 180", v);
@@ -361,14 +390,12 @@ void checkHeader(const Bake& bake, const std::string& where) {
     if (level < kMinLevel || level > kMaxLevel)
       fail(key + "level", "must be " + std::to_string(kMinLevel) + ".." + std::to_string(kMaxLevel),
            level);
-    if (shape.color) colour(key + "color", *shape.color);
   }
   for (int i = 0; i < bodies; ++i) {
     const BakeBody& b = bake.bodies[static_cast<std::size_t>(i)];
     const std::string key = "bodies[" + std::to_string(i) + "].";
     nonNegative(key + "inv_mass", b.invMass);
     finiteAll(key + "inertia_body_inv", b.inertiaBodyInv);
-    colour(key + "color", b.color);
   }
 }
 
@@ -388,7 +415,7 @@ Bake readBake(const std::string& path) {
                                data.begin() + static_cast<std::ptrdiff_t>(end));
     if (h.at("format") != "voxfall-bake")
       throw InputError(path + ":2", "not a voxfall bake header (format is not \"voxfall-bake\")");
-    const int version = h.at("version").get<int>();
+    const int version = readInteger<int>(h.at("version"), "version");
     if (version < 1 || version > kVersion)
       throw InputError(path + ":2", "bake version " + std::to_string(version) +
                                         " is not one this voxfall reads (1.." +
@@ -408,22 +435,22 @@ Bake readBake(const std::string& path) {
     if (version >= 2)
       for (const json& c : sc.at("cameras")) s.cameras.push_back(readCamera(c));
     const json& o = sc.at("output");
-    s.output.width = o.at("width").get<int>();
-    s.output.height = o.at("height").get<int>();
-    s.output.crf = o.at("crf").get<int>();
+    s.output.width = readInteger<int>(o.at("width"), "scene.output.width");
+    s.output.height = readInteger<int>(o.at("height"), "scene.output.height");
+    s.output.crf = readInteger<int>(o.at("crf"), "scene.output.crf");
     for (const json& j : h.at("shapes")) {
       ShapeSpec shape;
       shape.name = j.at("name").get<std::string>();
       shape.meshPath = resolvedPath(j.at("mesh").get<std::string>(), path);
       shape.scale = readVec(j.at("scale"));
       shape.density = j.at("density").get<double>();
-      shape.level = j.at("level").get<int>();
+      shape.level = readInteger<int>(j.at("level"), "shapes[].level");
       shape.color = readColor(j.at("color"));
       s.shapes.push_back(shape);
     }
     for (const json& j : h.at("bodies")) {
       BakeBody b;
-      b.shape = j.at("shape").get<int>();
+      b.shape = readInteger<int>(j.at("shape"), "bodies[].shape");
       if (b.shape < 0 || b.shape >= static_cast<int>(s.shapes.size()))
         throw InputError(path + ":2", "a body names shape " + std::to_string(b.shape) +
                                           ", but there are " + std::to_string(s.shapes.size()));
@@ -437,8 +464,10 @@ Bake readBake(const std::string& path) {
     }
     if (const json& summary = h.at("summary"); !summary.is_null())
       bake.summary = readSummary(summary);
-    records = h.at("records").get<std::size_t>();
+    records = readInteger<std::size_t>(h.at("records"), "records");
   } catch (const json::exception& e) {
+    throw InputError(path + ":2", std::string("bad bake header: ") + e.what());
+  } catch (const std::domain_error& e) {
     throw InputError(path + ":2", std::string("bad bake header: ") + e.what());
   }
   checkHeader(bake, path + ":2");

@@ -194,6 +194,13 @@ TEST_F(BakeCommand, DamagedHeadersAndRecordsAreRefusedByName) {
        "'scene.camera.up' must be a non-zero vector"},
       {edited(R"("level":4)", R"("level":99)"), "'shapes[0].level' must be 1..10, got 99"},
       {edited(R"("width":1280)", R"("width":0)"), "scene.output: the frame width must be"},
+      // Found by bake_fuzz: a float where an integer belongs was cast (undefined past int's
+      // range); and a colour past float's range would be.
+      {edited(R"("level":4)", R"("level":5e88)"),
+       "'shapes[].level' must be an integer from -2147483648 to 2147483647, got 5e+88"},
+      {edited(R"("records":239)", R"("records":-1)"), "'records' must be an integer from 0 to"},
+      {edited(R"("color":[0.578000009059906)", R"("color":[1e300)"),
+       "colours must hold numbers in 0..1"},
       {edited(R"("inv_mass":0.0462)", R"("inv_mass":-0.0462)"),
        "'bodies[0].inv_mass' must be a finite number >= 0"},
       // Records: body 0's x in record 5 made NaN, its quaternion's w made 0.
