@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -51,6 +52,17 @@ std::vector<Row> readRun(const std::string& path) {
     if (k != 16 || std::getline(s, item, ','))
       throw InputError(sourceLocation(path, n),
                        "expected 16 fields (" + std::string(kHeader) + ")");
+    // The frame and the body id are counts: whole numbers in int's range (a cast of one past
+    // it would be undefined).
+    for (const int k : {0, 2})
+      if (!(f[k] >= 0 && f[k] <= std::numeric_limits<int>::max() && f[k] == std::floor(f[k]))) {
+        char got[64];
+        std::snprintf(got, sizeof got, "%.17g", f[k]);
+        throw InputError(sourceLocation(path, n),
+                         std::string(k == 0 ? "the frame" : "the body id") +
+                             " must be a whole number from 0 to " +
+                             std::to_string(std::numeric_limits<int>::max()) + ", got " + got);
+      }
     Row r;
     r.frame = static_cast<int>(f[0]);
     r.time = f[1];
@@ -59,7 +71,6 @@ std::vector<Row> readRun(const std::string& path) {
     r.q = Quat(f[6], f[7], f[8], f[9]);
     r.v = Vec3(f[10], f[11], f[12]);
     r.w = Vec3(f[13], f[14], f[15]);
-    if (r.body < 0) throw InputError(sourceLocation(path, n), "negative body id");
     rows.push_back(r);
   }
   if (rows.empty()) throw InputError(path, "the run CSV has no rows");

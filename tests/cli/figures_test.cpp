@@ -21,6 +21,7 @@
 #include "render/figures/filmstrip.h"
 #include "render/output/png_writer.h"
 #include "tests/render/render_test_util.h"
+#include "tests/support/voxfall_command.h"
 
 namespace vf {
 namespace {
@@ -187,6 +188,33 @@ TEST(PlotCommand, WritesItsFilesAndPlotsWhatTheRunSays) {
     EXPECT_NEAR(std::stod(bodies[i][2]), std::sqrt(vx * vx + vy * vy + vz * vz), 1e-12);
     EXPECT_EQ(std::stod(bodies[i][3]), std::stod(r[3]));
     EXPECT_EQ(std::stod(bodies[i][5]), std::stod(r[5]));
+  }
+}
+
+// A run CSV that is not what `simulate --csv` writes is one error naming the file and line, and
+// nothing is plotted. The frame and body columns are counts: a body id of 1e30 was cast to int
+// (undefined behaviour) and a negative frame went through.
+TEST(PlotCommand, AMalformedRunCsvIsOneErrorNamingItsLine) {
+  test::ScratchDir dir("plot_bad_csv");
+  const std::string header = "frame,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n";
+  const std::string row = ",0,0,0,0,1,1,0,0,0,0,0,0,0,0,0\n";  // after the frame
+  const std::pair<std::string, std::string> cases[] = {
+      {"time,frame\n", "run.csv:1: not a voxfall run CSV: the first line must be frame,time"},
+      {header + "0" + row + "0,0,1e30,0,0,1,1,0,0,0,0,0,0,0,0,0\n",
+       "run.csv:3: the body id must be a whole number from 0 to 2147483647, got 1e+30"},
+      {header + "-1" + row, "run.csv:2: the frame must be a whole number from 0 to"},
+      {header + "2.5" + row, "run.csv:2: the frame must be a whole number"},
+      {header + "0" + row + "1,0.1,0,nan,0,1,1,0,0,0,0,0,0,0,0,0\n",
+       "run.csv:3: field 4 'nan' is not a finite number"},
+      {header + "0,0,0,0,0,1\n", "run.csv:2: expected 16 fields"},
+      {header, "run.csv: the run CSV has no rows"},
+  };
+  for (const auto& [text, message] : cases) {
+    std::ofstream(dir.file("run.csv")) << text;
+    const test::CommandResult r = test::runVoxfall(kExe, dir.path(), "plot run.csv -o plots");
+    EXPECT_EQ(r.code, 1) << text;
+    EXPECT_EQ(r.err.rfind("voxfall: error: " + message, 0), 0u) << r.err;
+    EXPECT_FALSE(fs::exists(dir.file("plots/energy.csv"))) << text;
   }
 }
 
