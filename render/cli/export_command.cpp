@@ -32,7 +32,7 @@ struct ExportOptions {
 int runExport(const ExportOptions& o) {
   RunInput input = loadRunInput(o.input, o.overrides);
   SceneSpec& spec = input.spec;
-  if (o.fps) spec.fps = *o.fps;
+  applyFpsOverride(spec, o.fps);
   const std::string path = o.output.empty() ? "out/" + spec.name + ".glb" : o.output;
   if (std::filesystem::path(path).extension() != ".glb")
     throw InputError(path, "the glTF export writes binary glTF: give a .glb file name");

@@ -110,7 +110,7 @@ int runRender(const RenderOptions& o) {
   RunInput input = loadRunInput(o.scene, o.overrides);
   SceneSpec& spec = input.spec;
   std::optional<Bake>& bake = input.bake;
-  if (o.fps) spec.fps = *o.fps;
+  applyFpsOverride(spec, o.fps);
   if (o.size) std::tie(spec.output.width, spec.output.height) = *o.size;
   if (o.crf) spec.output.crf = *o.crf;
   if (!o.camera.empty()) {

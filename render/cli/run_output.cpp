@@ -32,6 +32,19 @@ RunInput loadRunInput(const std::string& path, const SceneOverrides& overrides) 
   return in;
 }
 
+void applyFpsOverride(SceneSpec& spec, std::optional<double> fps) {
+  if (!fps) return;
+  if (spec.duration * *fps > kMaxSceneFrames) {
+    char what[200];
+    std::snprintf(what, sizeof what,
+                  "%g frames per second over the scene's %g s make %g frames; at most %g are "
+                  "supported",
+                  *fps, spec.duration, spec.duration * *fps, kMaxSceneFrames);
+    throw InputError("--fps", what);
+  }
+  spec.fps = *fps;
+}
+
 // --- Output rules ---------------------------------------------------------------------------
 
 OutputRules runOutputRules(const SceneSpec& spec, const std::string& inputFile, bool overwrite,

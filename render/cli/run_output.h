@@ -41,6 +41,10 @@ struct RunInput {
 };
 RunInput loadRunInput(const std::string& path, const SceneOverrides& overrides);
 
+// `--fps N` of render and export: the frame rate of the output, checked as the scene's own is
+// (duration * fps at most kMaxSceneFrames frames); InputError naming the option otherwise.
+void applyFpsOverride(SceneSpec& spec, std::optional<double> fps);
+
 // The output rules of a run (-y, -n) protecting every file it reads: the scene (or bake),
 // each shape's mesh, and the terrain.
 OutputRules runOutputRules(const SceneSpec& spec, const std::string& inputFile, bool overwrite,

@@ -334,6 +334,27 @@ std::string cubeScene(const std::string& simulation, const std::string& body) {
          "\n";
 }
 
+// --fps is checked as the scene's fps is: a million seconds at 1 frame a second is a scene,
+// at 1000 frames a second it is 1e9 frames (and at 1e7 s, 1e10: render's frame count
+// overflowed int and it said the scene's frames were "0:-2147483648").
+TEST_F(CliTest, AnFpsOverrideMakingTooManyFramesIsRefusedByName) {
+  std::string text = cubeScene("fps = 1.0", "position = [0.0, 0.0, 0.1]");
+  text.replace(text.find("duration = 1.0"), 14, "duration = 1e7");
+  const std::string scene = write("long.toml", text);
+  for (const std::string command : {"render", "export"}) {
+    EXPECT_EQ(run(command + " " + quote(scene) + " --fps 1000 --quiet -o " +
+                  quote((dir_ / "out" / (command == "render" ? "x.mp4" : "x.glb")).string())),
+              1)
+        << command;
+    ASSERT_EQ(errorLines().size(), 1u) << err_;
+    EXPECT_EQ(errorLines()[0],
+              "voxfall: error: --fps: 1000 frames per second over the scene's 1e+07 s make 1e+10 "
+              "frames; at most 1e+07 are supported");
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "x.mp4"));
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "x.glb"));
+}
+
 TEST_F(CliTest, AnAbsurdSpeedIsRefusedBeforeTheRun) {
   const std::string scene =
       write("fast.toml", cubeScene("", "position = [0.0, 0.0, 1.0]\nvelocity = [1e30, 0.0, 0.0]"));
