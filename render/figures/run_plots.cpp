@@ -54,12 +54,13 @@ std::vector<Row> readRun(const std::string& path) {
                        "expected 16 fields (" + std::string(kHeader) + ")");
     // The frame and the body id are counts: whole numbers in int's range (a cast of one past
     // it would be undefined).
-    for (const int k : {0, 2})
-      if (!(f[k] >= 0 && f[k] <= std::numeric_limits<int>::max() && f[k] == std::floor(f[k]))) {
+    for (const int col : {0, 2})
+      if (!(f[col] >= 0 && f[col] <= std::numeric_limits<int>::max() &&
+            f[col] == std::floor(f[col]))) {
         char got[64];
-        std::snprintf(got, sizeof got, "%.17g", f[k]);
+        std::snprintf(got, sizeof got, "%.17g", f[col]);
         throw InputError(sourceLocation(path, n),
-                         std::string(k == 0 ? "the frame" : "the body id") +
+                         std::string(col == 0 ? "the frame" : "the body id") +
                              " must be a whole number from 0 to " +
                              std::to_string(std::numeric_limits<int>::max()) + ", got " + got);
       }
