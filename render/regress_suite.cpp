@@ -78,7 +78,7 @@ class SuiteReader {
 
   double fraction(const toml::node& n, const std::string& key) const {
     const auto v = n.value<double>();
-    if (!n.is_number() || !v || *v < 0 || *v > 1)
+    if (!n.is_number() || !v || !(*v >= 0 && *v <= 1))  // nan fails both comparisons
       fail(n.source(), "'" + key + "' must be a number in 0..1 (a share of the pixels)");
     return *v;
   }
