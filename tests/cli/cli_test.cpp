@@ -118,8 +118,8 @@ TEST_F(CliTest, RunLimitsOutsideWhatTheSceneTakesAreUsageErrors) {
 
 // CLI11's range check lets "nan" through (every comparison with it is false): `render --fps
 // nan` then failed on an empty frame range, `export --fps nan` with "cannot create std::vector
-// larger than max_size()", and `diff --max-fraction nan` passed every frame. The number options
-// read their text whole.
+// larger than max_size()", and `diff --max-fraction nan` failed every frame, identical ones too
+// (a share of differing pixels is never <= nan). The number options read their text whole.
 TEST_F(CliTest, NumberOptionsRefuseNan) {
   const std::string scene = quote(kScenes + "/cubes.toml");
   const std::pair<std::string, std::string> cases[] = {
