@@ -8,11 +8,11 @@
 // order only, so the files are the same bytes for any --jobs and any number of MPI ranks.
 // Outputs are written by rank 0 alone.
 #include <CLI/CLI.hpp>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -336,17 +336,7 @@ void addEnsembleCommand(CLI::App& app, int& exitCode) {
                   "ensemble seed S (default: [ensemble] seed); realisation i uses a seed made "
                   "from S and i only")
       ->type_name("S")
-      // CLI11's unsigned conversion takes "-1" as 2^64 - 1 and clamps 2^64: read it here.
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            std::uint64_t value = 0;
-            const char* end = text.data() + text.size();
-            const auto [at, ec] = std::from_chars(text.data(), end, value);
-            return ec == std::errc() && at == end
-                       ? std::string()
-                       : "must be an integer from 0 to 18446744073709551615, got " + text;
-          },
-          "", "SEED"));
+      ->check(integerIn(0, std::numeric_limits<std::uint64_t>::max()));
   sub->add_option("--jobs,-j", o->jobs,
                   "threads running realisations (outputs are the same bytes for any value)")
       ->type_name("J")

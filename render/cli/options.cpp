@@ -5,6 +5,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
+#include <optional>
+#include <string>
 
 #include "sim/scene/scene.h"
 #include "sim/shape/sphere_tree.h"
@@ -21,32 +24,45 @@ void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite)
 
 namespace {
 
-// `text` read whole as a finite number; nothing for anything else ("nan", "inf", "1e400", "5x").
-std::optional<double> readFinite(const std::string& text) {
-  double v = 0;
-  const char* end = text.data() + text.size();
-  const auto [at, ec] = std::from_chars(text.data(), end, v);
-  if (ec != std::errc() || at != end || !std::isfinite(v)) return std::nullopt;
+// [begin, end) read whole as a T by from_chars; nothing for anything else (an empty text, "5x",
+// "-1" as an unsigned type, a value past T's range; CLI11's own conversion clamped those).
+template <class T>
+std::optional<T> readWhole(const char* begin, const char* end) {
+  T v{};
+  const auto [at, ec] = std::from_chars(begin, end, v);
+  if (ec != std::errc() || at != end || begin == end) return std::nullopt;
   return v;
 }
-
-// The limits take what the scene's [simulation] keys take (scene_loader.cpp), read whole:
-// CLI11's own conversion clamped 2^64 and more to the largest count, and its positive-number
-// check let "nan" through and answered "inf" with a 309-digit range.
-std::string checkMaxStepsOption(std::string& text) {
-  std::int64_t v = 0;
-  const char* end = text.data() + text.size();
-  const auto [at, ec] = std::from_chars(text.data(), end, v);
-  if (ec == std::errc() && at == end && v >= 1) return "";
-  return "must be an integer from 1 to 9223372036854775807, got " + text;
+template <class T>
+std::optional<T> readWhole(const std::string& text) {
+  return readWhole<T>(text.data(), text.data() + text.size());
 }
 
+// `text` read whole as a finite number ("nan", "inf", "1e400" are not).
+std::optional<double> readFinite(const std::string& text) {
+  const std::optional<double> v = readWhole<double>(text);
+  return v && std::isfinite(*v) ? v : std::nullopt;
+}
+
+// The speed limit takes what the scene's max_speed takes: CLI11's positive-number check let
+// "nan" through and answered "inf" with a 309-digit range.
 std::string checkMaxSpeedOption(std::string& text) {
   const std::optional<double> v = readFinite(text);
   return v && *v > 0 ? "" : "must be a finite number > 0 (m/s), got " + text;
 }
 
 }  // namespace
+
+CLI::Validator integerIn(std::uint64_t lo, std::uint64_t hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        const std::optional<std::uint64_t> v = readWhole<std::uint64_t>(text);
+        if (v && *v >= lo && *v <= hi) return "";
+        return "must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi) +
+               ", got " + text;
+      },
+      "", "INTEGER_RANGE");
+}
 
 CLI::Validator finiteNumberIn(double lo, double hi) {
   return CLI::Validator(
@@ -85,7 +101,8 @@ void addPhysicsOptions(CLI::App& command, SceneOverrides& o, const std::string& 
       .add_option("--max-steps", o.maxSteps,
                   "refuse runs needing more steps than this (default 10000000)" + what)
       ->type_name("N")
-      ->check(CLI::Validator(checkMaxStepsOption, "", "MAX_STEPS"));
+      // What [simulation] max_steps takes (CLI11's conversion clamped 2^64 and more).
+      ->check(integerIn(1, std::numeric_limits<std::int64_t>::max()));
   command
       .add_option("--max-speed", o.maxSpeed,
                   "stop the run when a body moves faster than this, m/s (default 1000)" + what)
@@ -110,14 +127,8 @@ void addThreadsOption(CLI::App& command, SceneOverrides& o, const std::string& w
 std::optional<std::pair<std::int64_t, std::int64_t>> parseSize(const std::string& text) {
   const std::size_t x = text.find_first_of("xX");
   if (x == std::string::npos) return std::nullopt;
-  const auto side = [](const char* begin, const char* end) -> std::optional<std::int64_t> {
-    std::int64_t v = 0;
-    const auto [ptr, ec] = std::from_chars(begin, end, v);
-    if (ec != std::errc() || ptr != end || begin == end) return std::nullopt;
-    return v;
-  };
-  const auto w = side(text.data(), text.data() + x);
-  const auto h = side(text.data() + x + 1, text.data() + text.size());
+  const auto w = readWhole<std::int64_t>(text.data(), text.data() + x);
+  const auto h = readWhole<std::int64_t>(text.data() + x + 1, text.data() + text.size());
   if (!w || !h) return std::nullopt;
   return std::make_pair(*w, *h);
 }

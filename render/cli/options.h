@@ -21,6 +21,10 @@ namespace vf::cli {
 // own Range lets "nan" through (every comparison with it is false).
 CLI::Validator finiteNumberIn(double lo, double hi);
 
+// A check for an integer option: its text read whole as an integer from lo to hi (no sign, no
+// clamping: CLI11's conversion took "-1" for an unsigned option as 2^64 - 1).
+CLI::Validator integerIn(std::uint64_t lo, std::uint64_t hi);
+
 // -y (overwrite existing outputs) and -n (never overwrite, exit instead), ffmpeg's flags.
 void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite);
 
