@@ -261,8 +261,8 @@ void DrawListBuilder::setTerrain(std::shared_ptr<const TriMesh> mesh,
   }
   // Why tiles: the renderer redraws only what can change between frames (redraw_region.h),
   // culling instances by their boxes, but a terrain of one mesh is one instance that every
-  // redrawn part has to draw whole. On the Tyrol DEM (400,000 triangles) llvmpipe spent over
-  // half of a frame in Mesa's draw module walking all of its vertices for each part.
+  // redrawn part has to draw whole. On the Tyrol DEM (400,000 triangles) as one mesh, llvmpipe
+  // spends over half of a frame in Mesa's draw module walking all of its vertices for each part.
   // Triangles go to the square of a grid over the terrain's box that holds their centroid (the
   // side chosen for about kTerrainTileTriangles a square where they are spread evenly), in
   // their own order; a tile copies the vertices (and normals) its triangles use, so every

@@ -57,7 +57,7 @@ class SuiteReader {
       for (const toml::node& c : *list) readCase(*c.as_table(), defaults, suite);
     }
     if (suite.cases.empty())
-      throw InputError(file_, "no [[case]] in the suite file (see tests/golden/README.md)");
+      throw InputError(file_, "no [[case]] in the suite file (see docs/regression.md)");
     return suite;
   }
 

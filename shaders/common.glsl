@@ -63,10 +63,9 @@ float sunVisibility(vec3 p, vec3 n, float cosine) {
   if (s.z >= 1.0) return 1.0;
   // Four 2x2 bilinear comparisons at (+-a, +-a), a = 0.95 texel: along each axis the filter
   // is two one-texel tents 2a apart, spread as widely (0.95 texel root mean square offset) as
-  // the 12-tap Poisson disc of radius 1.6 texels it replaced on 2026-11-30. On llvmpipe the
-  // lookups were the largest cost of a frame: the whole crosses clip drew 1.16x faster, and the
-  // frames differ only on penumbrae (PSNR 55-73 dB against the old goldens; README, "Rendering
-  // speed").
+  // a 12-tap Poisson disc of radius 1.6 texels. On llvmpipe the lookups are the largest cost of
+  // a frame: against that disc the whole crosses clip draws 1.16x faster, and the frames differ
+  // only on penumbrae (PSNR 55-73 dB; README, "Rendering speed").
   float z = s.z - uShadowBias;
   float lit = texture(uShadowMap, vec3(s.x - uShadowFilter, s.y - uShadowFilter, z)) +
               texture(uShadowMap, vec3(s.x + uShadowFilter, s.y - uShadowFilter, z)) +

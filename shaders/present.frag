@@ -6,7 +6,7 @@
 // render/redraw_region.h): the same pixels without working out the sky. (llvmpipe runs both
 // sides of a branch, so only a separate program saves that work.)
 // The sky is drawn here rather than as a full-screen pass into the multisampled target: on
-// llvmpipe that pass cost a quarter of a frame, all of it spent writing 4 identical samples
+// llvmpipe that pass costs a quarter of a frame, all of it spent writing 4 identical samples
 // per pixel, and the resolve blit another fifth. Restated in tests/render/readback_test.cpp:
 // change both.
 #include "common.glsl"
@@ -46,8 +46,8 @@ float bayer(ivec2 p) {
 
 // c cut to half precision as llvmpipe stores into a half-float target (the 13 low mantissa
 // bits dropped: rounding towards zero, for the positive normal values light has here). The sky
-// and the sample average get the rounding they had when they went through such targets (a sky
-// pass and a resolve blit), so the frames stay byte for byte what they were.
+// and the sample average get the rounding that going through such targets (a sky pass and a
+// resolve blit) would give them, so the frames are byte for byte those of that pipeline.
 vec3 roundToHalf(vec3 c) { return uintBitsToFloat(floatBitsToUint(c) & uvec3(0xFFFFE000u)); }
 
 // The sky behind scene pixel position `at` (pixels, centre at +0.5).

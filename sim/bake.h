@@ -1,4 +1,4 @@
-// A run saved to a file: simulate once, render many (issue 8, item 2). The bake holds every
+// A run saved to a file: simulate once, render many. The bake holds every
 // body's state after every step of the scene's step sequence, and what drawing needs (the
 // shapes' mesh files, scales and colours, each body's colour and mass constants, the ground,
 // the terrain file, the camera and the output settings), so `voxfall render BAKE` and

@@ -1,4 +1,4 @@
-// The run guard's rules (issue 13: no run explodes or hangs).
+// The run guard's rules: no run explodes or hangs.
 //
 // Before a run (checkRunLength): the step rule is global (the fastest body sets everyone's
 // step), so one fast, spinning or tiny body can make a run take billions of steps. For each body

@@ -217,10 +217,9 @@ void World::stepToward(double target) {
   solver.material = def_.contact;
   // With contact reduction a patch rests on a few points instead of dozens, and Gauss-Seidel
   // over a few points converges slowly towards the solution (a box landing flat, three corner
-  // leaves touching first, was left tilted by 0.01 rad after 12 passes; 48 passes were used
-  // until 2026-12-01). Each pass now solves a patch's normal impulses together first
-  // (impulse.cpp, patch blocks), which lands such a box in one pass, so the paper's 12 passes
-  // serve both.
+  // leaves touching first, is left tilted by 0.01 rad after 12 point-by-point passes). So each
+  // pass solves a patch's normal impulses together first (impulse.cpp, patch blocks), which
+  // lands such a box in one pass, and the paper's 12 passes serve both.
   solver.iterations = def_.solverIterations;
   solver.patchBlocks = def_.contactReduction;
   solver.restingSpeed = 2 * def_.gravity.norm() * s.dt;  // what gravity adds in two steps

@@ -15,6 +15,35 @@
 #define VOXFALL_VERSION "0.1.0"
 #endif
 
+namespace {
+
+// The manual page that covers each command; installed beside the binary's share folder.
+const char* manualPage(const std::string& command) {
+  if (command == "render" || command == "export") return "rendering.md";
+  if (command == "diff" || command == "regress") return "regression.md";
+  if (command == "ensemble") return "ensembles.md";
+  if (command == "figures" || command == "filmstrip" || command == "plot") return "paper.md";
+  return "commands.md";
+}
+
+std::string manualNote(const std::string& page) {
+  return "\nManual: docs/" + page + " in voxfall's source tree (installed as share/doc/voxfall/" +
+         page + ").";
+}
+
+void pointToTheManual(CLI::App& app) {
+  app.footer(manualNote("commands.md") +
+             " Each command's --help names its page; README.md is the overview.");
+  for (CLI::App* command : app.get_subcommands({})) {
+    const std::string name = command->get_name();
+    std::string note = manualNote(manualPage(name));
+    if (name == "simulate") note += " What it writes: docs/output-formats.md.";
+    command->footer(note);
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{
       "voxfall: rigid bodies with voxel sphere-tree collisions "
@@ -39,6 +68,7 @@ int main(int argc, char** argv) {
   vf::cli::addPlotCommand(app, exitCode);
   // Hazard ensembles: render/cli/ensemble_command.cpp (sim/ensemble/).
   vf::cli::addEnsembleCommand(app, exitCode);
+  pointToTheManual(app);
 
   try {
     app.parse(argc, argv);

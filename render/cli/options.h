@@ -1,4 +1,4 @@
-// Options shared by the voxfall subcommands, parsed in one place each (issue 8, item 7).
+// Options shared by the voxfall subcommands, parsed in one place each.
 #pragma once
 
 #include <cstdint>
@@ -22,7 +22,7 @@ namespace vf::cli {
 CLI::Validator finiteNumberIn(double lo, double hi);
 
 // A check for an integer option: its text read whole as an integer from lo to hi (no sign, no
-// clamping: CLI11's conversion took "-1" for an unsigned option as 2^64 - 1).
+// clamping: CLI11's conversion takes "-1" for an unsigned option as 2^64 - 1).
 CLI::Validator integerIn(std::uint64_t lo, std::uint64_t hi);
 
 // -y (overwrite existing outputs) and -n (never overwrite, exit instead), ffmpeg's flags.

@@ -127,9 +127,17 @@ int runRender(const RenderOptions& o) {
   const FrameRange range = parseFrames(o.frames, frameCount);
 
   // 2. The output: path and kind, checked against the run's rules (-y, -n, inputs) now.
-  const std::string path = o.output.empty() ? "out/" + spec.name + ".mp4" : o.output;
+  // Without -o the render replaces its own default output, so that the same command can be
+  // run again (as the README's first command is); a path the user names needs -y.
+  const bool defaultOutput = o.output.empty();
+  const std::string path = defaultOutput ? "out/" + spec.name + ".mp4" : o.output;
   outputKind(path);  // an unknown kind fails now
-  const OutputRules rules = runOutputRules(spec, o.scene, o.overwrite, o.neverOverwrite);
+  const bool replaceDefault = defaultOutput && !o.neverOverwrite;
+  const OutputRules rules =
+      runOutputRules(spec, o.scene, o.overwrite || replaceDefault, o.neverOverwrite);
+  if (replaceDefault && std::filesystem::exists(path) && !o.quiet)
+    std::fprintf(stderr, "voxfall: replacing %s, render's default output (-n keeps it)\n",
+                 path.c_str());
 
   VideoSettings video;
   video.width = width;

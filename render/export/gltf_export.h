@@ -1,4 +1,4 @@
-// glTF 2.0 export of an animation (issue 8, item 3): `voxfall export SCENE|BAKE -o FILE.glb`,
+// glTF 2.0 export of an animation: `voxfall export SCENE|BAKE -o FILE.glb`,
 // so Blender, three.js or any glTF viewer plays a run. Written through assimp's exporter
 // (format "glb2"); only gltf_export.cpp includes assimp's headers.
 #pragma once

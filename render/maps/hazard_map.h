@@ -1,4 +1,4 @@
-// Maps people look at (issue 11, item 3): a per-cell statistic of an ensemble over a hillshade
+// Maps people look at: a per-cell statistic of an ensemble over a hillshade
 // of its DEM, with a legend, a scale bar, a north arrow and the release areas; and the runout
 // and reach-angle distributions of the realisations. Both are drawn by gnuplot (pngcairo)
 // through render/figures/gnuplot.h and written through an OutputFile (temporary name, renamed

@@ -1,4 +1,4 @@
-// How every output of voxfall is written, and how every command stops (issue 8, item 6).
+// How every output of voxfall is written, and how every command stops.
 //
 // One output-file mechanism: PNG frames, MP4s, CSVs, JSON summaries, bakes, glTF files and
 // reports are all written under a temporary name in the destination folder and renamed over

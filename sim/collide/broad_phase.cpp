@@ -1,10 +1,10 @@
 // Sweep and prune over the bounding spheres along x, in strips along y. Sorting the active
 // bodies by the left end of their x interval and sweeping finds every overlapping interval pair
-// in O(n log n + overlaps) instead of the O(n^2) all-pairs test that the first version used
-// (fine for the paper's dozens of bodies, too slow for a thousand rocks); the strips keep the
-// overlaps visited to bodies that are also near in y. The sort key ties are broken by body id
-// and the output is sorted by (a, b), so the pairs, and hence the contacts, come out in exactly
-// the order the all-pairs loop gave: the trajectory does not depend on the method.
+// in O(n log n + overlaps) instead of the O(n^2) of an all-pairs test (fine for the paper's
+// dozens of bodies, too slow for a thousand rocks); the strips keep the overlaps visited to
+// bodies that are also near in y. The sort key ties are broken by body id and the output is
+// sorted by (a, b), so the pairs, and hence the contacts, come out in exactly the order an
+// all-pairs loop gives: the trajectory does not depend on the method.
 #include "sim/collide/broad_phase.h"
 
 #include <algorithm>
@@ -18,8 +18,8 @@ void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>
   // Strips along y, as wide as the largest reach sum: two bodies whose spheres overlap lie in
   // the same strip or in neighbouring ones. The sweep along x then runs within each strip and
   // across each pair of neighbouring strips, instead of over everything: with 1,000 rocks
-  // spread over the cliff, 19,000 interval overlaps a step were visited for 840 pairs, most of
-  // them rocks far apart in y (the sweep was 70 % of the broad phase).
+  // spread over the cliff, a sweep over everything visits 19,000 interval overlaps a step for
+  // 840 pairs, most of them rocks far apart in y (70 % of the broad phase).
   struct Interval {
     double lo, hi;
     double reach;  // bounding radius plus the body's rounding slack
@@ -62,8 +62,8 @@ void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>
            (u.strip == v.strip && (u.lo < v.lo || (u.lo == v.lo && u.id < v.id)));
   };
   // A strict total order (ties broken by id): any sort gives the same sequence. From the last
-  // step's order the intervals are nearly sorted, and insertion sort is nearly linear (the full
-  // sort was a quarter of the broad phase with 1,000 rocks); it gives up for std::sort once it
+  // step's order the intervals are nearly sorted, and insertion sort is nearly linear (a full
+  // sort is a quarter of the broad phase with 1,000 rocks); it gives up for std::sort once it
   // has moved more than a few intervals per interval (a shuffled start).
   bool done = false;
   if (hinted) {
@@ -119,7 +119,7 @@ void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>
     b = e;
   }
   // By (a, b): counted out by a, then each a's few partners put in order of b (linear in
-  // bodies and pairs; a comparison sort of 1,000 rocks' pairs was a fifth of the broad phase).
+  // bodies and pairs; a comparison sort of 1,000 rocks' pairs is a fifth of the broad phase).
   static thread_local std::vector<int> start;
   static thread_local std::vector<BodyPair> found;
   found.assign(pairs.begin() + static_cast<std::ptrdiff_t>(first), pairs.end());

@@ -3,8 +3,8 @@
 // spends 65-96 % of a step on piles visiting them 12 times each. The solution of the contact
 // problem of one flat patch depends on where the patch's support is (the convex hull of its
 // contact points) and on its normal, not on how many points fill it, so a few points that span
-// the patch carry the same impulse (the solver distributes it over them, as it distributed it
-// over all leaf contacts before).
+// the patch carry the same impulse (the solver distributes it over them, as it would over all
+// the leaf contacts).
 //
 // Per body pair:
 //  1. Patches: contacts are taken in narrow-phase order; each joins the first patch whose first
@@ -16,8 +16,8 @@
 //  3. A larger patch keeps: its deepest contact; the one farthest from it; the one that
 //     maximises the triangle area with these two; the one farthest outside that triangle, all
 //     measured in the plane of the patch normal. The four carry the patch normal (depth-weighted
-//     mean of the leaf normals, so the tilts of the individual leaf pairs cancel as they did
-//     when all were solved; when every contact carries the same normal, as on a plane, that
+//     mean of the leaf normals, so the tilts of the individual leaf pairs cancel as they do
+//     when all are solved; when every contact carries the same normal, as on a plane, that
 //     normal itself) and their own point and depth.
 // Ties are broken by the narrow phase's order (a fixed order), and a kept contact keeps its
 // leaf keys, so warm starting still finds it in the next step while the patch persists.

@@ -67,8 +67,8 @@ struct NodeRef {
 
 // World centre of leaf i of a sphere-tree collider, by the expression the world-frame descent
 // (descendAlone) uses, so that every place that tests a leaf on its own gets the same bits (a
-// one-level tree's root leaf stands at the body origin). Always inlined: GCC left it a call in
-// the leaf loops, and inlining it took a Lv 6 crosses run from 1,450 to 1,320 ms (3 interleaved
+// one-level tree's root leaf stands at the body origin). Always inlined: GCC leaves it a call in
+// the leaf loops, and inlining it takes a Lv 6 crosses run from 1,450 to 1,320 ms (3 interleaved
 // runs each).
 inline __attribute__((always_inline)) Vec3 leafWorldCenter(const Collider& c, std::uint32_t i) {
   const SphereTree& tree = *c.tree;
@@ -95,8 +95,8 @@ struct alignas(32) Lanes {
   }
 };
 
-// Bit k (k < 4) set where point k of (x, y, z) lies closer than sqrt(r2) to p. GCC did not
-// vectorise the plain loop (it built the mask bit by bit), so on x86-64 it is written with
+// Bit k (k < 4) set where point k of (x, y, z) lies closer than sqrt(r2) to p. GCC does not
+// vectorise the plain loop (it builds the mask bit by bit), so on x86-64 it is written with
 // SSE, which every x86-64 has; elsewhere the loop, which gives the same bits.
 inline unsigned closerThan4(const float* x, const float* y, const float* z, const Point3f& p,
                             float r2) {
@@ -665,7 +665,7 @@ std::uint64_t servePlanePatch(const Collider& a, const Collider& p, const PairCa
   double lowestUpper = INFINITY;  // at least the lowest body-frame height of a contact
   for (std::size_t g = 0; g * kPatchGroup < candidates; ++g) {
     // Written in place and dropped where it holds no contact: built on the stack and copied,
-    // it cost the copy's loads a stalled store forwarding each (perf annotate).
+    // it costs the copy's loads a stalled store forwarding each (perf annotate).
     PlaneServeScratch::Group& G = s.groups.emplace_back();
     G.begin = g * kPatchGroup;
     G.end = std::min(candidates, (g + 1) * kPatchGroup);
@@ -816,9 +816,9 @@ std::uint64_t collideTreePlanePatch(const Collider& a, const Collider& p, PairCa
 // from the border's surface line down (the paper has no terrain edges; voxfall's decision). A
 // leaf sphere whose centre lies outside the grid, lower than the surface at the nearest border
 // point, and closer to that point than its radius touches the wall there, with a horizontal
-// normal. Without the wall, a rock that left a raised grid onto the floor plane of the paper's
-// cliff scene (or was pushed off it by a pile) met no terrain at the border and slid under the
-// surface: 2-9 m deep by the true-mesh check, until the rock monitor buried it.
+// normal. Without the wall, a rock that leaves a raised grid onto the floor plane of the paper's
+// cliff scene (or is pushed off it by a pile) meets no terrain at the border and slides under the
+// surface: 2-9 m deep by the true-mesh check, until the rock monitor buries it.
 //
 // Temporal coherence (PairCandidates; the terrain does not move, so the pair's pose is the
 // body's). Why a margin bounds what a motion can change, although the leaf test is not
@@ -843,12 +843,13 @@ std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
   double widen = slack;  // added to every inner radius: the slack, and while building the margin
   // A child's sphere lies in its parent's, so the cells under it are some of the parent's and
   // the highest sample under it is no higher than the parent's: a child whose sphere lies above
-  // that is dropped without looking the cells up (the same answer, cheaper; a third of the
-  // terrain narrow phase's time went into the lookups with 1,000 rocks).
+  // that is dropped without looking the cells up (the same answer, cheaper; with 1,000 rocks the
+  // lookups are otherwise a third of the terrain narrow phase's time).
   // An inner node that passes the bound and the planes gets the exact test, sphereAbove (a
   // leaf's own test is exact already). Near a ridge the planes keep nodes however far they are
   // from the surface (the other triangle's extended plane rises above it): a rock bouncing
-  // down the Tyrol DEM's 5 m cells took 83 leaf tests a step, for 0.06 contacts; 2.9 with it.
+  // down the Tyrol DEM's 5 m cells takes 83 leaf tests a step without it, for 0.06 contacts; 2.9
+  // with it.
   const double leafRadius = tree.leaves().radius;
   auto mayTouch = [&](const Vec3& c, double r, double& bound) {
     const bool inner = r > leafRadius;
@@ -1042,8 +1043,8 @@ ContactCounts findContacts(const std::vector<BodyInfo>& bodies,
                            WorkerPool* pool, std::vector<Contact>& out, CandidateCache* candidates,
                            bool reduce) {
   // Scratch reused from call to call (per thread: ensembles step worlds on several), so that
-  // a step allocates nothing here once warm; for one rock on a terrain the allocations were
-  // about 5 % of a step's instructions.
+  // a step allocates nothing here once warm; for one rock on a terrain, allocating per call
+  // costs about 5 % of a step's instructions.
   struct Scratch {
     std::vector<Collider> posed;  // each active body's collider, posed once per call
     std::vector<std::pair<const Collider*, const Collider*>> jobs;
@@ -1054,7 +1055,7 @@ ContactCounts findContacts(const std::vector<BodyInfo>& bodies,
   };
   static thread_local Scratch scratch;
   // Each body's collider once (a rock is in about three jobs a step, and a job holding two
-  // whole colliders took 320 bytes to write and to stride over).
+  // whole colliders takes 320 bytes to write and to stride over).
   std::vector<Collider>& posed = scratch.posed;
   posed.resize(bodies.size());
   WorkerPool::forRanges(
@@ -1161,7 +1162,7 @@ ContactCounts findContacts(const std::vector<BodyInfo>& bodies,
   // Blocks of consecutive jobs, each into its own list, run by the pool's threads; the lists
   // are appended in block order, so the contacts are exactly the serial ones in the serial
   // order whatever the thread count. (Jobs differ in cost by orders of magnitude, a rock's pile
-  // against a rock in flight: one fixed half per thread left one of them idle.)
+  // against a rock in flight: one fixed half per thread leaves one of them idle.)
   const int workers =
       pool ? std::max(
                  1, std::min<int>(pool->threads(), static_cast<int>(jobs.size() / kJobsPerThread)))

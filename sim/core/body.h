@@ -48,8 +48,8 @@ struct BodyInfo {
 // World-frame inverse inertia I(t)^-1 = R I_body^-1 R^T (eq. 6), zero for static bodies.
 inline Mat3 inverseInertiaWorld(const BodyInfo& b, const BodyState& y) {
   const Mat3 R = y.q.toRotationMatrix();
-  // Assigned, not constructed: Eigen then takes the product path (and rounding) the
-  // trajectories and golden checksums were pinned with.
+  // Assigned, not constructed: Eigen then takes the product path (and rounding) that the
+  // golden trajectories and checksums hold.
   Mat3 invI;
   invI = R * b.inertiaBodyInv * R.transpose();
   return invI;
@@ -57,8 +57,8 @@ inline Mat3 inverseInertiaWorld(const BodyInfo& b, const BodyState& y) {
 // Velocity of the centre of mass v = P / M, m/s.
 inline Vec3 velocityOf(const BodyInfo& b, const BodyState& y) { return y.P * b.invMass; }
 // Angular velocity w = I(t)^-1 L, rad/s, world frame. Written as one chained product (Eigen
-// then rounds differently from inverseInertiaWorld(b, y) * L): this is the form the trajectories
-// and golden checksums were pinned with.
+// then rounds differently from inverseInertiaWorld(b, y) * L): this is the form that the golden
+// trajectories and checksums hold.
 inline Vec3 angularVelocityOf(const BodyInfo& b, const BodyState& y) {
   const Mat3 R = y.q.toRotationMatrix();
   return R * b.inertiaBodyInv * R.transpose() * y.L;

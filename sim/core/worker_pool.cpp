@@ -101,7 +101,7 @@ struct WorkerPool::Impl {
 
 WorkerPool::WorkerPool(int threads) : impl_(std::make_unique<Impl>()) {
   // Polling threads on shared processors would take turns that sleeping ones leave to others
-  // (with `taskset -c 0`, 300 rocks on 2 polling threads ran 2x slower than on one).
+  // (with `taskset -c 0`, 300 rocks on 2 polling threads run 2x slower than on one).
   const int cores = usableProcessors();
   impl_->spins = threads > 1 && cores > 0 && threads <= cores;
   for (int t = 1; t < threads; ++t) impl_->workers.emplace_back([this] { impl_->loop(); });

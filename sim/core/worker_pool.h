@@ -2,8 +2,8 @@
 // narrow phase's blocks of collider pairs, the solver's runs of islands).
 //
 // Why kept and not started per step: a thread started per step has to be scheduled before the
-// step can end, and on a machine whose other cores are busy that took milliseconds: 300 rocks
-// on 2 threads ran 3x slower than on one while a build ran beside them. Here a worker that is
+// step can end, and on a machine whose other cores are busy that takes milliseconds: 300 rocks
+// on 2 threads run 3x slower than on one while a build runs beside them. Here a worker that is
 // not running when the blocks run out is never waited for (the caller has done its share), so
 // a loaded machine costs at most what one thread costs. A thread out of blocks polls for up to
 // 2 ms before it sleeps, where the pool's threads do not outnumber the machine's (waking a

@@ -161,8 +161,8 @@ TriMesh importMesh(const std::string& path) {
   collectNode(*scene, *scene->mRootNode, Eigen::Matrix4d::Identity(), soup);
   if (soup.corners.empty())
     throw InputError(path, "no triangles in the file (only points, lines or nothing)");
-  // The weld grid needs finite coordinates and a finite extent (found by fuzzing: a NaN in a
-  // binary STL made the grid keys overflow).
+  // The weld grid needs finite coordinates and a finite extent (a fuzz input: a NaN in a binary
+  // STL makes the grid keys overflow).
   Eigen::AlignedBox3d box;
   for (std::size_t i = 0; i < soup.corners.size(); ++i) {
     if (!soup.corners[i].allFinite())

@@ -339,8 +339,8 @@ void checkPlyLayout(const std::string& path) {
     std::string keyword;
     words >> keyword;
     if (keyword == "format") {
-      // One of the three formats, once: assimp 5.2 went on with "format binary_little_end_header"
-      // and allocated for its vertex count until memory ran out (a fuzz input).
+      // One of the three formats, once: assimp 5.2 goes on with "format binary_little_end_header"
+      // and allocates for its vertex count until memory runs out (a fuzz input).
       std::string name;
       words >> name;
       if (format != Format::kUnknown)

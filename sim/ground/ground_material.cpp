@@ -6,7 +6,7 @@
 // and RocFall material tables could not be read with numbers, and the DEM codes (Chrono,
 // LIGGGHTS, Rockable) give no rock-on-soil values. Rolling resistance is the contact law
 // chosen because it is the one that removes energy from a rock rolling without slip (Coulomb
-// friction of any mu does no work there), which is how the rocks ran out too far.
+// friction of any mu does no work there), and without it rocks on a terrain run out too far.
 //
 // Values: the r.stone manual (OSGeo grass-addons src/raster/r.stone/r.stone.md, commit
 // 20493ad28ded), "extracted from" Guzzetti, Crosta, Detti & Agliardi 2002, STONE,

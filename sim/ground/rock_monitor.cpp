@@ -3,7 +3,7 @@
 // Why a body below the surface is pushed out rather than left to the solver: the impulse solve
 // has no position correction, so a body whose centre is under the heightfield (rolled beneath
 // it from a catch plane, or placed there) meets leaf contacts whose normals all point up out
-// of the terrain with depths of metres; the block was thrown out at 45,000 m/s. A body
+// of the terrain with depths of metres, and can be thrown out at 45,000 m/s. A body
 // partly below (centre under the surface, some point above it) is moved along the surface
 // normal until no vertex is below, and its velocity into the surface removed; a body wholly
 // below is stopped where it is. Both are reported with the body and the time.

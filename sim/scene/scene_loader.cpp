@@ -24,6 +24,7 @@
 #include "sim/core/error.h"
 #include "sim/ground/ground_material.h"
 #include "sim/scene/scene.h"
+#include "sim/scene/scene_keys.h"
 #include "sim/shape/sphere_tree.h"
 
 namespace vf {
@@ -292,10 +293,7 @@ class Reader {
 // --- [simulation] -------------------------------------------------------------------------
 
 void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
-  r.checkKeys(t,
-              {"duration", "level", "step", "gravity", "fps", "collider", "contact_reduction",
-               "sleep", "stop", "rest", "rotation", "max_steps", "max_speed"},
-              "[simulation]");
+  r.checkKeys(t, sceneKeysOf("simulation"), "[simulation]");
   if (const auto* n = t.get("rotation")) {
     const std::string v = r.string(*n, "rotation");
     if (v != "euler" && v != "midpoint")
@@ -316,7 +314,7 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
   }
   if (const auto* n = t.get("rest")) {
     const toml::table& rt = r.table(*n, "rest");
-    r.checkKeys(rt, {"speed", "time"}, "[simulation] rest");
+    r.checkKeys(rt, sceneKeysOf("simulation.rest"), "[simulation] rest");
     if (const auto* x = rt.get("speed")) spec.rest.speed = r.positive(*x, "rest.speed", " m/s");
     if (const auto* x = rt.get("time")) spec.rest.time = r.nonNegative(*x, "rest.time", " s");
   }
@@ -365,10 +363,10 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
 // --- [contact] ----------------------------------------------------------------------------
 
 void readContact(const Reader& r, const toml::table& t, ContactMaterial& c) {
-  r.checkKeys(t, {"restitution", "friction"}, "[contact]");
+  r.checkKeys(t, sceneKeysOf("contact"), "[contact]");
   if (const auto* n = t.get("restitution")) {
     const toml::table& e = r.table(*n, "restitution");
-    r.checkKeys(e, {"body_body", "body_ground"}, "[contact] restitution");
+    r.checkKeys(e, sceneKeysOf("contact.restitution"), "[contact] restitution");
     if (const auto* v = e.get("body_body"))
       c.restitutionBodyBody = r.inRange(*v, "restitution.body_body", 0, 1);
     if (const auto* v = e.get("body_ground"))
@@ -376,7 +374,7 @@ void readContact(const Reader& r, const toml::table& t, ContactMaterial& c) {
   }
   if (const auto* n = t.get("friction")) {
     const toml::table& f = r.table(*n, "friction");
-    r.checkKeys(f, {"body_body", "body_ground"}, "[contact] friction");
+    r.checkKeys(f, sceneKeysOf("contact.friction"), "[contact] friction");
     if (const auto* v = f.get("body_body"))
       c.frictionBodyBody = r.nonNegative(*v, "friction.body_body", " (Coulomb coefficient)");
     if (const auto* v = f.get("body_ground"))
@@ -388,10 +386,7 @@ void readContact(const Reader& r, const toml::table& t, ContactMaterial& c) {
 
 void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                 SceneSpec& spec) {
-  r.checkKeys(t,
-              {"plane", "heightfield", "offset", "material", "materials", "classes",
-               "class_materials", "edge"},
-              "[ground]");
+  r.checkKeys(t, sceneKeysOf("ground"), "[ground]");
   if (const auto* n = t.get("edge")) {
     const std::string v = r.string(*n, "edge");
     if (v == "remove")
@@ -430,8 +425,7 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
       const std::string name(k.str());
       const std::string label = "[ground.materials." + name + "]";
       const toml::table& m = r.table(v, "ground.materials." + name);
-      r.checkKeys(m, {"restitution", "friction", "rolling_resistance", "tangential_restitution"},
-                  label);
+      r.checkKeys(m, sceneKeysOf("ground.materials.NAME"), label);
       GroundMaterialSpec g;
       g.name = name;
       g.where = r.where(m);
@@ -516,7 +510,7 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
 ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table& t,
                     const fs::path& sceneFolder) {
   const std::string label = "[shapes." + name + "]";
-  r.checkKeys(t, {"mesh", "scale", "density", "mass", "up", "level", "color", "repair"}, label);
+  r.checkKeys(t, sceneKeysOf("shapes.NAME"), label);
   ShapeSpec s;
   s.name = name;
   s.where = r.where(t);
@@ -628,10 +622,7 @@ void readBodies(const Reader& r, const toml::array& bodies, SceneSpec& spec) {
   for (const toml::node& node : bodies) {
     const toml::table& t = *node.as_table();
     const std::string label = "[[bodies]]";
-    r.checkKeys(t,
-                {"shape", "position", "orientation", "velocity", "angular_velocity", "static",
-                 "drop_height", "color"},
-                label);
+    r.checkKeys(t, sceneKeysOf("bodies"), label);
     BodySpec b;
     b.where = r.where(t);
     b.shape = readShapeReference(r, t, label, spec);
@@ -652,7 +643,7 @@ void readBodies(const Reader& r, const toml::array& bodies, SceneSpec& spec) {
 // --- [[emitters]] -------------------------------------------------------------------------
 
 void readJitter(const Reader& r, const toml::table& t, EmitterSpec& e) {
-  r.checkKeys(t, {"position", "direction", "orientation", "seed"}, "[[emitters]] jitter");
+  r.checkKeys(t, sceneKeysOf("emitters.jitter"), "[[emitters]] jitter");
   if (const auto* n = t.get("position"))
     e.positionJitter = r.nonNegative(*n, "jitter.position", " m (half-size of a cube)");
   if (const auto* n = t.get("direction"))
@@ -670,10 +661,7 @@ void readEmitters(const Reader& r, const toml::array& emitters, SceneSpec& spec)
   for (const toml::node& node : emitters) {
     const toml::table& t = *node.as_table();
     const std::string label = "[[emitters]]";
-    r.checkKeys(t,
-                {"shape", "count", "start", "interval", "position", "positions", "velocity",
-                 "angular_velocity", "orientation", "color", "jitter", "drop_height"},
-                label);
+    r.checkKeys(t, sceneKeysOf("emitters"), label);
     EmitterSpec e;
     e.where = r.where(t);
     e.shape = readShapeReference(r, t, label, spec);
@@ -736,14 +724,15 @@ double readFov(const Reader& r, const toml::node& n, const std::string& name) {
 
 // `path = [{ time = 0, position = [...], look_at = [...], fov = 40 }, ...]`: times increase;
 // fov defaults to the camera's.
-void readCameraPath(const Reader& r, const toml::node& n, CameraSpec& c) {
+void readCameraPath(const Reader& r, const toml::node& n, const std::string& keysPath,
+                    CameraSpec& c) {
   const toml::array* keys = n.as_array();
   if (keys == nullptr || keys->empty())
     r.fail(n, "'path' must be an array of keys {time, position, look_at, fov}, got " + typeName(n));
   for (std::size_t i = 0; i < keys->size(); ++i) {
     const std::string label = "path[" + std::to_string(i) + "]";
     const toml::table& k = r.table(*keys->get(i), label);
-    r.checkKeys(k, {"time", "position", "look_at", "fov"}, label);
+    r.checkKeys(k, sceneKeysOf(keysPath + ".path"), label);
     CameraKey key;
     key.time = r.nonNegative(r.require(k, "time", label), "time", " s");
     key.position = r.vec3(r.require(k, "position", label), "position");
@@ -762,9 +751,8 @@ void readCameraPath(const Reader& r, const toml::node& n, CameraSpec& c) {
 // [camera] and [cameras.NAME] share their keys.
 CameraSpec readCamera(const Reader& r, const toml::table& t, const std::string& name,
                       const std::string& label, const SceneSpec& spec) {
-  r.checkKeys(
-      t, {"position", "look_at", "up", "fov", "follow", "smoothing", "path", "min_pixels", "trail"},
-      label);
+  const std::string keysPath = name == "camera" ? "camera" : "cameras.NAME";
+  r.checkKeys(t, sceneKeysOf(keysPath), label);
   CameraSpec c;
   c.name = name;
   c.where = r.where(t);
@@ -794,7 +782,7 @@ CameraSpec readCamera(const Reader& r, const toml::table& t, const std::string& 
   if (const auto* n = t.get("trail")) c.trailSeconds = r.nonNegative(*n, "trail", " s");
   if (const auto* n = t.get("path")) {
     if (t.get("follow")) r.fail(*n, "a camera has either a 'path' or 'follow', not both");
-    readCameraPath(r, *n, c);
+    readCameraPath(r, *n, keysPath, c);
   }
   const bool follows = c.followBody || !c.followGroup.empty();
   const toml::node* where = t.get("look_at") ? t.get("look_at") : t.get("position");
@@ -823,7 +811,7 @@ void readCameras(const Reader& r, const toml::table& t, SceneSpec& spec) {
 }
 
 void readOutput(const Reader& r, const toml::table& t, SceneSpec& spec) {
-  r.checkKeys(t, {"width", "height", "crf"}, "[output]");
+  r.checkKeys(t, sceneKeysOf("output"), "[output]");
   // The size limit is frameSideProblem's; evenness is the MP4 encoder's, so a scene with an odd
   // size still renders PNGs, and an MP4 of it is refused with the message --size would get.
   auto side = [&](const char* key, int& out) {
@@ -861,7 +849,7 @@ std::array<double, 2> readRange(const Reader& r, const toml::node& n, const std:
 void readVectorRange(const Reader& r, const toml::node& n, const std::string& name, Vec3& lo,
                      Vec3& hi) {
   const toml::table& t = r.table(n, name);
-  r.checkKeys(t, {"min", "max"}, "[ensemble] " + name);
+  r.checkKeys(t, sceneKeysOf("ensemble." + name), "[ensemble] " + name);
   lo = r.vec3(r.require(t, "min", "[ensemble] " + name), name + ".min");
   hi = r.vec3(r.require(t, "max", "[ensemble] " + name), name + ".max");
   for (int i = 0; i < 3; ++i)
@@ -871,7 +859,7 @@ void readVectorRange(const Reader& r, const toml::node& n, const std::string& na
 
 void readRelease(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                  EnsembleSpec& e) {
-  r.checkKeys(t, {"area", "line", "points", "cells"}, "[ensemble.release]");
+  r.checkKeys(t, sceneKeysOf("ensemble.release"), "[ensemble.release]");
   const char* const kinds[] = {"area", "line", "points", "cells"};
   const toml::node* given = nullptr;
   std::string key;
@@ -939,10 +927,7 @@ void readRelease(const Reader& r, const toml::table& t, const fs::path& sceneFol
 
 void readEnsemble(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                   SceneSpec& spec) {
-  r.checkKeys(t,
-              {"seed", "shape", "shapes", "weights", "release", "drop_height", "orientation",
-               "velocity", "angular_velocity", "restitution", "friction", "rolling_resistance"},
-              "[ensemble]");
+  r.checkKeys(t, sceneKeysOf("ensemble"), "[ensemble]");
   EnsembleSpec e;
   e.where = r.where(t);
   if (const auto* n = t.get("seed")) {
@@ -1036,10 +1021,7 @@ SceneSpec loadScene(const std::string& path) {
   }
 
   const Reader r(path);
-  r.checkKeys(root,
-              {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera",
-               "cameras", "output", "ensemble"},
-              "the scene's top level");
+  r.checkKeys(root, sceneKeysOf(""), "the scene's top level");
   const fs::path sceneFolder = fs::path(path).parent_path();
 
   // Shapes before bodies and emitters (which name them); bodies and emitters before the camera

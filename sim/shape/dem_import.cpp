@@ -67,7 +67,7 @@ void checkEsriAsciiGrid(const std::string& path) {
       throw fail("header key '" + std::string(token) + "' needs a number");
     if (key == "ncols" || key == "nrows") {
       // A count of samples: whole, positive, and no more than GDAL's int holds (the product
-      // then fits the messages' long long; libFuzzer found one of 4e18 rows).
+      // then fits the messages' long long; a fuzz input asks for 4e18 rows).
       if (!(v >= 1 && v <= 2147483647.0 && v == std::floor(v)))
         throw fail("header key '" + std::string(token) + "' must be a whole number from 1 to " +
                    "2147483647, got " + std::string(value));
@@ -109,7 +109,7 @@ Heightfield loadDem(const std::string& path) {
     throw InputError(path, "terrain raster needs at least 2 x 2 samples and one band, got " +
                                std::to_string(nx) + " x " + std::to_string(ny));
   // The header's size is checked before anything is allocated: a broken or hostile header
-  // (the fuzzer found a 383-byte file that GDAL reads as 5.6e16 samples) must get a message,
+  // (a 383-byte fuzz input that GDAL reads as 5.6e16 samples) must get a message,
   // not an allocation failure, and indices j * nx + i must fit in 32 bits (heightfield.h).
   const auto samples = static_cast<std::int64_t>(nx) * ny;
   if (samples > kMaxDemSamples)

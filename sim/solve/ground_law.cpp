@@ -32,8 +32,8 @@
 // tests/scenario/rockfall_test.cpp checks it). N is the sustained normal force: a body's summed
 // normal impulse counts up to its weight's share, m |g.n| dt. An impact's impulse (a 60 kg
 // block landing at 8 m/s: about 500 N s, against 0.6 N s of weight in a millisecond step) is
-// not rolling: fed to mu_r h N it ended all spin at every landing (the first version here did
-// that, and stopped the Tschamut blocks about half way; README "Validation: Tschamut 2014").
+// not rolling: fed to mu_r h N it would end all spin at every landing, and stop the Tschamut
+// blocks about half way (README "Validation: Tschamut 2014").
 //
 // Alternatives rejected: a rotational spring-dashpot (LIGGGHTS epsd, Rockable) needs a
 // stiffness nobody has published for rock on soil; velocity-dependent scarring friction
@@ -160,7 +160,7 @@ bool clearOfGround(const BodyInfo& b, const BodyState& y, const Heightfield* ter
     return v * terrain->normalAt(c.x(), c.y()).z() - r <= height;
   };
   // A rolling body stays near the ground for many steps, mostly by the same leaves: the one
-  // that answered last time first (with 500 leaves a step, testing them all was a third of a
+  // that answered last time first (with 500 leaves a step, testing them all is a third of a
   // rock's step on the Tyrol slope).
   if (hint < n && within(hint)) return false;
   auto found = [&](std::uint32_t k) {

@@ -19,8 +19,8 @@
 //     ended with, scaled by min(1, dt / dt_previous). A face resting on a face has hundreds of
 //     leaf contacts whose centre-to-centre normals tilt by up to 45 degrees; from a cold start
 //     a dozen passes leave a residual that shows as jitter, while warm-started passes converge
-//     over steps. (Passes always run forward: alternating sweeps were tried and converged
-//     worse on a flat landing.) The scale never exceeds 1 because part of an impulse
+//     over steps. (Passes always run forward: alternating sweeps converge worse on a flat
+//     landing.) The scale never exceeds 1 because part of an impulse
 //     corrects velocity errors and does not grow with dt: after a very short step (a release
 //     time just after a frame time), scaling up by the step ratio would blow bodies apart.
 //   - with contact reduction (an extension, SolverSettings::patchBlocks), each pass first
@@ -268,8 +268,8 @@ bool prepareRow(const std::vector<Contact>& contacts, int k, const std::vector<B
 // Patch blocks, an extension for reduced contacts (the paper solves leaf contacts one by
 // one). Gauss-Seidel converges slowly on the few points that hold a flat patch: the first
 // point of a flat landing takes the whole impulse and tilts the body, and the others take it
-// back over many passes (a box landing flat, three of its corner leaves touching first, was
-// still tilted by 0.01 rad after 12 passes; 48 were used). So, before the rows of a patch, its
+// back over many passes (a box landing flat, three of its corner leaves touching first, is
+// still tilted by 0.01 rad after 12 such passes). So, before the rows of a patch, its
 // normal impulses are solved together, as Box2D's block solver does for its two-point
 // manifolds: the increments dj with K dj = target - u (u the points' normal velocities now)
 // in one step. On a patch of up to four points K has rank at most three (a rigid body has
@@ -285,9 +285,9 @@ bool prepareRow(const std::vector<Contact>& contacts, int k, const std::vector<B
 // reduced patch's points one normal; plane contacts share the plane's).
 // The patches among the rows first[0..count) of one island (contact order). Rows of one body
 // pair are consecutive contacts (each collider pair's contacts come out together), so a patch
-// is a run of consecutive contact indices with the same bodies and normal. (Until 2026-12-03 it
-// was a run of consecutive rows; the two differ only where a contact without a row, from a
-// non-finite state, lies between two contacts of one pair.)
+// is a run of consecutive contact indices with the same bodies and normal. (Consecutive rows
+// would differ from that only where a contact without a row, from a non-finite state, lies
+// between two contacts of one pair: no patch spans such a gap.)
 void preparePatches(const std::vector<Contact>& contacts, const int* first, int count, Row* rows,
                     const Motion* motion, Patch* patches) {
   for (int f = 0; f < count;) {
@@ -469,7 +469,7 @@ int solveIsland(const int* first, const int* last, Row* rows, const Patch* patch
 // Prepares and solves every island, on the pool's threads when there is enough to share;
 // returns the largest island's pass count. An island's rows and patches are prepared by the
 // thread that then solves them (prepared by one thread and solved by another, every row's
-// cache lines crossed cores twice a step: 1,000 rocks on 2 threads spent longer preparing rows
+// cache lines cross cores twice a step: 1,000 rocks on 2 threads spend longer preparing rows
 // than on 1). Which thread takes an island changes nothing: its rows are a function of its
 // contacts and of its bodies' motions, which no other island touches.
 int solveIslands(int islands, const std::vector<Contact>& contacts,
@@ -504,7 +504,7 @@ int solveIslands(int islands, const std::vector<Contact>& contacts,
   } else {
     // Runs of consecutive islands with about equal numbers of contacts: neighbouring islands often
     // lie side by side in memory (their bodies' ids are close), and threads solving them at
-    // once slowed each other down (one island at a time: no gain over one thread on 1,000
+    // once slow each other down (one island at a time: no gain over one thread on 1,000
     // rocks).
     std::vector<int>& runStart = w.runStart;
     runStart.assign(1, 0);

@@ -33,7 +33,7 @@ Quat rotationBy(const Vec3& w, double dt) {
 bool integrateBody(const BodyInfo& b, BodyState& y, double dt, RotationUpdate rotation) {
   const Vec3 w = angularVelocityOf(b, y);  // w = I(t)^-1 L, R from q by eq. 6
   // dt (P / M), not dt * velocityOf(b, y): the same quantity rounded as the golden
-  // trajectories were pinned with ((dt / M) P).
+  // trajectories hold it ((dt / M) P).
   const Vec3 x = y.x + dt * b.invMass * y.P;
   Quat q;
   if (rotation == RotationUpdate::kMidpoint) {

@@ -1,5 +1,5 @@
-// Release placement (release.h). Moved out of world.cpp so that World::step stays the table
-// of contents of a step; the arithmetic is the one it had (the same lifts, bit for bit).
+// Release placement (release.h). Kept out of world.cpp so that World::step stays the table
+// of contents of a step.
 #include "sim/solve/release.h"
 
 #include <algorithm>

@@ -7,7 +7,7 @@
 // solver, DBVT broad phase, one thread, fixed 1/60 s steps). Bullet gets the same meshes
 // (convex hull for convex meshes, GImpact for non-convex ones; for the crosses also, as a second
 // row, the compound of the cross's three convex pieces, Bullet's usual answer to a non-convex
-// body, which the issue measured against as "a compound of 3 boxes"), masses and inertias, the same
+// body, "a compound of 3 boxes"), masses and inertias, the same
 // body-body and body-ground restitution and friction (Bullet multiplies the two bodies'
 // coefficients: per-body values are chosen so that the products are the scene's), and the same
 // spawn list: every body enters Bullet at the 1/60 s instant at which it is active in voxfall,

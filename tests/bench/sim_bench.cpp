@@ -337,7 +337,8 @@ BENCHMARK_CAPTURE(runScene, crosses6, std::string("crosses"))
     ->Args({6, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-// The crosses with the extensions and the clearance step (issue 9's level-6 goal names no rule).
+// The crosses with the extensions and the clearance step (the goal of Lv 6 crosses in the Lv 4
+// time names no step rule).
 BENCHMARK_CAPTURE(runScene, crossesClearance, std::string("crosses"), true)
     ->Name("SceneClearance/crosses")
     ->Args({4, 1, 1})

@@ -93,9 +93,9 @@ TEST_F(CliTest, UsageErrorsExitWith2) {
 }
 
 // The run limits take what the scene's keys take: counts from 1 to 2^63 - 1 and finite
-// speeds > 0. Each answer was wrong before: 1e20 steps was clamped and the run went ahead,
-// "nan" m/s passed the option and failed later as a body "over the limit of nan m/s", and
-// "inf" got a 309-digit range.
+// speeds > 0. Each case is one a looser parse gets wrong: 1e20 steps clamped and the run going
+// ahead, "nan" m/s passing the option and failing later as a body "over the limit of nan m/s",
+// and "inf" getting a 309-digit range.
 TEST_F(CliTest, RunLimitsOutsideWhatTheSceneTakesAreUsageErrors) {
   const std::string cubes = "simulate " + quote(kScenes + "/cubes.toml") + " --quiet ";
   const std::pair<std::string, std::string> cases[] = {
@@ -116,10 +116,11 @@ TEST_F(CliTest, RunLimitsOutsideWhatTheSceneTakesAreUsageErrors) {
   EXPECT_EQ(run(cubes + "--max-steps 9223372036854775807 --max-speed 1e3"), 0) << err_;
 }
 
-// CLI11's range check lets "nan" through (every comparison with it is false): `render --fps
-// nan` then failed on an empty frame range, `export --fps nan` with "cannot create std::vector
-// larger than max_size()", and `diff --max-fraction nan` failed every frame, identical ones too
-// (a share of differing pixels is never <= nan). The number options read their text whole.
+// CLI11's range check lets "nan" through (every comparison with it is false): on that check
+// alone `render --fps nan` fails on an empty frame range, `export --fps nan` with "cannot create
+// std::vector larger than max_size()", and `diff --max-fraction nan` fails every frame,
+// identical ones too (a share of differing pixels is never <= nan). So the number options read
+// their text whole.
 TEST_F(CliTest, NumberOptionsRefuseNan) {
   const std::string scene = quote(kScenes + "/cubes.toml");
   const std::pair<std::string, std::string> cases[] = {
@@ -335,8 +336,8 @@ std::string cubeScene(const std::string& simulation, const std::string& body) {
 }
 
 // --fps is checked as the scene's fps is: a million seconds at 1 frame a second is a scene,
-// at 1000 frames a second it is 1e9 frames (and at 1e7 s, 1e10: render's frame count
-// overflowed int and it said the scene's frames were "0:-2147483648").
+// at 1000 frames a second it is 1e9 frames (and at 1e7 s, 1e10: unchecked, render's frame
+// count overflows int and it says the scene's frames are "0:-2147483648").
 TEST_F(CliTest, AnFpsOverrideMakingTooManyFramesIsRefusedByName) {
   std::string text = cubeScene("fps = 1.0", "position = [0.0, 0.0, 0.1]");
   text.replace(text.find("duration = 1.0"), 14, "duration = 1e7");

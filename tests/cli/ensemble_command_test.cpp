@@ -247,8 +247,8 @@ TEST_F(EnsembleCommandTest, MalformedEnsembleKeysAreClearErrors) {
   }
 }
 
-// --seed takes the whole range of a 64-bit seed and nothing else: "-1" and 2^64 were taken
-// as 2^64 - 1 by the option parser's unsigned conversion, silently.
+// --seed takes the whole range of a 64-bit seed and nothing else: the option parser's unsigned
+// conversion alone takes "-1" and 2^64 as 2^64 - 1, silently.
 TEST_F(EnsembleCommandTest, SeedOutsideItsRangeIsAUsageError) {
   vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
   for (const std::string seed : {"-1", "18446744073709551616", "1e3", "7x"}) {
@@ -369,9 +369,8 @@ TEST_F(EnsembleCommandTest, AnInterruptedEnsembleWritesItsCompletePrefix) {
     ::_exit(127);
   }
   // Long enough for some realisations (tens of milliseconds each) to finish, on a busy machine
-  // too (with 2 s this test failed once in a `ctest -j2` run of the whole suite, 2026-12-03,
-  // and passed in 4 tries beside the heaviest tests after); 100000 of them take minutes, so the
-  // run is still going.
+  // too (2 s can be too short in a `ctest -j2` run of the whole suite; 4 s holds beside the
+  // heaviest tests); 100000 of them take minutes, so the run is still going.
   std::this_thread::sleep_for(std::chrono::seconds(4));
   ::kill(child, SIGINT);
   int status = 0;

@@ -192,8 +192,8 @@ TEST(PlotCommand, WritesItsFilesAndPlotsWhatTheRunSays) {
 }
 
 // A run CSV that is not what `simulate --csv` writes is one error naming the file and line, and
-// nothing is plotted. The frame and body columns are counts: a body id of 1e30 was cast to int
-// (undefined behaviour) and a negative frame went through.
+// nothing is plotted. The frame and body columns are counts: a body id of 1e30 must not be cast
+// to int (undefined behaviour), nor a negative frame go through.
 TEST(PlotCommand, AMalformedRunCsvIsOneErrorNamingItsLine) {
   test::ScratchDir dir("plot_bad_csv");
   const std::string header = "frame,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n";

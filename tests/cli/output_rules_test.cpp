@@ -1,4 +1,4 @@
-// One way to write output and one way to stop (issue 8, item 6), with real child processes:
+// One way to write output and one way to stop, with real child processes:
 // SIGTERM and SIGINT during `simulate` and `render` leave a valid CSV and summary / a playable
 // MP4 up to the last complete frame and exit 143 / 130; an existing output is refused without
 // -y (and kept with -n), an input of the run is never overwritten, and output folders are

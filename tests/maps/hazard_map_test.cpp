@@ -301,7 +301,7 @@ TEST(RunoutPlot, NoFiniteValueGivesInputErrorAndNoFile) {
   EXPECT_FALSE(fs::exists(path));
 }
 
-// The README's example map (render/maps/img/tyrol_layout_example.png is this test's output,
+// The README's example map (docs/img/tyrol_layout_example.png is this test's output,
 // copied from the build folder): the Tyrol DEM placed as scenes/rockfall.toml places it, a
 // synthetic layer (horizontal distance from the middle of the release line, on the ground below
 // it) and the scene's release line and points.

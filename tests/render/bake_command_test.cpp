@@ -1,4 +1,4 @@
-// Simulate once, render many (issue 8, item 2), end to end with the built binary:
+// Simulate once, render many, end to end with the built binary:
 // `voxfall simulate SCENE --bake FILE` then `voxfall render FILE` gives the same PNG bytes as
 // `voxfall render SCENE`, needs no scene file and takes no step, and frame ranges rendered by
 // separate processes join into the frames of one run.
@@ -170,9 +170,9 @@ TEST_F(BakeCommand, PhysicsOptionsAndBrokenBakesAreRefused) {
 }
 
 // A damaged or hand-edited bake gets one message naming the header key or the record, from
-// `render` and `export` alike, and writes nothing. Before, a negative fps or duration gave
+// `render` and `export` alike, and writes nothing. Unchecked, a negative fps or duration gives
 // "cannot create std::vector larger than max_size()" (no file named), and a NaN state, a
-// field of view of 500 degrees or a zero up vector drew nonsense (or exported NaN into glTF)
+// field of view of 500 degrees or a zero up vector draws nonsense (or exports NaN into glTF)
 // with exit 0.
 TEST_F(BakeCommand, DamagedHeadersAndRecordsAreRefusedByName) {
   ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
@@ -194,8 +194,8 @@ TEST_F(BakeCommand, DamagedHeadersAndRecordsAreRefusedByName) {
        "'scene.camera.up' must be a non-zero vector"},
       {edited(R"("level":4)", R"("level":99)"), "'shapes[0].level' must be 1..10, got 99"},
       {edited(R"("width":1280)", R"("width":0)"), "scene.output: the frame width must be"},
-      // Found by bake_fuzz: a float where an integer belongs was cast (undefined past int's
-      // range); and a colour past float's range would be.
+      // From bake_fuzz: a float where an integer belongs must not be cast (undefined past int's
+      // range), nor a colour past float's range.
       {edited(R"("level":4)", R"("level":5e88)"),
        "'shapes[].level' must be an integer from -2147483648 to 2147483647, got 5e+88"},
       {edited(R"("records":239)", R"("records":-1)"), "'records' must be an integer from 0 to"},

@@ -1,4 +1,4 @@
-// `voxfall export` (issue 8, item 3), read back with assimp's glTF 2.0 importer as a viewer
+// `voxfall export`, read back with assimp's glTF 2.0 importer as a viewer
 // would: one node per body, one animation channel per body, a key per frame at t = k / fps,
 // and the pose at a key equal to the state `voxfall simulate --csv` reports for that frame.
 #include <assimp/scene.h>

@@ -237,8 +237,8 @@ TEST_F(RegressCommand, SuiteErrorsNameFileLineAndColumn) {
   expectError("[[case]]\nscene = \"cubes.toml\"\nframes = [0]\nthreshold = 300\n", "4:13",
               "0..255");
   expectError("[[case]]\nscene = \"cubes.toml\"\nframes = [0]\nruns = 0\n", "4:8", "1..1000");
-  // nan fails every comparison: it passed the range check, and then every frame failed, even an
-  // identical one (a share of differing pixels is never <= nan).
+  // nan fails every comparison: it would pass a range check, and then every frame would fail,
+  // even an identical one (a share of differing pixels is never <= nan).
   expectError("[[case]]\nscene = \"cubes.toml\"\nframes = [0]\nmax_fraction = nan\n", "4:16",
               "'max_fraction' must be a number in 0..1");
   expectError("[[case]]\nscene = \"cubes.toml\"\n", "1", "needs 'frames");

@@ -191,7 +191,7 @@ TEST(Scenario, TorqueFreeSpinKeepsAngularMomentumAndEnergy) {
   EXPECT_LT(ratio, 2.5);
 }
 
-// The torque-free box: 0.1 x 0.2 x 0.3 m, 1 kg, w0 = (1, 7, 2) rad/s, dt = 1e-3 s, 10 s.
+// A torque-free box: 0.1 x 0.2 x 0.3 m, 1 kg, w0 = (1, 7, 2) rad/s, dt = 1e-3 s, 10 s.
 // The paper's explicit Euler gains about 6 % kinetic energy; the midpoint rotation update keeps
 // it within 1 % (the requirement). Both keep L exactly (no torque acts). Oracle: the initial
 // energy and angular momentum, which torque-free motion conserves.

@@ -99,8 +99,8 @@ TEST(PaperScenes, TwoIdenticalRunsGiveTheSameChecksum) {
 TEST(PaperScenes, Example4StackOf30NeverInterpenetratesAndComesToRest) {
   // The last block drops at 10 s and the paper's run ends at 12 s. How long a 31-block pile
   // takes to stop sliding and rocking is chaotic: a one-ulp change in the solver's rounding
-  // moved its kinetic energy at 12 s between 1.9 J and 33 J (measured while optimising the
-  // solver), and steps that no longer end on frame times left 3.5 J. So the pile is judged
+  // moves its kinetic energy at 12 s anywhere between 1.9 J and 33 J, and steps that do not end
+  // on frame times leave 3.5 J. So the pile is judged
   // after 5 s of settling instead of 2 s; interpenetration is checked over the whole run.
   SceneSpec spec = sceneSpec("stack", 4);
   ASSERT_EQ(spec.duration, 12.0);

@@ -48,12 +48,12 @@ double median(std::vector<double> v) {
 
 // The first `count` runs of the data set (release_points.csv order), each simulated alone.
 //
-// DISABLED because it FAILS today, and the parameters must not be tuned to make it pass. With
-// the literature parameters above and STONE's modes (sim/solve/ground_law.cpp; measured
-// 2026-11-29, 10 runs): every rock stops, and the median runout is 68.4 m against the observed
-// 106.1 m (-36 %): the blocks stop 67-71 m down, where the proxy's slope falls below
-// atan(0.65). Feeding impacts to the rolling brake gave 54.3 m; the sustained force without
-// STONE's Rt, 181 m (9 of 10 off the grid); README "Validation: Tschamut 2014" lists every run
+// DISABLED because it FAILS with the committed law, and the parameters must not be tuned to make
+// it pass. With the literature parameters above and STONE's modes (sim/solve/ground_law.cpp; 10
+// runs): every rock stops, and the median runout is 68.4 m against the observed 106.1 m
+// (-36 %): the blocks stop 67-71 m down, where the proxy's slope falls below atan(0.65).
+// Feeding impacts to the rolling brake gives 54.3 m; the sustained force without STONE's Rt,
+// 181 m (9 of 10 off the grid); README "Validation: Tschamut 2014" lists every run
 // and why the committed law was chosen. Run it with --gtest_also_run_disabled_tests.
 TEST(Tschamut2014, DISABLED_EveryRockStopsOnTheTerrainAndTheMedianRunoutIsWithin25Percent) {
   const SceneSpec all = loadScene(test::sourcePath("scenes/tschamut2014/tschamut2014.toml"));

@@ -1,5 +1,5 @@
-// Sweep and prune (sim/collide/broad_phase.cpp, in strips along y) against the all-pairs
-// bounding-sphere test it replaced, on random clouds of bodies with inactive and static ones
+// Sweep and prune (sim/collide/broad_phase.cpp, in strips along y) against an all-pairs
+// bounding-sphere test, on random clouds of bodies with inactive and static ones
 // mixed in: the same pairs in the same (a, b) order, whatever order the sweep starts from.
 #include "sim/collide/broad_phase.h"
 

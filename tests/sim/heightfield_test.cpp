@@ -178,8 +178,8 @@ TEST(Heightfield, MalformedGridsNameFileAndLineFuzzFoundHugeCountsIncluded) {
       {"ncols 2\nnrows 2\nxlcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4\n",
        ":3: unknown header key 'xlcorner'"},
       {"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4 5\n", "more values than"},
-      // Found by terrain_fuzz: a count beyond any grid (4e18 rows; its product with ncols
-      // overflowed the conversion that printed it), and counts that are not whole or positive.
+      // From terrain_fuzz: a count beyond any grid (4e18 rows; its product with ncols would
+      // overflow the conversion that prints it), and counts that are not whole or positive.
       {"ncols 60\nnrows 4075265075265407444.1\n4.4 2 3\n",
        ":2: header key 'nrows' must be a whole"},
       {"ncols 2.5\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4\n",
@@ -200,8 +200,8 @@ TEST(Heightfield, MalformedGridsNameFileAndLineFuzzFoundHugeCountsIncluded) {
   EXPECT_THROW(loadDem("/nonexistent/grid.asc"), InputError);
 }
 
-// Found by terrain_fuzz: a 383-byte file that GDAL's CTable2 driver (datum shift grids) reads
-// as 235,802,126 x 235,802,126 samples, which loadDem tried to allocate. Any format's header
+// From terrain_fuzz: a 383-byte file that GDAL's CTable2 driver (datum shift grids) reads as
+// 235,802,126 x 235,802,126 samples, which loadDem would allocate unchecked. Any format's header
 // may promise more than the file holds, so the size is checked before allocating. Here a
 // 160-byte CTable2 header (16-byte magic, 80-byte id, four doubles, then width and height as
 // little-endian int32) promises one column more than the limit of 2^28 samples.

@@ -383,9 +383,9 @@ TEST(Impulse, PatchBlocksConvergeToTheSameVelocitiesAsThePointRows) {
 
 // The solver stops at the first pass that changes no accumulated impulse. Claim: the result is
 // bit for bit that of all `iterations` passes. Two tilted boxes, one resting on the other on the
-// floor (reduced contacts, as contact reduction leaves them: 4 per patch; 48 passes, as World
-// made with reduction until 2026-12-01; with patch blocks the passes seldom reach a pass that
-// changes no bit, so this is the case that shows the stop), solved step after step with gravity's
+// floor (reduced contacts, as contact reduction leaves them: 4 per patch; 48 passes without
+// patch blocks: with them the passes seldom reach a pass that changes no bit, so this is the
+// case that shows the stop), solved step after step with gravity's
 // impulse added and warm starting, as World does, with and without the stop: the same momenta in
 // every bit, and the stop must have saved passes (or the comparison would show nothing).
 TEST(Impulse, StoppingAtAPassThatChangesNothingGivesTheSameBits) {

@@ -129,7 +129,7 @@ TEST(MeshImport, BinaryStl) {
 }
 
 // Regression for a fuzz finding (tests/fuzz, mesh_stl_fuzz): a binary STL whose coordinates
-// hold NaN or infinity overflowed the weld grid's keys (undefined behaviour); now it is an
+// hold NaN or infinity would overflow the weld grid's keys (undefined behaviour), so it is an
 // error naming the file and the triangle.
 TEST(MeshImport, FuzzFoundNonFiniteStlCoordinatesAreAnError) {
   test::TempDir dir;
@@ -153,7 +153,7 @@ TEST(MeshImport, FuzzFoundNonFiniteStlCoordinatesAreAnError) {
 }
 
 // Regression for a fuzz finding (tests/fuzz, mesh_ply_fuzz): assimp 5.2 never returns from an
-// ASCII PLY whose header is cut off inside a property line; the import now refuses a PLY header
+// ASCII PLY whose header is cut off inside a property line; the import refuses a PLY header
 // without 'end_header' before assimp sees it (without the check this test hangs until CTest's
 // timeout).
 TEST(MeshImport, FuzzFoundCutOffPlyHeaderIsAnError) {
@@ -164,9 +164,9 @@ TEST(MeshImport, FuzzFoundCutOffPlyHeaderIsAnError) {
 }
 
 // Regression for a fuzz finding (tests/fuzz, mesh_ply_fuzz): an ASCII PLY cube with one face
-// line garbled (bytes 0xe0 0xd2 for an index, the next line a comment) made assimp 5.2 flag
-// polygons in a mesh of triangles, and its triangulation aborted the process on an assertion.
-// assimp read the garbled line as a face without vertices. The layout check (ply_check.h) now
+// line garbled (bytes 0xe0 0xd2 for an index, the next line a comment) makes assimp 5.2 flag
+// polygons in a mesh of triangles, and its triangulation aborts the process on an assertion:
+// assimp reads the garbled line as a face without vertices. The layout check (ply_check.h)
 // refuses the line itself: a list of 3 with two words after it. A face list of length 0 is
 // well-formed for that check, and gives assimp the same face without vertices: refused after
 // assimp has read the file, before its triangulation.
@@ -190,10 +190,10 @@ TEST(MeshImport, FuzzFoundGarbledPlyFaceIsAnErrorNotAnAbort) {
 }
 
 // Regression for a fuzz finding (tests/fuzz, mesh_ply_fuzz): the same hang with the magic
-// number followed by other bytes on its line ("plyCCC..."), which assimp still reads as a PLY
-// and the check above did not take for one. Its property of type "fply" is refused since the
+// number followed by other bytes on its line ("plyCCC..."), which assimp still reads as a PLY,
+// so the check must take it for one too. Its property of type "fply" is refused because the
 // check follows every property's type (FuzzFoundPlyPropertyOfAnUnknownTypeIsRefused); with a
-// float in its place and without its second format line the header is cut off as before.
+// float in its place and without its second format line the header is cut off as above.
 TEST(MeshImport, FuzzFoundPlyMagicWithTrailingBytesAndCutHeaderIsAnError) {
   test::TempDir dir;
   const std::string magic = "ply" + std::string(42, 'C') + "\nformat ascii 1.0\nelement vertex 8\n";
@@ -226,7 +226,7 @@ TEST(MeshImport, FuzzFoundPlyEndingInsideItsEndHeaderLineIsAnErrorNotAHang) {
 // Regression for a fuzz finding (tests/fuzz, mesh_ply_fuzz: an allocation of 92 GB): assimp 5.2
 // reads an element's count from the leading digits after its name, and a name that starts with
 // a digit as the count, so "element 30000000face 1" took 700 MB and over two minutes in
-// assimp (measured with /usr/bin/time before the check), and a count with letters after it
+// assimp (measured with /usr/bin/time without the check), and a count with letters after it
 // ("84294967295y") is not the number the layout check would follow. An element line must be
 // "element NAME COUNT" in a header of text: the line is named and nothing allocated.
 TEST(MeshImport, FuzzFoundPlyElementLineWithoutAWholeCountIsRefused) {
@@ -271,10 +271,10 @@ TEST(MeshImport, FuzzFoundPlyElementLineWithoutAWholeCountIsRefused) {
             "does not start with a digit and a whole number");
 }
 
-// A binary PLY of 250 bytes that declared 300 million vertices, one of them a property of type
-// "foo", took assimp 5.2 3.5 GB and 25 s before it gave up (/usr/bin/time, without the check):
-// with a type PLY does not have, the layout check could not follow the data. Every property
-// must now have one of PLY's types, a list an integer length, and come after an element line.
+// A binary PLY of 250 bytes that declares 300 million vertices, one of them a property of type
+// "foo", takes assimp 5.2 3.5 GB and 25 s before it gives up (/usr/bin/time, without the check),
+// and with a type PLY does not have, the layout check cannot follow the data. So every property
+// must have one of PLY's types, a list an integer length, and come after an element line.
 TEST(MeshImport, FuzzFoundPlyPropertyOfAnUnknownTypeIsRefused) {
   test::TempDir dir;
   const std::string types =
@@ -304,9 +304,9 @@ TEST(MeshImport, FuzzFoundPlyPropertyOfAnUnknownTypeIsRefused) {
   }
 }
 
-// Regression for a fuzz finding (valgrind over mutated PLY files, each checked): assimp 5.2 went
+// Regression for a fuzz finding (valgrind over mutated PLY files, each checked): assimp 5.2 goes
 // on with "format binary_little_end_header" and a vertex count of 42949672958, allocating
-// until the memory ran out. A PLY header has one format line, of PLY's three formats.
+// until the memory runs out. A PLY header has one format line, of PLY's three formats.
 TEST(MeshImport, FuzzFoundPlyWithAFormatPlyDoesNotHaveIsRefused) {
   test::TempDir dir;
   const std::string rest =
@@ -326,8 +326,8 @@ TEST(MeshImport, FuzzFoundPlyWithAFormatPlyDoesNotHaveIsRefused) {
             "binary_big_endian)");
 }
 
-// Two vertex lists, or two face lists, made assimp 5.2's PLY reader write past the arrays it
-// had sized by the first (valgrind: "Invalid write" inside libassimp, for each file below
+// Two vertex lists, or two face lists, make assimp 5.2's PLY reader write past the arrays it
+// sized by the first (valgrind: "Invalid write" inside libassimp, for each file below
 // without the header check); found from an AddressSanitizer allocator failure in the PLY fuzz
 // target. The header check refuses them, naming the second declaration's line.
 TEST(MeshImport, FuzzFoundPlyWithTwoVertexOrFaceListsIsRefusedBeforeAssimpOverrunsItsArrays) {
@@ -390,7 +390,7 @@ std::string binaryBoxPly(bool bigEndian, const std::string& lengthType, int leng
 // ask for before it reads the data, so a file of a few hundred bytes that declares 300 million
 // vertices took 3.5 GB and over 20 s, and the fuzz target's face list of length
 // "344444...4" (assimp's 32 bits keep 477 million of it) over 6 GB (measured with
-// /usr/bin/time -v before the check). Each such count is now refused against what the file holds.
+// /usr/bin/time -v without the check). So each such count is refused against what the file holds.
 TEST(MeshImport, FuzzFoundPlyCountsBeyondTheFileAreRefusedBeforeAssimpAllocatesThem) {
   test::TempDir dir;
   // ASCII: an entry per line, as assimp reads it. 4 data lines (10-13) for 300 million vertices.
@@ -444,7 +444,7 @@ TEST(MeshImport, FuzzFoundPlyCountsBeyondTheFileAreRefusedBeforeAssimpAllocatesT
 
 // assimp 5.2 pairs a face's texture coordinates with its vertices by reading the vertex list at
 // half the coordinate's index, so more than two per vertex read past that list (valgrind,
-// "Invalid read" in libassimp, on the file below before the check). Two per vertex load.
+// "Invalid read" in libassimp, on the file below without the check). Two per vertex load.
 TEST(MeshImport, FuzzFoundPlyFaceWithMoreTexcoordsThanVerticesIsRefused) {
   test::TempDir dir;
   const auto box = [](const std::string& face0) {

@@ -1,4 +1,4 @@
-// Frames and steps kept apart (issue 8, item 1): the step sequence depends on the scene alone,
+// Frames and steps kept apart: the step sequence depends on the scene alone,
 // and frame k is the last step's state moved by free motion to t = k / fps.
 #include "sim/recorder.h"
 

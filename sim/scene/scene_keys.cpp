@@ -1,0 +1,55 @@
+#include "sim/scene/scene_keys.h"
+
+#include <stdexcept>
+
+namespace vf {
+
+const std::vector<SceneTableKeys>& sceneTableKeys() {
+  static const std::vector<SceneTableKeys> tables = {
+      {"",
+       {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera", "cameras",
+        "output", "ensemble"}},
+      {"simulation",
+       {"duration", "level", "step", "gravity", "fps", "collider", "contact_reduction", "sleep",
+        "stop", "rest", "rotation", "max_steps", "max_speed"}},
+      {"simulation.rest", {"speed", "time"}},
+      {"contact", {"restitution", "friction"}},
+      {"contact.restitution", {"body_body", "body_ground"}},
+      {"contact.friction", {"body_body", "body_ground"}},
+      {"ground",
+       {"plane", "heightfield", "offset", "material", "materials", "classes", "class_materials",
+        "edge"}},
+      {"ground.materials.NAME",
+       {"restitution", "friction", "rolling_resistance", "tangential_restitution"}},
+      {"shapes.NAME", {"mesh", "scale", "density", "mass", "up", "level", "color", "repair"}},
+      {"bodies",
+       {"shape", "position", "orientation", "velocity", "angular_velocity", "static", "drop_height",
+        "color"}},
+      {"emitters",
+       {"shape", "count", "start", "interval", "position", "positions", "velocity",
+        "angular_velocity", "orientation", "color", "jitter", "drop_height"}},
+      {"emitters.jitter", {"position", "direction", "orientation", "seed"}},
+      {"camera",
+       {"position", "look_at", "up", "fov", "follow", "smoothing", "path", "min_pixels", "trail"}},
+      {"camera.path", {"time", "position", "look_at", "fov"}},
+      {"cameras.NAME",
+       {"position", "look_at", "up", "fov", "follow", "smoothing", "path", "min_pixels", "trail"}},
+      {"cameras.NAME.path", {"time", "position", "look_at", "fov"}},
+      {"output", {"width", "height", "crf"}},
+      {"ensemble",
+       {"seed", "shape", "shapes", "weights", "release", "drop_height", "orientation", "velocity",
+        "angular_velocity", "restitution", "friction", "rolling_resistance"}},
+      {"ensemble.velocity", {"min", "max"}},
+      {"ensemble.angular_velocity", {"min", "max"}},
+      {"ensemble.release", {"area", "line", "points", "cells"}},
+  };
+  return tables;
+}
+
+const std::vector<std::string>& sceneKeysOf(std::string_view path) {
+  for (const SceneTableKeys& t : sceneTableKeys())
+    if (t.path == path) return t.keys;
+  throw std::logic_error("no scene table '" + std::string(path) + "'");
+}
+
+}  // namespace vf
