@@ -45,9 +45,12 @@ class SuiteReader {
         defaults.threshold = integer(value, "threshold", 0, 255);
       } else if (key.str() == "max_fraction") {
         defaults.maxFraction = fraction(value, "max_fraction");
+      } else if (key.str() == "min_ssim") {
+        defaults.minSsim = fraction(value, "min_ssim");
       } else {
         fail(key.source(), "unknown key '" + std::string(key.str()) +
-                               "' outside [[case]] (valid there: threshold, max_fraction)");
+                               "' outside [[case]] (valid there: threshold, max_fraction, "
+                               "min_ssim)");
       }
     }
     if (const toml::node* cases = root.get("case")) {
@@ -79,8 +82,43 @@ class SuiteReader {
   double fraction(const toml::node& n, const std::string& key) const {
     const auto v = n.value<double>();
     if (!n.is_number() || !v || !(*v >= 0 && *v <= 1))  // nan fails both comparisons
-      fail(n.source(), "'" + key + "' must be a number in 0..1 (a share of the pixels)");
+      fail(n.source(), "'" + key + "' must be a number in 0..1" +
+                           (key == "min_ssim" ? std::string(" (a mean SSIM)")
+                                              : std::string(" (a share of the pixels)")));
     return *v;
+  }
+
+  std::vector<int> frames(const toml::node& node) const {
+    const toml::array* a = node.as_array();
+    if (a == nullptr || a->empty() || !a->is_homogeneous(toml::node_type::integer))
+      fail(node.source(), "'frames' must be a list of frame numbers, e.g. [0, 30, 60]");
+    std::vector<int> out;
+    std::set<int> seen;
+    for (const toml::node& f : *a) {
+      const int frame = integer(f, "frames", 0, 10000000);
+      if (!seen.insert(frame).second)
+        fail(node.source(), "frame " + std::to_string(frame) + " is listed twice");
+      out.push_back(frame);
+    }
+    return out;
+  }
+
+  // `mask = [[x, y, width, height], ...]`: pixel rectangles, left and top from 0.
+  PixelMask mask(const toml::node& node) const {
+    const char* form = "'mask' must be a list of rectangles [x, y, width, height] in pixels";
+    const toml::array* a = node.as_array();
+    if (a == nullptr) fail(node.source(), form);
+    PixelMask out;
+    for (const toml::node& r : *a) {
+      const toml::array* v = r.as_array();
+      if (v == nullptr || v->size() != 4 || !v->is_homogeneous(toml::node_type::integer))
+        fail(r.source(), form);
+      out.push_back({integer(*v->get(0), "mask x", 0, kMaxImageSide - 1),
+                     integer(*v->get(1), "mask y", 0, kMaxImageSide - 1),
+                     integer(*v->get(2), "mask width", 1, kMaxImageSide),
+                     integer(*v->get(3), "mask height", 1, kMaxImageSide)});
+    }
+    return out;
   }
 
   void readCase(const toml::table& t, const DiffTolerance& defaults, Suite& suite) const {
@@ -109,16 +147,11 @@ class SuiteReader {
           fail(node.source(), "scene file '" + scene.string() + "' not found");
         c.scene = scene.lexically_normal().string();
       } else if (k == "frames") {
-        const toml::array* a = node.as_array();
-        if (a == nullptr || a->empty() || !a->is_homogeneous(toml::node_type::integer))
-          fail(node.source(), "'frames' must be a list of frame numbers, e.g. [0, 30, 60]");
-        std::set<int> seen;
-        for (const toml::node& f : *a) {
-          const int frame = integer(f, "frames", 0, 10000000);
-          if (!seen.insert(frame).second)
-            fail(node.source(), "frame " + std::to_string(frame) + " is listed twice");
-          c.frames.push_back(frame);
-        }
+        c.frames = frames(node);
+      } else if (k == "mask") {
+        c.mask = mask(node);
+        c.maskWhere = sourceLocation(file_, static_cast<int>(node.source().begin.line),
+                                     static_cast<int>(node.source().begin.column));
       } else if (k == "size") {
         const toml::array* a = node.as_array();
         if (a == nullptr || a->size() != 2 || !a->is_homogeneous(toml::node_type::integer))
@@ -131,10 +164,12 @@ class SuiteReader {
         c.tolerance.threshold = integer(node, k, 0, 255);
       } else if (k == "max_fraction") {
         c.tolerance.maxFraction = fraction(node, k);
+      } else if (k == "min_ssim") {
+        c.tolerance.minSsim = fraction(node, k);
       } else {
         fail(key.source(), "unknown key '" + k +
                                "' in [[case]] (valid: name, scene, frames, size, runs, "
-                               "threshold, max_fraction)");
+                               "threshold, max_fraction, min_ssim, mask)");
       }
     }
     if (c.scene.empty()) throw InputError(c.where, "[[case]] needs 'scene = \"path.toml\"'");

@@ -21,7 +21,9 @@ struct SuiteCase {
   // --video-runs K` draws them (ensemble_subset.bake); unset: the scene as `render` draws it.
   std::optional<int> runs;
   DiffTolerance tolerance;
-  std::string where;  // "suite.toml:LINE" of its [[case]] header
+  PixelMask mask;         // rectangles every comparison of this case leaves out
+  std::string maskWhere;  // "suite.toml:LINE:COLUMN" of `mask`, for a rectangle off the frame
+  std::string where;      // "suite.toml:LINE" of its [[case]] header
 };
 
 struct Suite {
@@ -29,9 +31,10 @@ struct Suite {
   std::vector<SuiteCase> cases;
 };
 
-// Reads a suite file. Keys: top-level `threshold` and `max_fraction` (defaults for every
-// case), then [[case]] tables with `scene`, `frames`, and optional `name`, `size`, `runs`,
-// `threshold`, `max_fraction`. Errors: InputError at "suite.toml:LINE:COLUMN".
+// Reads a suite file. Keys: top-level `threshold`, `max_fraction` and `min_ssim` (defaults for
+// every case), then [[case]] tables with `scene`, `frames`, and optional `name`, `size`, `runs`,
+// `threshold`, `max_fraction`, `min_ssim`, `mask`. Errors: InputError at
+// "suite.toml:LINE:COLUMN".
 Suite readSuite(const std::string& suiteFile);
 
 }  // namespace vf

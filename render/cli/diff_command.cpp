@@ -85,7 +85,12 @@ std::string toleranceText(const DiffTolerance& t) {
                 "a pixel differs when a channel differs by more than %d/255; at most %g%% of "
                 "pixels may differ",
                 t.threshold, 100 * t.maxFraction);
-  return buf;
+  std::string text = buf;
+  if (t.minSsim) {
+    std::snprintf(buf, sizeof buf, "; SSIM at least %g", *t.minSsim);
+    text += buf;
+  }
+  return text;
 }
 
 int runDiff(const DiffOptions& o) {
@@ -159,7 +164,7 @@ void addDiffCommand(CLI::App& app, int& exitCode) {
   CLI::App* sub = app.add_subcommand(
       "diff",
       "Compare two PNGs, or two folders of PNG frames by name: per-frame max channel "
-      "difference, share of differing pixels, PSNR; exit code 1 when over tolerance");
+      "difference, share of differing pixels, PSNR, SSIM; exit code 1 when over tolerance");
   sub->add_option("EXPECTED", o->expected, "the reference PNG or folder (e.g. goldens)")
       ->required()
       ->type_name("");
@@ -176,6 +181,11 @@ void addDiffCommand(CLI::App& app, int& exitCode) {
                       fraction + ")")
       ->check(finiteNumberIn(0.0, 1.0))
       ->type_name("F");
+  sub->add_option("--min-ssim", o->tolerance.minSsim,
+                  "also fail when the mean SSIM (structural similarity, printed for every frame) "
+                  "is under S (0..1; default: not judged)")
+      ->check(finiteNumberIn(0.0, 1.0))
+      ->type_name("S");
   sub->add_option("--out,-o", o->out,
                   "write the diff image (grey expected, red where over the threshold, blue "
                   "where under): a PNG file for two files, a folder for two folders")

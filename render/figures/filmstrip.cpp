@@ -5,59 +5,13 @@
 #include <cstdio>
 #include <cstring>
 
+#include "render/output/bitmap_font.h"
 #include "sim/core/error.h"
 
 namespace vf::fig {
 namespace {
 
-// 5 x 7 glyphs, one row per byte, bit 4 = leftmost column.
-struct Glyph {
-  char c;
-  std::array<std::uint8_t, 7> rows;
-};
-constexpr std::array<Glyph, 15> kFont{{
-    {'0', {0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E}},
-    {'1', {0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E}},
-    {'2', {0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F}},
-    {'3', {0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E}},
-    {'4', {0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02}},
-    {'5', {0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E}},
-    {'6', {0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E}},
-    {'7', {0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08}},
-    {'8', {0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E}},
-    {'9', {0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C}},
-    {'.', {0x00, 0x00, 0x00, 0x00, 0x00, 0x0C, 0x0C}},
-    {'t', {0x08, 0x08, 0x1C, 0x08, 0x08, 0x09, 0x06}},
-    {'s', {0x00, 0x00, 0x0E, 0x10, 0x0E, 0x01, 0x1E}},
-    {'=', {0x00, 0x00, 0x1F, 0x00, 0x1F, 0x00, 0x00}},
-    {' ', {0, 0, 0, 0, 0, 0, 0}},
-}};
-constexpr int kScale = 3;             // px per font pixel
-constexpr int kAdvance = 6 * kScale;  // glyph width plus one column of space
-
-const Glyph& glyph(char c) {
-  for (const Glyph& g : kFont)
-    if (g.c == c) return g;
-  VF_ASSERT(false && "filmstrip label character outside the built-in font");
-  return kFont.back();
-}
-
-void drawText(Image& img, int x0, int y0, const std::string& text) {
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const Glyph& g = glyph(text[i]);
-    for (int row = 0; row < 7; ++row)
-      for (int col = 0; col < 5; ++col) {
-        if (!(g.rows[row] & (0x10 >> col))) continue;
-        for (int dy = 0; dy < kScale; ++dy)
-          for (int dx = 0; dx < kScale; ++dx) {
-            const int x = x0 + static_cast<int>(i) * kAdvance + col * kScale + dx;
-            const int y = y0 + row * kScale + dy;
-            if (x >= 0 && y >= 0 && x < img.width && y < img.height)
-              std::memset(img.pixel(x, y), 0x20, 3);  // dark grey text
-          }
-      }
-  }
-}
+constexpr int kScale = 3;  // px per font pixel
 
 }  // namespace
 
@@ -84,9 +38,10 @@ Image composeFilmstrip(const std::vector<Image>& frames, const std::vector<std::
     for (int y = 0; y < h; ++y)
       std::memcpy(out.pixel(s.x, s.y + y), frames[i].pixel(0, y), static_cast<std::size_t>(w) * 3);
     // Label centred over the frame, vertically centred in the band.
-    const int textWidth = static_cast<int>(labels[i].size()) * kAdvance - kScale;
-    drawText(out, s.x + (w - textWidth) / 2,
-             s.y - kFilmstripLabelBand + (kFilmstripLabelBand - 7 * kScale) / 2, labels[i]);
+    const int width = textWidth(labels[i], kScale);
+    drawText(out, s.x + (w - width) / 2,
+             s.y - kFilmstripLabelBand + (kFilmstripLabelBand - kGlyphHeight * kScale) / 2,
+             labels[i], kScale, {0x20, 0x20, 0x20});  // dark grey text
   }
   return out;
 }

@@ -1,6 +1,6 @@
 // Filmstrips (the paper's figs. 20-26): frames side by side in one image, each under a label
 // with its time. The frames are copied pixel for pixel; labels are drawn in a band above each
-// frame with a small built-in bitmap font (digits, '.', 't', '=', 's', ' '), so no font library
+// frame with the small built-in bitmap font (render/output/bitmap_font.h), so no font library
 // is needed and the image is the same on every machine.
 #pragma once
 

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <limits>
 
+#include "render/output/ssim.h"
+
 namespace vf {
 
 // Why DiffTolerance's defaults are 8/255 and 0.05%. Measured with every scene in scenes/ at
@@ -54,7 +56,8 @@ std::string percent(double fraction) {
 
 }  // namespace
 
-DiffMetrics compareImages(const Image& expected, const Image& actual, int threshold) {
+DiffMetrics compareImages(const Image& expected, const Image& actual, int threshold,
+                          const PixelMask& mask) {
   DiffMetrics m;
   m.width = expected.width;
   m.height = expected.height;
@@ -69,25 +72,33 @@ DiffMetrics compareImages(const Image& expected, const Image& actual, int thresh
   }
   // Sum of squares in an integer: exact, and the same whatever the order.
   std::uint64_t squares = 0;
-  for (std::size_t i = 0; i < expected.rgb.size(); i += 3) {
-    const std::uint8_t* e = expected.rgb.data() + i;
-    const std::uint8_t* a = actual.rgb.data() + i;
-    for (int c = 0; c < 3; ++c) {
-      const int d = e[c] - a[c];
-      squares += static_cast<std::uint64_t>(d * d);
+  for (int y = 0; y < expected.height; ++y)
+    for (int x = 0; x < expected.width; ++x) {
+      if (masked(mask, x, y)) {
+        ++m.maskedPixels;
+        continue;
+      }
+      const std::uint8_t* e = expected.pixel(x, y);
+      const std::uint8_t* a = actual.pixel(x, y);
+      for (int c = 0; c < 3; ++c) {
+        const int d = e[c] - a[c];
+        squares += static_cast<std::uint64_t>(d * d);
+      }
+      const int d = pixelDiff(e, a);
+      m.maxChannelDiff = std::max(m.maxChannelDiff, d);
+      if (d > threshold) ++m.differingPixels;
     }
-    const int d = pixelDiff(e, a);
-    m.maxChannelDiff = std::max(m.maxChannelDiff, d);
-    if (d > threshold) ++m.differingPixels;
-  }
+  m.pixels -= m.maskedPixels;
   m.differingFraction = m.pixels > 0 ? static_cast<double>(m.differingPixels) / m.pixels : 0;
+  m.ssim = meanSsim(expected, actual, mask);
   const double mse = m.pixels > 0 ? static_cast<double>(squares) / (3.0 * m.pixels) : 0;
   m.psnr = mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : std::numeric_limits<double>::infinity();
   return m;
 }
 
 bool withinTolerance(const DiffMetrics& metrics, const DiffTolerance& tolerance) {
-  return metrics.sameSize && metrics.differingFraction <= tolerance.maxFraction;
+  return metrics.sameSize && metrics.differingFraction <= tolerance.maxFraction &&
+         (!tolerance.minSsim || metrics.ssim >= *tolerance.minSsim);
 }
 
 std::string describe(const DiffMetrics& m, const Image& expected, const Image& actual) {
@@ -103,16 +114,19 @@ std::string describe(const DiffMetrics& m, const Image& expected, const Image& a
   } else {
     std::snprintf(psnr, sizeof psnr, "%.1f dB", m.psnr);
   }
+  char masked[48] = "";
+  if (m.maskedPixels > 0)
+    std::snprintf(masked, sizeof masked, ", %lld masked", static_cast<long long>(m.maskedPixels));
   std::snprintf(buf, sizeof buf,
-                "max diff %d/255, %s of pixels differ (%lld of %lld > %d/255), "
-                "PSNR %s",
+                "max diff %d/255, %s of pixels differ (%lld of %lld > %d/255%s), "
+                "PSNR %s, SSIM %.5f",
                 m.maxChannelDiff, percent(m.differingFraction).c_str(),
                 static_cast<long long>(m.differingPixels), static_cast<long long>(m.pixels),
-                m.threshold, psnr);
+                m.threshold, masked, psnr, m.ssim);
   return buf;
 }
 
-Image diffImage(const Image& expected, const Image& actual, int threshold) {
+Image diffImage(const Image& expected, const Image& actual, int threshold, const PixelMask& mask) {
   Image out(expected.width, expected.height);
   for (int y = 0; y < out.height; ++y) {
     for (int x = 0; x < out.width; ++x) {
@@ -122,6 +136,10 @@ Image diffImage(const Image& expected, const Image& actual, int threshold) {
       const int grey = 24 + luma(e) * 2 / 5;
       if (x >= actual.width || y >= actual.height) {
         put(out, x, y, 255, 0, 0);
+        continue;
+      }
+      if (masked(mask, x, y)) {
+        put(out, x, y, grey / 3, grey / 3, grey / 3);
         continue;
       }
       const int d = pixelDiff(e, actual.pixel(x, y));
@@ -134,26 +152,6 @@ Image diffImage(const Image& expected, const Image& actual, int threshold) {
         put(out, x, y, grey, grey, grey);
       }
     }
-  }
-  return out;
-}
-
-Image sideBySide(const Image& expected, const Image& actual, const Image& diff) {
-  constexpr int kGap = 4;
-  const Image* parts[] = {&expected, &actual, &diff};
-  int width = 2 * kGap, height = 0;
-  for (const Image* p : parts) {
-    width += p->width;
-    height = std::max(height, p->height);
-  }
-  Image out(width, height);
-  for (std::size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = 16;
-  int left = 0;
-  for (const Image* p : parts) {
-    for (int y = 0; y < p->height; ++y) {
-      std::copy_n(p->pixel(0, y), static_cast<std::size_t>(p->width) * 3, out.pixel(left, y));
-    }
-    left += p->width + kGap;
   }
   return out;
 }

@@ -117,9 +117,20 @@ TEST_F(RegressCommand, ABodyMovedByOneLeafVoxelFailsAgainstTheGoldens) {
     const fs::path picture = path("report/cubes") / (std::string(frame) + "_compare.png");
     ASSERT_TRUE(fs::exists(picture)) << picture;
     const Image composite = readPng(picture.string());
-    EXPECT_EQ(composite.width, 3 * 320 + 2 * 4);  // expected | actual | diff
-    EXPECT_EQ(composite.height, 180);
+    // expected | actual | diff under labels, and the three crops at 4x under theirs
+    const int band = 7 * 2 + 8;
+    EXPECT_EQ(composite.width, 3 * 320 + 2 * 4);
+    EXPECT_EQ(composite.height, band + 180 + 4 + band + 180);
+    // The HTML report's pictures: the golden as it is, the actual frame, the diff.
+    const Image expected =
+        readPng((path("report/cubes") / (std::string(frame) + "_expected.png")).string());
+    EXPECT_EQ(expected.rgb,
+              readPng((path("moved/cubes") / (std::string(frame) + ".png")).string()).rgb);
+    for (const char* kind : {"_actual.png", "_diff.png"})
+      EXPECT_TRUE(fs::exists(path("report/cubes") / (std::string(frame) + kind))) << frame << kind;
   }
+  const std::string html = readFile(path("report/index.html"));
+  EXPECT_NE(html.find("src=\"cubes/frame_0006_expected.png\""), std::string::npos);
   const std::string report = readFile(path("report/report.txt"));
   EXPECT_NE(report.find("frame_0000.png: FAIL"), std::string::npos) << report;
   EXPECT_NE(report.find("FAIL: 1 case, 0 of 3 frames passed, 1 checksums changed or missing"),
@@ -150,6 +161,61 @@ TEST_F(RegressCommand, OneLeafVoxelFailsEvenWithAFixedCamera) {
     EXPECT_EQ(run("s -o r"), 1) << out_ << err_;
     EXPECT_NE(out_.find("frame_0000.png: FAIL"), std::string::npos) << dx << "\n" << out_;
   }
+  // A mask over the whole frame hides the move from the frame (the checksum still fails).
+  writeFile(path("s/suite.toml"),
+            "[[case]]\nname = \"cubes\"\nscene = \"cubes.toml\"\nframes = [0]\nsize = [320, 180]\n"
+            "mask = [[0, 0, 160, 180], [160, 0, 160, 180]]\n");
+  EXPECT_EQ(run("s -o r"), 1) << out_ << err_;
+  EXPECT_NE(out_.find("frame_0000.png: ok    max diff 0/255, 0.000% of pixels differ (0 of 0 > "
+                      "8/255, 57600 masked)"),
+            std::string::npos)
+      << out_;
+  // With the pixel count turned off, a minimum SSIM still sees the move.
+  writeFile(path("s/suite.toml"),
+            "[[case]]\nname = \"cubes\"\nscene = \"cubes.toml\"\nframes = [0]\nsize = [320, 180]\n"
+            "threshold = 255\nmax_fraction = 1.0\nmin_ssim = 0.9999\n");
+  EXPECT_EQ(run("s -o r"), 1) << out_ << err_;
+  EXPECT_NE(out_.find("frame_0000.png: FAIL"), std::string::npos) << out_;
+}
+
+// Cases rendered in two worker processes give the same report files, byte for byte, as one
+// process (timings.txt apart, and the JUnit file's time attributes): the same lines, pictures,
+// page and XML, in case order.
+TEST_F(RegressCommand, JobsGiveTheSameReportBytes) {
+  cubesSuite("s", 0.3 / 16);
+  writeFile(path("s/same.toml"), cubesScene());
+  writeFile(path("s/suite.toml"), std::string(kCubesCase) +
+                                      "\n[[case]]\nname = \"same\"\nscene = \"same.toml\"\n"
+                                      "frames = [0, 60]\nsize = [160, 90]\n" +
+                                      "\n[[case]]\nname = \"broken\"\nscene = \"same.toml\"\n"
+                                      "frames = [9999]\n");
+  ASSERT_EQ(run("s -o same --update --case same"), 0) << out_ << err_;
+  // Both into the folder r (the reports name it), the first then moved aside.
+  ASSERT_EQ(run("s -o r --junit r/junit.xml"), 1) << out_ << err_;
+  const std::string out1 = out_;
+  fs::rename(path("r"), path("r1"));
+  ASSERT_EQ(run("s -o r --junit r/junit.xml -j 2"), 1) << out_ << err_;
+  const auto withoutTimes = [](std::string text) {
+    for (std::size_t at = text.find("time=\""); at != std::string::npos;
+         at = text.find("time=\"", at + 1))
+      text.erase(at, text.find('"', at + 6) + 1 - at);
+    return text;
+  };
+  EXPECT_EQ(withoutTimes(readFile(path("r1/junit.xml"))),
+            withoutTimes(readFile(path("r/junit.xml"))));
+  std::vector<std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(path("r1"))) {
+    const fs::path rel = fs::relative(e.path(), path("r1"));
+    if (!e.is_regular_file() || rel == "timings.txt" || rel == "junit.xml") continue;
+    files.push_back(rel.string());
+    EXPECT_TRUE(fs::exists(path("r") / rel) && readFile(e.path()) == readFile(path("r") / rel))
+        << rel;
+  }
+  // report.txt, index.html and 4 pictures of each of the 3 failing frames
+  EXPECT_EQ(files.size(), 2u + 4 * 3) << ::testing::PrintToString(files);
+  // The stdout lines up to the one with the run's time.
+  EXPECT_EQ(out1.substr(0, out1.find("report:")), out_.substr(0, out_.find("report:")));
+  EXPECT_NE(out_.find("broken (s/suite.toml:"), std::string::npos) << out_;
 }
 
 TEST_F(RegressCommand, MissingGoldensAreReportedAndUpdateCreatesThem) {
@@ -241,6 +307,12 @@ TEST_F(RegressCommand, SuiteErrorsNameFileLineAndColumn) {
   // even an identical one (a share of differing pixels is never <= nan).
   expectError("[[case]]\nscene = \"cubes.toml\"\nframes = [0]\nmax_fraction = nan\n", "4:16",
               "'max_fraction' must be a number in 0..1");
+  expectError("[[case]]\nscene = \"cubes.toml\"\nframes = [0]\nmask = [[0, 0, 10]]\n", "4:9",
+              "'mask' must be a list of rectangles [x, y, width, height]");
+  expectError("[[case]]\nscene = \"cubes.toml\"\nframes = [0]\nmask = [[0, 0, 0, 5]]\n", "4:16",
+              "'mask width' must be an integer in 1..");
+  expectError("min_ssim = 1.5\n[[case]]\nscene = \"cubes.toml\"\nframes = [0]\n", "1:12",
+              "'min_ssim' must be a number in 0..1 (a mean SSIM)");
   expectError("[[case]]\nscene = \"cubes.toml\"\n", "1", "needs 'frames");
   expectError(
       "[[case]]\nscene = \"cubes.toml\"\nframes = [0]\n\n[[case]]\nscene = "
@@ -257,6 +329,15 @@ TEST_F(RegressCommand, ABrokenCaseFailsAloneAndUsageExits2) {
   ASSERT_EQ(run("s --update"), 1) << out_ << err_;
   EXPECT_NE(out_.find("late (s/suite.toml:1): ERROR"), std::string::npos) << out_;
   EXPECT_NE(out_.find("outside the scene's frames 0:60"), std::string::npos) << out_;
+  // A mask rectangle off the frame fails its case, naming the rectangle and the frame size.
+  writeFile(path("s/suite.toml"),
+            "[[case]]\nscene = \"cubes.toml\"\nframes = [0]\n"
+            "size = [64, 36]\nmask = [[60, 0, 5, 5]]\n");
+  ASSERT_EQ(run("s"), 1) << out_ << err_;
+  EXPECT_NE(out_.find("s/suite.toml:5:8: mask rectangle [60, 0, 5, 5] reaches outside the 64x36 "
+                      "frame"),
+            std::string::npos)
+      << out_;
   EXPECT_TRUE(fs::exists(path("s/cubes/frame_0000.png")));  // the other case ran
   EXPECT_TRUE(fs::exists(path("out/regress/report.txt")));  // the default report folder
 
