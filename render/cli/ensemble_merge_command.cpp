@@ -47,8 +47,8 @@ SceneSpec sceneOf(const JournalHeader& header) {
   SceneSpec spec = loadScene(sceneFileOf(header));
   applyOverrides(spec, header.overrides);
   if (!spec.ensemble) throw InputError(spec.path, "the scene has no [ensemble] table");
-  const JournalHeader now = makeJournalHeader(spec, sceneFileOf(header), voxfallVersion(), header.seed,
-                                              header.overrides, header.paths, "");
+  const JournalHeader now = makeJournalHeader(spec, sceneFileOf(header), voxfallVersion(),
+                                              header.seed, header.overrides, header.paths, "");
   const std::string d = journalDifference(header, now, false);
   if (!d.empty())
     throw InputError(header.scenePath,
