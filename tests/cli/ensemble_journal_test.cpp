@@ -34,10 +34,7 @@ class EnsembleJournalTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("voxfall_journal_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = vf::test::scratchFolder("voxfall_journal_test", info->name());
     ASSERT_TRUE(vf::test::writeChuteDem(dir_ / "chute.tif"));
     vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
   }

@@ -21,13 +21,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST(EnsembleMpiTest, TwoRanksWriteTheSameBytesAsOneProcess) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("voxfall_ensemble_mpi_test_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  ASSERT_TRUE(vf::test::writeChuteDem(dir / "chute.tif"));
+// A scratch folder with the chute and its scene.
+fs::path chuteFolder(const std::string& name) {
+  const fs::path dir = vf::test::scratchFolder("voxfall_ensemble_mpi_test", name);
+  EXPECT_TRUE(vf::test::writeChuteDem(dir / "chute.tif"));
   vf::test::writeChuteScene(dir, vf::test::kChuteEnsemble);
+  return dir;
+}
+
+TEST(EnsembleMpiTest, TwoRanksWriteTheSameBytesAsOneProcess) {
+  const fs::path dir = chuteFolder("two_ranks");
   const std::string args = "ensemble scene.toml --runs 7 --seed 3 --converge --paths -q";
   const auto one = vf::test::runVoxfall(VOXFALL_EXE, dir, args + " -o one");
   ASSERT_EQ(one.code, 0) << one.err;
@@ -78,12 +81,7 @@ bool running(pid_t pid) {
 }
 
 TEST(EnsembleMpiTest, ARunWithAKilledRankIsFinishedByAResumeWithoutMpi) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("voxfall_ensemble_mpi_kill_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  ASSERT_TRUE(vf::test::writeChuteDem(dir / "chute.tif"));
-  vf::test::writeChuteScene(dir, vf::test::kChuteEnsemble);
+  const fs::path dir = chuteFolder("killed_rank");
   const std::string args = "ensemble scene.toml --runs 40 --seed 3 --converge -q";
   const auto one = vf::test::runVoxfall(VOXFALL_EXE, dir, args + " -o one");
   ASSERT_EQ(one.code, 0) << one.err;

@@ -48,9 +48,7 @@ class InterruptedOutputs : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("voxfall_interrupted_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
+    dir_ = vf::test::scratchFolder("voxfall_interrupted", info->name());
     fs::create_directories(dir_ / "meshes");
     const fs::path scenes = fs::path(VOXFALL_SOURCE_DIR) / "scenes";
     fs::copy_file(scenes / "meshes/cube.obj", dir_ / "meshes/cube.obj");
