@@ -28,7 +28,10 @@ void addFilmstripCommand(CLI::App& app, int& exitCode);
 // voxfall plot RUN.csv [--scene SCENE] [-o DIR]
 void addPlotCommand(CLI::App& app, int& exitCode);
 // voxfall ensemble SCENE --runs N [--seed S] [--jobs J] [--only i] [-o DIR] [--converge]
+// [--resume] [--shard i/n]
 void addEnsembleCommand(CLI::App& app, int& exitCode);
+// voxfall ensemble-merge DIR... -o OUT [--converge] [--maps] [--video-runs K]
+void addEnsembleMergeCommand(CLI::App& app, int& exitCode);
 
 // Renders a scene or bake to `output` (an MP4, or PNGs) exactly as `voxfall render INPUT -o
 // OUTPUT [-y|-n] [--quiet]` does; returns that command's exit code (errors are thrown as

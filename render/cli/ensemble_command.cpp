@@ -1,37 +1,37 @@
 // voxfall ensemble SCENE --runs N: many independent realisations of the scene's [ensemble]
 // release (sim/ensemble/), reduced into per-cell rasters on the DEM's grid, a table of runs and
-// a summary (README, "Ensembles and hazard maps").
+// a summary (docs/ensembles.md).
 //
-// The command is thin: options, output files (render/output/output_file.h: temporary names,
-// renamed when complete; -y/-n; inputs never written), threads and MPI ranks, the progress
-// line. Every number comes from sim/ensemble; the reduction reads the realisations in index
-// order only, so the files are the same bytes for any --jobs and any number of MPI ranks.
-// Outputs are written by rank 0 alone.
+// The command is thin: options, the journal (sim/ensemble/ensemble_journal.h: every complete
+// realisation appended as it completes, so a killed run loses only what was in flight, and
+// --resume continues it), the realisations still to run (sim/ensemble/ensemble_shards.h:
+// --resume, --shard), threads and MPI ranks, the progress line. The outputs are reduced from
+// the journal in index order (render/cli/ensemble_files.h), so they are the same bytes for any
+// --jobs, any number of MPI ranks, any interruptions and any split into shards. Outputs and the
+// journal are written by rank 0 alone.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "render/cli/commands.h"
+#include "render/cli/ensemble_files.h"
 #include "render/cli/ensemble_mpi.h"
-#include "render/cli/ensemble_output.h"
 #include "render/cli/options.h"
 #include "render/cli/run_output.h"
-#include "render/maps/hazard_map.h"
 #include "render/output/output_file.h"
 #include "render/progress.h"
 #include "sim/core/error.h"
 #include "sim/ensemble/ensemble.h"
-#include "sim/ensemble/ensemble_bake.h"
-#include "sim/ensemble/ensemble_stats.h"
-#include "sim/ensemble/raster_output.h"
+#include "sim/ensemble/ensemble_journal.h"
+#include "sim/ensemble/ensemble_shards.h"
 #include "sim/scene/scene.h"
 
 namespace vf::cli {
@@ -45,94 +45,247 @@ struct EnsembleOptions {
   std::optional<std::uint64_t> seed;
   int jobs = 1;
   std::optional<std::int64_t> only;
-  std::string outDir;
-  bool converge = false;
-  bool paths = false;
-  int videoRuns = 0;
-  bool quiet = false;
-  bool maps = false;         // --maps: a PNG per statistic and the runout plot
+  std::string shard;    // --shard i/n
+  bool resume = false;  // --resume: continue the journal in -o DIR
+  EnsembleFileOptions files;
   SceneOverrides overrides;  // --level, --step, --collider, run limits, --repair
-  bool overwrite = false;
-  bool neverOverwrite = false;
 };
 
-// The cells with the most passages that --converge follows.
-constexpr int kConvergenceCells = 3;
-
-// One output per statistic and format, the runs table, the summary and the optional files; all
-// opened (checked) before any realisation runs.
-struct Outputs {
-  struct Raster {
-    std::unique_ptr<OutputFile> tif, asc, prj;
-  };
-  std::vector<Raster> rasters;  // per layer, in cellStatistics' order
-  std::unique_ptr<OutputFile> runs, summary, converge, paths, bake;
-  std::vector<fs::path> maps;  // --maps: per layer NAME.png, then runout.png
+// What rank 0 holds while the realisations run: the journal and the outputs to write.
+struct RootState {
+  std::string journalPath;
+  std::optional<JournalWriter> journal;
+  std::vector<std::int64_t> done;  // realisations already in the journal (--resume)
+  std::optional<EnsembleFiles> files;
 };
 
-const char* const kLayerNames[] = {"passages",   "reach_probability", "energy_mean",
-                                   "energy_p50", "energy_p95",        "energy_max",
-                                   "height_p95", "speed_p95",         "deposited"};
-
-Outputs openOutputs(const EnsembleOptions& o, const OutputRules& rules, bool hasCrs) {
-  Outputs out;
-  const fs::path dir(o.outDir);
-  auto open = [&](const std::string& name) {
-    return std::make_unique<OutputFile>((dir / name).string(), rules);
-  };
-  for (const char* name : kLayerNames) {
-    Outputs::Raster r;
-    r.tif = open(std::string(name) + ".tif");
-    r.asc = open(std::string(name) + ".asc");
-    if (hasCrs) r.prj = open(std::string(name) + ".prj");
-    out.rasters.push_back(std::move(r));
-  }
-  out.runs = open("runs.csv");
-  out.summary = open("summary.json");
-  if (o.converge) out.converge = open("converge.csv");
-  if (o.paths) out.paths = open("paths.csv");
-  if (o.videoRuns > 0) {
-    out.bake = open("ensemble_subset.bake");
-    // Rendered from the bake once it is written (renderToFile opens it then).
-    checkOutputPath((dir / "trajectories.mp4").string(), rules);
-  }
-  if (o.maps) {
-    // The maps are written by render/maps (each through its own OutputFile); -y/-n and the
-    // inputs are checked here, before any realisation runs.
-    for (const char* name : kLayerNames) out.maps.push_back(dir / (std::string(name) + ".png"));
-    out.maps.push_back(dir / "runout.png");
-    for (const fs::path& png : out.maps) checkOutputPath(png.string(), rules);
-  }
-  return out;
+std::string defaultFolder(const SceneSpec& spec, const std::optional<Shard>& shard) {
+  if (!shard) return "out/" + spec.name + "_ensemble";
+  return "out/" + spec.name + "_ensemble_shard-" + std::to_string(shard->index) + "-of-" +
+         std::to_string(shard->count);
 }
 
-int runEnsemble(const EnsembleOptions& o) {
+// The journal continued (--resume: the same scene, version and options, else an error naming
+// the difference) or started (refused where one exists, unless -y).
+void openJournal(RootState& root, const EnsembleOptions& o, const JournalHeader& header) {
+  const bool exists = fs::exists(root.journalPath);
+  if (o.resume) {
+    if (!exists)
+      throw InputError(root.journalPath,
+                       "no journal to resume in this folder; run without --resume to start");
+    const JournalContents j = readJournal(root.journalPath);
+    const std::string d = journalDifference(j.header, header, true);
+    if (!d.empty())
+      throw InputError(root.journalPath, "cannot resume: " + d +
+                                             "; resume with the journal's scene and options, or "
+                                             "start over in another folder");
+    if (j.tornBytes > 0)
+      std::fprintf(stderr, "voxfall: %s: dropped a record cut short (%llu bytes) at its end\n",
+                   root.journalPath.c_str(), static_cast<unsigned long long>(j.tornBytes));
+    root.done = indicesOf(j.results);
+    root.journal.emplace(root.journalPath, j.goodBytes);
+  } else {
+    if (exists && o.files.neverOverwrite)
+      throw InputError(root.journalPath, "already exists; not overwritten (-n)");
+    if (exists && !o.files.overwrite)
+      throw InputError(root.journalPath,
+                       "already exists: an ensemble ran into this folder; continue it with "
+                       "--resume, start it over with -y, or choose another -o");
+    root.journal.emplace(root.journalPath, header);
+  }
+}
+
+// Checks and opens, on rank 0, everything the run writes: the journal and the outputs (a shard
+// writes its journal only; --only writes no journal).
+void openRoot(RootState& root, const EnsembleOptions& o, const SceneSpec& spec, const Ensemble& ens,
+              std::uint64_t seed, const std::optional<Shard>& shard) {
+  OutputRules rules = runOutputRules(spec, o.scene, o.files.overwrite, o.files.neverOverwrite);
+  if (!spec.ensemble->cellsPath.empty()) rules.inputs.push_back(spec.ensemble->cellsPath);
+  if (!spec.groundClassesPath.empty()) rules.inputs.push_back(spec.groundClassesPath);
+  if (!o.only) {
+    std::error_code ec;
+    fs::create_directories(o.files.outDir, ec);
+    removeStalePartials(o.files.outDir);
+    root.journalPath = (fs::path(o.files.outDir) / kJournalName).string();
+    checkOutputPath(root.journalPath, OutputRules{Overwrite::always, rules.inputs});
+    openJournal(root, o,
+                makeJournalHeader(spec, o.scene, voxfallVersion(), seed, o.overrides, o.files.paths,
+                                  shardText(shard)));
+    root.journal->addRuns(o.runs);
+  }
+  // A resumed run replaces the outputs its journal's run wrote: they are made from the journal.
+  if (o.resume) rules.overwrite = Overwrite::always;
+  if (!shard) root.files.emplace(o.files, rules, !ens.dem().crsWkt.empty());
+}
+
+// The realisations this process runs: rank r takes every size-th of those still to run (round
+// robin balances the ranks when realisation costs drift with the index, cheaply).
+std::vector<std::int64_t> myIndices(const EnsembleOptions& o, MpiSession& mpi,
+                                    const std::optional<Shard>& shard,
+                                    std::vector<std::int64_t> done) {
+  if (o.only)
+    return mpi.rank() == 0 ? std::vector<std::int64_t>{*o.only} : std::vector<std::int64_t>{};
+  std::string bytes(reinterpret_cast<const char*>(done.data()), done.size() * sizeof(std::int64_t));
+  mpi.broadcast(bytes);
+  done.resize(bytes.size() / sizeof(std::int64_t));
+  std::memcpy(done.data(), bytes.data(), bytes.size());
+  const std::vector<std::int64_t> todo = indicesToRun(o.runs, shard, std::move(done));
+  std::vector<std::int64_t> mine;
+  for (std::size_t k = static_cast<std::size_t>(mpi.rank()); k < todo.size();
+       k += static_cast<std::size_t>(mpi.size()))
+    mine.push_back(todo[k]);
+  return mine;
+}
+
+// Runs this process's realisations. Each complete one goes to the journal as it completes:
+// rank 0 appends its own and those the other ranks send; they send theirs to rank 0.
+std::vector<RealisationResult> runMine(const EnsembleOptions& o, const Ensemble& ens,
+                                       std::uint64_t seed, const std::vector<std::int64_t>& indices,
+                                       MpiSession& mpi, RootState& root) {
+  const bool isRoot = mpi.rank() == 0;
+  const auto journal = [&](const RealisationResult& r) {
+    if (root.journal) root.journal->add(r);
+  };
+  const auto receive = [&](const std::string& bytes) {
+    std::size_t at = 0;
+    journal(deserializeResult(bytes, at));
+  };
+  const auto onResult = [&](const RealisationResult& r) {
+    if (isRoot) return journal(r);
+    std::string bytes;
+    serializeResult(r, bytes);
+    mpi.send(bytes);
+  };
+  const auto started = std::chrono::steady_clock::now();
+  Progress progress(ens.spec().name + " ensemble", static_cast<int>(indices.size()),
+                    isRoot && !o.files.quiet);
+  const auto report = [&](int done) {
+    mpi.receive(false, receive);
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    char detail[96];
+    std::snprintf(detail, sizeof detail, "%.2f realisations/s%s", s > 0 ? done / s : 0.0,
+                  mpi.size() > 1 ? " on rank 0" : "");
+    progress.update(done, detail);
+  };
+  std::exception_ptr failure;
+  std::vector<RealisationResult> mine;
+  try {
+    mine = runRealisations(
+        ens, indices, seed, std::max(1, o.jobs), o.files.paths, report,
+        [] { return stopSignal() != 0; }, onResult);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  progress.finish();
+  if (isRoot)
+    mpi.receive(true, receive);
+  else
+    mpi.sendDone();
+  if (!mpi.allOk(!failure)) {
+    if (failure) std::rethrow_exception(failure);
+    throw InputError("", "another MPI rank failed (it said why)");
+  }
+  return mine;
+}
+
+// What the outputs are made of: the journal's realisations in index order (the --only one
+// from memory).
+std::vector<RealisationResult> completeRealisations(const EnsembleOptions& o, RootState& root,
+                                                    std::vector<RealisationResult> mine) {
+  if (o.only) {
+    std::erase_if(mine, [](const RealisationResult& r) { return !r.complete; });
+    return mine;
+  }
+  root.journal.reset();  // flushed and closed
+  return resultsInIndexOrder(readJournal(root.journalPath).results, o.runs);
+}
+
+int finishShard(const EnsembleOptions& o, const SceneSpec& spec, const Shard& shard,
+                const std::vector<RealisationResult>& all, int stop) {
+  const std::int64_t share = static_cast<std::int64_t>(indicesToRun(o.runs, shard, {}).size());
+  std::int64_t have = 0;
+  for (const RealisationResult& r : all)
+    if (r.index % shard.count == shard.index) ++have;
+  std::printf("%s: shard %s of --runs %lld: %lld of its %lld realisations in %s\n",
+              spec.name.c_str(), shardText(shard).c_str(), static_cast<long long>(o.runs),
+              static_cast<long long>(have), static_cast<long long>(share),
+              (fs::path(o.files.outDir) / kJournalName).c_str());
+  if (stop)
+    std::fprintf(stderr,
+                 "voxfall: interrupted; the journal keeps the complete realisations: "
+                 "continue the shard with --resume\n");
+  return stop ? 128 + stop : 0;
+}
+
+// How many realisations this run ran, how fast, and how many it took from the journal.
+void reportTimes(const EnsembleOptions& o, const RootState& root,
+                 const std::vector<RealisationResult>& all, double seconds, int ranks) {
+  std::vector<std::int64_t> done = root.done;
+  std::sort(done.begin(), done.end());
+  std::size_t taken = 0;
+  for (const RealisationResult& r : all)
+    taken += std::binary_search(done.begin(), done.end(), r.index);
+  const std::size_t ran = all.size() - taken;
+  const int jobs = std::max(1, o.jobs);
+  const std::string tail = taken ? ", " + std::to_string(taken) + " taken from the journal" : "";
+  std::fprintf(stderr,
+               "voxfall: %zu realisations run in %.2f s (%.2f realisations/s, %d thread%s%s)%s\n",
+               ran, seconds, seconds > 0 ? ran / seconds : 0.0, jobs, jobs == 1 ? "" : "s",
+               ranks > 1 ? (" x " + std::to_string(ranks) + " ranks").c_str() : "", tail.c_str());
+}
+
+// Writes the outputs of `all` and says what was written.
+int finishEnsemble(const EnsembleOptions& o, const Ensemble& ens, RootState& root,
+                   const std::vector<RealisationResult>& all, std::uint64_t seed, int stop,
+                   double seconds, int ranks) {
+  if (all.empty()) {
+    std::fprintf(stderr, "voxfall: %s; no realisation complete, no output written\n",
+                 stop ? "interrupted" : "nothing ran");
+    return stop ? 128 + stop : 1;
+  }
+  const std::int64_t requested = o.only ? 1 : o.runs;
+  EnsembleRunInfo info{seed, requested, o.only, 0};
+  // Interrupted means said: the summary records it when the files miss realisations.
+  if (stop && static_cast<std::int64_t>(all.size()) < requested) info.stopSignal = stop;
+  const int videoCode = root.files->write(ens, info, all);
+  reportEnsemble(ens, info, all, *root.files);
+  reportTimes(o, root, all, seconds, ranks);
+  if (stop) {
+    std::fprintf(stderr,
+                 "voxfall: interrupted; the files hold the %zu complete realisations (%s) of "
+                 "%lld; continue with --resume\n",
+                 all.size(), indexRanges(all).c_str(), static_cast<long long>(requested));
+    return 128 + stop;
+  }
+  return videoCode;
+}
+
+int runEnsemble(const EnsembleOptions& given) {
+  EnsembleOptions o = given;
   SceneSpec spec = loadScene(o.scene);
   applyOverrides(spec, o.overrides);
   if (!spec.ensemble)
     throw InputError(spec.path,
                      "the scene has no [ensemble] table (what varies between realisations; see "
-                     "the README, \"Ensembles and hazard maps\")");
+                     "docs/ensembles.md)");
   if (o.only && (*o.only < 0 || *o.only >= o.runs))
     throw InputError("", "--only " + std::to_string(*o.only) + " is not a realisation of --runs " +
                              std::to_string(o.runs) + " (0 .. " + std::to_string(o.runs - 1) + ")");
+  const std::optional<Shard> shard =
+      o.shard.empty() ? std::nullopt : std::optional<Shard>(parseShard(o.shard));
   const std::uint64_t seed = o.seed.value_or(spec.ensemble->seed);
-  EnsembleOptions opts = o;
-  if (opts.outDir.empty()) opts.outDir = "out/" + spec.name + "_ensemble";
+  if (o.files.outDir.empty()) o.files.outDir = defaultFolder(spec, shard);
 
   MpiSession mpi;
-  const bool root = mpi.rank() == 0;
-  // Outputs are checked and opened by rank 0 before any realisation runs; every rank learns
-  // whether that worked, so none waits for a rank that gave up.
-  OutputRules rules = runOutputRules(spec, o.scene, o.overwrite, o.neverOverwrite);
-  if (!spec.ensemble->cellsPath.empty()) rules.inputs.push_back(spec.ensemble->cellsPath);
-  if (!spec.groundClassesPath.empty()) rules.inputs.push_back(spec.groundClassesPath);
-  std::optional<Outputs> outputs;
+  // Rank 0 checks and opens the journal and outputs before any realisation runs; every rank
+  // learns whether that worked, so none waits for a rank that gave up.
   std::optional<Ensemble> ensemble;
+  RootState root;
   std::exception_ptr failure;
   try {
     ensemble.emplace(spec);  // terrain and shapes, once (a few seconds at most)
-    if (root) outputs = openOutputs(opts, rules, !ensemble->dem().crsWkt.empty());
+    if (mpi.rank() == 0) openRoot(root, o, spec, *ensemble, seed, shard);
   } catch (...) {
     failure = std::current_exception();
   }
@@ -141,180 +294,16 @@ int runEnsemble(const EnsembleOptions& o) {
     return 1;  // another rank reported the problem
   }
   installStopHandlers();
-
-  // Realisations of this rank: every size-th from its rank (round robin balances ranks when
-  // realisation costs drift with the index, which they do not by construction, but cheaply).
-  std::vector<std::int64_t> indices;
-  if (o.only) {
-    if (root) indices.push_back(*o.only);
-  } else {
-    for (std::int64_t i = mpi.rank(); i < o.runs; i += mpi.size()) indices.push_back(i);
-  }
-  const int jobs = std::max(1, o.jobs);
+  const std::vector<std::int64_t> indices = myIndices(o, mpi, shard, root.done);
   const auto started = std::chrono::steady_clock::now();
-  Progress progress(spec.name + " ensemble", static_cast<int>(indices.size()), root && !o.quiet);
-  const auto report = [&](int done) {
-    const double s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    char detail[96];
-    std::snprintf(detail, sizeof detail, "%.2f realisations/s%s", s > 0 ? done / s : 0.0,
-                  mpi.size() > 1 ? " on rank 0" : "");
-    progress.update(done, detail);
-  };
-  std::vector<RealisationResult> mine;
-  try {
-    mine = runRealisations(*ensemble, indices, seed, jobs, o.paths, report,
-                           [] { return stopSignal() != 0; });
-  } catch (...) {
-    failure = std::current_exception();
-  }
-  progress.finish();
+  std::vector<RealisationResult> mine = runMine(o, *ensemble, seed, indices, mpi, root);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  if (!mpi.allOk(!failure)) {
-    if (failure) std::rethrow_exception(failure);
-    return 1;
-  }
-
-  // Every rank's realisations on rank 0, in index order.
-  const std::vector<std::string> gathered = mpi.gather(serializeResults(mine));
-  if (!root) return stopSignal() ? 128 + stopSignal() : 0;
-  std::vector<RealisationResult> all;
-  for (const std::string& bytes : gathered) {
-    std::vector<RealisationResult> part = deserializeResults(bytes);
-    for (RealisationResult& r : part) all.push_back(std::move(r));
-  }
-  std::sort(all.begin(), all.end(), [](const RealisationResult& a, const RealisationResult& b) {
-    return a.index < b.index;
-  });
-  // An interrupted ensemble keeps its complete prefix 0 .. k-1: exactly the ensemble --runs k
-  // would give, so what it wrote can be reproduced.
-  std::size_t complete = 0;
-  while (complete < all.size() && all[complete].complete) ++complete;
-  all.resize(complete);
   const int stop = stopSignal();
-  if (all.empty()) {
-    std::fprintf(stderr, "voxfall: %s; no realisation complete, no output written\n",
-                 stop ? "interrupted" : "nothing ran");
-    return stop ? 128 + stop : 1;
-  }
-
-  const Ensemble& ens = *ensemble;
-  const Heightfield& dem = ens.dem();
-  const std::vector<StatLayer> layers = cellStatistics(dem, all);
-  std::string written;
-  const auto commit = [&](OutputFile& f) {
-    f.commit();
-    written += (written.empty() ? "" : ", ") + fs::path(f.path()).filename().string();
-  };
-  for (std::size_t k = 0; k < layers.size(); ++k) {
-    Outputs::Raster& r = outputs->rasters[k];
-    r.tif->closeStream();
-    writeRaster(r.tif->tempPath(), RasterFormat::kGeoTiff, layers[k].values, dem.nx, dem.ny,
-                spec.terrainPath);
-    commit(*r.tif);
-    r.asc->closeStream();
-    writeRaster(r.asc->tempPath(), RasterFormat::kEsriAscii, layers[k].values, dem.nx, dem.ny,
-                spec.terrainPath);
-    commit(*r.asc);
-    if (r.prj) {  // the ASCII grid's CRS: the DEM's own WKT
-      std::fputs(dem.crsWkt.c_str(), r.prj->stream());
-      commit(*r.prj);
-    }
-  }
-  writeRunsCsv(outputs->runs->stream(), ens, all);
-  commit(*outputs->runs);
-  if (outputs->paths) {
-    writePathsCsv(outputs->paths->stream(), dem, all);
-    commit(*outputs->paths);
-  }
-
-  int videoCode = 0;  // the video's render: 130/143 when it was interrupted
-  if (outputs->bake) {
-    // The first --video-runs complete realisations (or the --only one), stepped again frame by
-    // frame for `voxfall render ensemble_subset.bake`.
-    std::vector<std::int64_t> chosen;
-    for (std::size_t k = 0; k < all.size() && static_cast<int>(k) < o.videoRuns; ++k)
-      chosen.push_back(all[k].index);
-    const Bake bake = ensembleBake(ens, seed, chosen);
-    writeBake(outputs->bake->stream(), outputs->bake->path(), bake);
-    commit(*outputs->bake);
-    // ... and their video over the terrain, as `voxfall render` draws the bake (not after an
-    // interrupt: the realisations' files come first).
-    if (!stop) {
-      const std::string video = (fs::path(opts.outDir) / "trajectories.mp4").string();
-      videoCode =
-          renderToFile(outputs->bake->path(), video, o.overwrite, o.neverOverwrite, o.quiet);
-      if (videoCode == 0) written += ", trajectories.mp4";
-    }
-  }
-
-  std::vector<ConvergenceRow> conv;
-  if (o.converge) {
-    conv = convergence(dem, all, kConvergenceCells);
-    writeConvergence(outputs->converge->stream(), stderr, dem, conv);
-    commit(*outputs->converge);
-  }
-
-  if (o.maps) {
-    // Hazard maps over the DEM's hillshade with the release areas, and the runout plot.
-    std::vector<std::vector<Vec2>> areas;
-    for (const std::vector<Point2>& area : ens.releaseAreas()) {
-      areas.emplace_back();
-      for (const Point2& p : area) areas.back().emplace_back(p[0], p[1]);
-    }
-    // A cell no realisation reached has no value on a map (the rasters say 0 passages there):
-    // it shows the hillshade, so the reached area stands out.
-    const std::vector<double>& passages = layers[0].values;
-    for (std::size_t k = 0; k < layers.size(); ++k) {
-      MapLayer layer{layers[k].name, layers[k].title, layers[k].units, layers[k].values};
-      for (std::size_t c = 0; c < passages.size(); ++c)
-        if (passages[c] == 0) layer.values[c] = NAN;
-      writeHazardMap(dem, layer, areas, outputs->maps[k].string(), rules);
-      written += ", " + outputs->maps[k].filename().string();
-    }
-    std::vector<double> runouts, reach;
-    for (const RealisationResult& r : all) {
-      runouts.push_back(r.runout);
-      reach.push_back(r.reachAngle);
-    }
-    writeRunoutPlot(runouts, reach, outputs->maps.back().string(), rules);
-    written += ", " + outputs->maps.back().filename().string();
-  }
-
-  writeEnsembleSummary(outputs->summary->stream(), spec, dem, seed, o.only ? 1 : o.runs, o.only,
-                       all, layers, conv);
-  commit(*outputs->summary);
-
-  int states[4] = {0, 0, 0, 0};
-  for (const RealisationResult& r : all) ++states[static_cast<int>(r.state)];
-  std::printf(
-      "%s: %zu realisations (seed %llu): %d stopped, %d left the DEM, %d buried, %d "
-      "still moving at %.4g s\n",
-      spec.name.c_str(), all.size(), static_cast<unsigned long long>(seed), states[1], states[2],
-      states[3], states[0], spec.duration);
-  std::fprintf(stderr, "voxfall: %zu realisations in %.2f s (%.2f realisations/s, %d thread%s%s)\n",
-               all.size(), seconds, seconds > 0 ? all.size() / seconds : 0.0, jobs,
-               jobs == 1 ? "" : "s",
-               mpi.size() > 1 ? (" x " + std::to_string(mpi.size()) + " ranks").c_str() : "");
-  std::printf("  wrote %s in %s\n", written.c_str(), opts.outDir.c_str());
-  // A realisation cut off by the duration records its rock where it was then: the hazard
-  // products understate the reach without saying so unless told here (--quiet or not).
-  if (states[0] > 0)
-    std::fprintf(stderr,
-                 "voxfall: warning: %d of %zu realisations ended at the scene's duration (%.4g s) "
-                 "with the rock still moving; runs.csv, the runouts and the maps show those "
-                 "rocks where they were then, not where they stop: raise [simulation] "
-                 "duration\n",
-                 states[0], all.size(), spec.duration);
-  if (stop) {
-    std::fprintf(stderr,
-                 "voxfall: interrupted; the first %zu realisations (0 .. %zu) are written, the "
-                 "same as --runs %zu\n",
-                 all.size(), all.size() - 1, all.size());
-    return 128 + stop;
-  }
-  return videoCode;
+  if (mpi.rank() != 0) return stop ? 128 + stop : 0;
+  const std::vector<RealisationResult> all = completeRealisations(o, root, std::move(mine));
+  if (shard) return finishShard(o, spec, *shard, all, stop);
+  return finishEnsemble(o, *ensemble, root, all, seed, stop, seconds, mpi.size());
 }
 
 }  // namespace
@@ -341,27 +330,39 @@ void addEnsembleCommand(CLI::App& app, int& exitCode) {
                   "threads running realisations (outputs are the same bytes for any value)")
       ->type_name("J")
       ->check(CLI::Range(1, 1024));
-  sub->add_option("--only", o->only,
-                  "run realisation i of the N alone (the same trajectory as inside the ensemble)")
-      ->type_name("i");
-  sub->add_option("-o,--output", o->outDir, "output folder (default out/SCENE_ensemble)")
+  CLI::Option* only =
+      sub->add_option("--only", o->only,
+                      "run realisation i of the N alone (the same trajectory as inside the "
+                      "ensemble; no journal)")
+          ->type_name("i");
+  sub->add_option("-o,--output", o->files.outDir, "output folder (default out/SCENE_ensemble)")
       ->type_name("DIR");
-  sub->add_flag("--converge", o->converge,
+  sub->add_flag("--resume", o->resume,
+                "continue the ensemble whose journal is in the output folder (the same scene, "
+                "seed and options): run only the realisations it lacks, up to --runs")
+      ->excludes(only);
+  sub->add_option("--shard", o->shard,
+                  "run shard i of n (realisations i, i + n, i + 2n, ...) into a journal only; "
+                  "combine the shards with `voxfall ensemble-merge`")
+      ->type_name("i/n")
+      ->excludes(only)
+      ->check([](const std::string& text) { return shardProblem(text); });
+  sub->add_flag("--converge", o->files.converge,
                 "write converge.csv and print how reach probability and p95 energy at the 3 "
                 "busiest cells change over N/8, N/4, N/2, N realisations");
-  sub->add_flag("--paths", o->paths,
+  sub->add_flag("--paths", o->files.paths,
                 "write paths.csv: every realisation's centre of mass after every step");
-  sub->add_option("--video-runs", o->videoRuns,
+  sub->add_option("--video-runs", o->files.videoRuns,
                   "write the first K realisations' trajectories as ensemble_subset.bake and render "
                   "it to trajectories.mp4 (the scene's [output] and [camera])")
       ->type_name("K")
       ->check(CLI::Range(1, 10000));
-  sub->add_flag("--maps", o->maps,
+  sub->add_flag("--maps", o->files.maps,
                 "also draw a hazard map PNG per statistic (over a hillshade of the DEM, with the "
                 "release areas) and runout.png (runout and reach-angle distributions)");
   addPhysicsOptions(*sub, o->overrides);
-  sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");
-  addOverwriteFlags(*sub, o->overwrite, o->neverOverwrite);
+  sub->add_flag("--quiet,-q", o->files.quiet, "no progress line on stderr");
+  addOverwriteFlags(*sub, o->files.overwrite, o->files.neverOverwrite);
   sub->callback([o, &exitCode] { exitCode = runEnsemble(*o); });
 }
 

@@ -1,9 +1,11 @@
-// MPI for `voxfall ensemble` (see ensemble_mpi.h). Rank 0 gathers every rank's serialised
-// realisations (sizes first, then the bytes, received rank by rank) and the command reduces
-// them in index order, so the outputs are the bytes one process would write.
+// MPI for `voxfall ensemble` (see ensemble_mpi.h). Every rank sends each realisation to rank 0
+// as it completes, and rank 0 appends it to the journal at once (sim/ensemble/
+// ensemble_journal.h), so a rank that is killed loses only the realisations it had in flight;
+// the command then reduces the journal in index order, so the outputs are the bytes one process
+// would write. Only the thread that called MPI_Init calls MPI (MPI_THREAD_FUNNELED): the
+// worker threads hand their results to it.
 #include "render/cli/ensemble_mpi.h"
 
-#include <algorithm>
 #include <cstdlib>
 #include <string>
 
@@ -32,7 +34,9 @@ MpiSession::MpiSession() {
   if (!launchedByMpi()) return;
   int initialised = 0;
   MPI_Initialized(&initialised);
-  if (!initialised && MPI_Init(nullptr, nullptr) != MPI_SUCCESS)
+  int provided = 0;
+  if (!initialised &&
+      MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
     throw InputError("", "MPI_Init failed");
   started_ = true;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
@@ -50,33 +54,55 @@ bool MpiSession::allOk(bool ok) {
   return all == 1;
 }
 
-std::vector<std::string> MpiSession::gather(const std::string& bytes) {
-  if (!started_) return {bytes};
-  // Sizes as 64-bit counts, then the bytes in chunks that fit MPI's int counts.
-  const long long mine = static_cast<long long>(bytes.size());
-  std::vector<long long> sizes(static_cast<std::size_t>(size_));
-  MPI_Gather(&mine, 1, MPI_LONG_LONG, sizes.data(), 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
-  std::vector<std::string> out;
-  if (rank_ == 0) {
-    out.resize(static_cast<std::size_t>(size_));
-    out[0] = bytes;
-    for (int r = 1; r < size_; ++r) {
-      std::string& s = out[static_cast<std::size_t>(r)];
-      s.resize(static_cast<std::size_t>(sizes[static_cast<std::size_t>(r)]));
-      for (std::size_t at = 0; at < s.size();) {
-        const int chunk = static_cast<int>(std::min<std::size_t>(s.size() - at, 1u << 30));
-        MPI_Recv(s.data() + at, chunk, MPI_BYTE, r, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        at += static_cast<std::size_t>(chunk);
-      }
+namespace {
+constexpr int kTagResult = 1, kTagDone = 2;
+
+int messageSize(std::size_t bytes) {
+  if (bytes > static_cast<std::size_t>(1) << 30)
+    throw InputError("", "a realisation's result is over 1 GiB, too large to send over MPI");
+  return static_cast<int>(bytes);
+}
+}  // namespace
+
+void MpiSession::broadcast(std::string& bytes) {
+  if (!started_) return;
+  long long size = static_cast<long long>(bytes.size());
+  MPI_Bcast(&size, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+  bytes.resize(static_cast<std::size_t>(size));
+  MPI_Bcast(bytes.data(), messageSize(bytes.size()), MPI_BYTE, 0, MPI_COMM_WORLD);
+}
+
+void MpiSession::send(const std::string& bytes) {
+  if (!started_) return;
+  MPI_Send(bytes.data(), messageSize(bytes.size()), MPI_BYTE, 0, kTagResult, MPI_COMM_WORLD);
+}
+
+void MpiSession::sendDone() {
+  if (started_) MPI_Send(nullptr, 0, MPI_BYTE, 0, kTagDone, MPI_COMM_WORLD);
+}
+
+void MpiSession::receive(bool untilDone, const std::function<void(const std::string&)>& take) {
+  if (!started_ || rank_ != 0) return;
+  for (;;) {
+    MPI_Status status;
+    int waiting = 0;
+    if (untilDone && done_ < size_ - 1) {
+      MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
+      waiting = 1;
+    } else {
+      MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &waiting, &status);
     }
-  } else {
-    for (std::size_t at = 0; at < bytes.size();) {
-      const int chunk = static_cast<int>(std::min<std::size_t>(bytes.size() - at, 1u << 30));
-      MPI_Send(bytes.data() + at, chunk, MPI_BYTE, 0, 0, MPI_COMM_WORLD);
-      at += static_cast<std::size_t>(chunk);
-    }
+    if (!waiting) return;
+    int count = 0;
+    MPI_Get_count(&status, MPI_BYTE, &count);
+    std::string bytes(static_cast<std::size_t>(count), '\0');
+    MPI_Recv(bytes.data(), count, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD,
+             MPI_STATUS_IGNORE);
+    if (status.MPI_TAG == kTagDone)
+      ++done_;
+    else
+      take(bytes);
   }
-  return out;
 }
 
 #else  // built without MPI: one process
@@ -95,7 +121,10 @@ MpiSession::MpiSession() {
 }
 MpiSession::~MpiSession() = default;
 bool MpiSession::allOk(bool ok) { return ok; }
-std::vector<std::string> MpiSession::gather(const std::string& bytes) { return {bytes}; }
+void MpiSession::broadcast(std::string&) {}
+void MpiSession::send(const std::string&) {}
+void MpiSession::sendDone() {}
+void MpiSession::receive(bool, const std::function<void(const std::string&)>&) {}
 
 #endif
 

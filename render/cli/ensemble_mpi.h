@@ -4,8 +4,8 @@
 // the process was launched by mpirun or srun; every other voxfall invocation never touches it.
 #pragma once
 
+#include <functional>
 #include <string>
-#include <vector>
 
 namespace vf::cli {
 
@@ -20,12 +20,20 @@ class MpiSession {
   int size() const { return size_; }
   // Collective: true on every rank when `ok` is true on every rank.
   bool allOk(bool ok);
-  // Collective: every rank's `bytes`, in rank order, on rank 0; empty on the other ranks.
-  std::vector<std::string> gather(const std::string& bytes);
+  // Rank 0's bytes on every rank (collective).
+  void broadcast(std::string& bytes);
+  // On a rank other than 0: one message (a realisation's result) to rank 0, as it completes.
+  void send(const std::string& bytes);
+  // On a rank other than 0: no more messages.
+  void sendDone();
+  // On rank 0: hands every message that has arrived to `take`, in the order each rank sent
+  // them; with `untilDone`, waits until every other rank has called sendDone().
+  void receive(bool untilDone, const std::function<void(const std::string&)>& take);
 
  private:
   int rank_ = 0;
   int size_ = 1;
+  int done_ = 0;  // rank 0: ranks that said they are done
   bool started_ = false;
 };
 

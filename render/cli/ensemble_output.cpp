@@ -6,7 +6,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "render/output/output_file.h"
 #include "sim/core/error.h"
+#include "sim/ensemble/ensemble_shards.h"
 #include "sim/recorder.h"
 
 namespace vf::cli {
@@ -93,17 +95,21 @@ void writeConvergence(std::FILE* out, std::FILE* table, const Heightfield& dem,
 }
 
 void writeEnsembleSummary(std::FILE* out, const SceneSpec& spec, const Heightfield& dem,
-                          std::uint64_t seed, std::int64_t runsRequested,
-                          std::optional<std::int64_t> only,
-                          const std::vector<RealisationResult>& runs,
+                          const EnsembleRunInfo& info, const std::vector<RealisationResult>& runs,
                           const std::vector<StatLayer>& layers,
                           const std::vector<ConvergenceRow>& convergence) {
   nlohmann::ordered_json s;
   s["scene"] = spec.name;
-  s["seed"] = seed;
-  s["runs_requested"] = runsRequested;
+  s["seed"] = info.seed;
+  s["runs_requested"] = info.runsRequested;
   s["runs"] = runs.size();
-  if (only) s["only"] = *only;
+  if (info.only) s["only"] = *info.only;
+  // An interrupted run's files hold its complete realisations, whichever they are.
+  s["interrupted"] = nullptr;
+  if (info.stopSignal)
+    s["interrupted"] = {{"signal", signalName(info.stopSignal)},
+                        {"runs", runs.size()},
+                        {"realisations", indexRanges(runs)}};
   int states[4] = {0, 0, 0, 0};
   std::vector<double> runouts, angles;
   for (const RealisationResult& r : runs) {

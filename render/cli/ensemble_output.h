@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "render/cli/ensemble_files.h"
 #include "sim/ensemble/ensemble.h"
 #include "sim/ensemble/ensemble_stats.h"
 #include "sim/scene/scene.h"
@@ -26,13 +27,12 @@ void writePathsCsv(std::FILE* out, const Heightfield& dem,
 // energy in kJ), and the same as a table on `table` (stderr).
 void writeConvergence(std::FILE* out, std::FILE* table, const Heightfield& dem,
                       const std::vector<ConvergenceRow>& rows);
-// summary.json: scene, seed, runs, states, runout and reach-angle distributions, the DEM, each
-// statistic (name, title, units, maximum, files), the definitions, and the convergence rows
-// when there are any.
+// summary.json: scene, seed, runs, whether the run was interrupted (and which realisations the
+// files hold then), states, runout and reach-angle distributions, the DEM, each statistic
+// (name, title, units, maximum, files), the definitions, and the convergence rows when there
+// are any.
 void writeEnsembleSummary(std::FILE* out, const SceneSpec& spec, const Heightfield& dem,
-                          std::uint64_t seed, std::int64_t runsRequested,
-                          std::optional<std::int64_t> only,
-                          const std::vector<RealisationResult>& runs,
+                          const EnsembleRunInfo& info, const std::vector<RealisationResult>& runs,
                           const std::vector<StatLayer>& layers,
                           const std::vector<ConvergenceRow>& convergence);
 

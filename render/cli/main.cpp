@@ -8,12 +8,8 @@
 #include <string>
 
 #include "render/cli/commands.h"
+#include "render/cli/options.h"
 #include "sim/core/error.h"
-
-// The build may pass the project version; this fallback must match project() in CMakeLists.txt.
-#ifndef VOXFALL_VERSION
-#define VOXFALL_VERSION "0.1.0"
-#endif
 
 namespace {
 
@@ -21,7 +17,7 @@ namespace {
 const char* manualPage(const std::string& command) {
   if (command == "render" || command == "export") return "rendering.md";
   if (command == "diff" || command == "regress") return "regression.md";
-  if (command == "ensemble") return "ensembles.md";
+  if (command == "ensemble" || command == "ensemble-merge") return "ensembles.md";
   if (command == "figures" || command == "filmstrip" || command == "plot") return "paper.md";
   return "commands.md";
 }
@@ -49,7 +45,7 @@ int main(int argc, char** argv) {
       "voxfall: rigid bodies with voxel sphere-tree collisions "
       "(Suzuki, Kubota & Ohtsubo 2003)",
       "voxfall"};
-  app.set_version_flag("--version", std::string("voxfall ") + VOXFALL_VERSION);
+  app.set_version_flag("--version", std::string("voxfall ") + vf::cli::voxfallVersion());
   app.require_subcommand(1);
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return "voxfall: error: " + std::string(e.what()) + "\nRun with --help for more information.\n";
@@ -68,6 +64,7 @@ int main(int argc, char** argv) {
   vf::cli::addPlotCommand(app, exitCode);
   // Hazard ensembles: render/cli/ensemble_command.cpp (sim/ensemble/).
   vf::cli::addEnsembleCommand(app, exitCode);
+  vf::cli::addEnsembleMergeCommand(app, exitCode);
   pointToTheManual(app);
 
   try {

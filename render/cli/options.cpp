@@ -14,6 +14,13 @@
 
 namespace vf::cli {
 
+// The build may pass the project version; this fallback must match project() in CMakeLists.txt.
+#ifndef VOXFALL_VERSION
+#define VOXFALL_VERSION "0.1.0"
+#endif
+
+const char* voxfallVersion() { return VOXFALL_VERSION; }
+
 void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite) {
   CLI::Option* yes =
       command.add_flag("-y", overwrite, "overwrite outputs that exist (never an input of the run)");

@@ -19,6 +19,9 @@ namespace vf::cli {
 
 // A check for a number option: its text read whole as a finite number from lo to hi. CLI11's
 // own Range lets "nan" through (every comparison with it is false).
+// voxfall's version, as `voxfall --version` prints it (after "voxfall ").
+const char* voxfallVersion();
+
 CLI::Validator finiteNumberIn(double lo, double hi);
 
 // A check for an integer option: its text read whole as an integer from lo to hi (no sign, no

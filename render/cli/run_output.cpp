@@ -115,7 +115,15 @@ std::string jsonCount(std::uint64_t v) { return std::to_string(v); }
 
 }  // namespace
 
-void writeSummaryJson(std::FILE* out, const std::string& scene, const RunSummary& s) {
+// null, or the signal that stopped the run and how far it got.
+std::string interruptionJson(const RunInterruption& i, int frames) {
+  if (i.signal == 0) return "null";
+  return "{\"signal\": " + jsonString(signalName(i.signal)) + ", \"time\": " + jsonNumber(i.time) +
+         ", \"frames\": " + std::to_string(frames) + "}";
+}
+
+void writeSummaryJson(std::FILE* out, const std::string& scene, const RunSummary& s,
+                      const RunInterruption& interruption) {
   const std::pair<const char*, std::string> fields[] = {
       {"scene", jsonString(scene)},
       {"frames", std::to_string(s.frames)},
@@ -134,6 +142,7 @@ void writeSummaryJson(std::FILE* out, const std::string& scene, const RunSummary
       {"warnings", "{\"overlapping_releases\": " + jsonCount(s.totals.overlappingReleases) +
                        ", \"frozen_non_finite\": " + jsonCount(s.totals.nonFinite) +
                        ", \"floored_steps\": " + jsonCount(s.totals.floored) + "}"},
+      {"interrupted", interruptionJson(interruption, s.frames)},
   };
   std::fputs("{\n", out);
   const std::size_t n = sizeof fields / sizeof fields[0];

@@ -25,11 +25,20 @@ void writeCsvHeader(std::FILE* out);
 void writeCsvFrame(std::FILE* out, int frame, double time, const World& world,
                    const std::vector<BodyState>& states);
 
+// How a run was stopped early by a signal: the signal (0: it was not) and the time of the last
+// complete frame, s.
+struct RunInterruption {
+  int signal = 0;
+  double time = 0;
+};
+
 // The run summary as one JSON object (keys: scene, frames, steps, dt_min, dt_max,
 // wall_seconds, sphere_tests, contacts, max_penetration_body_body, max_penetration_body_ground,
 // tunnelled, kinetic_energy, potential_energy, checksum, warnings {overlapping_releases,
-// frozen_non_finite, floored_steps}). Non-finite numbers become null.
-void writeSummaryJson(std::FILE* out, const std::string& scene, const RunSummary& summary);
+// frozen_non_finite, floored_steps}, interrupted: null or {signal, time, frames}). Non-finite
+// numbers become null.
+void writeSummaryJson(std::FILE* out, const std::string& scene, const RunSummary& summary,
+                      const RunInterruption& interruption = {});
 // A few human-readable lines with the same numbers, ending with the checksum.
 void printSummary(std::FILE* out, const std::string& scene, const RunSummary& summary);
 

@@ -134,7 +134,9 @@ int runSimulate(const SimulateOptions& o) {
     wrote(*outcomes);
   }
   if (summary) {
-    writeSummaryJson(summary->stream(), spec.name, result);
+    // An interrupted run's summary says so, and up to which frame it holds.
+    const RunInterruption cut{stop, stop ? recorder.frameTime(done - 1) : 0.0};
+    writeSummaryJson(summary->stream(), spec.name, result, cut);
     wrote(*summary);
   }
   if (csv) wrote(*csv);

@@ -1,5 +1,6 @@
 #include "render/output/output_file.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -7,6 +8,8 @@
 #include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <set>
 #include <system_error>
 
 #include "sim/core/error.h"
@@ -62,7 +65,53 @@ void unregisterPending(const char* path) {
   }
 }
 
+// The process id in a temporary name ".STEM.partial-PID-N.EXT", or 0 if `name` is not one.
+long partialOwner(const std::string& name) {
+  const std::size_t at = name.rfind(".partial-");
+  if (name.empty() || name[0] != '.' || at == std::string::npos) return 0;
+  std::size_t end = at + 9;
+  long pid = 0;
+  while (end < name.size() && name[end] >= '0' && name[end] <= '9' && pid < 1000000000)
+    pid = pid * 10 + (name[end++] - '0');
+  return end < name.size() && name[end] == '-' ? pid : 0;
+}
+
+// Whether process `pid` is gone: no such process, or a zombie (it has exited; only its parent
+// has not collected it yet, which an orphan in a container may never have done).
+bool processGone(long pid) {
+  if (::kill(static_cast<pid_t>(pid), 0) != 0) return errno == ESRCH;
+  std::FILE* stat = std::fopen(("/proc/" + std::to_string(pid) + "/stat").c_str(), "r");
+  if (stat == nullptr) return false;
+  char state = 0;
+  const bool read = std::fscanf(stat, "%*d (%*[^)]) %c", &state) == 1;
+  std::fclose(stat);
+  return read && state == 'Z';
+}
+
+// removeStalePartials() once per folder and process.
+void cleanOnce(const fs::path& folder) {
+  static std::mutex mutex;
+  static std::set<std::string> cleaned;
+  std::error_code ec;
+  const std::string key = fs::weakly_canonical(folder, ec).string();
+  std::lock_guard<std::mutex> lock(mutex);
+  if (cleaned.insert(key).second) removeStalePartials(folder.string());
+}
+
 }  // namespace
+
+void removeStalePartials(const std::string& folder) {
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const long pid = partialOwner(it->path().filename().string());
+    // A live process's files (another run writing into the same folder) are never touched.
+    if (pid <= 0 || pid == static_cast<long>(::getpid())) continue;
+    if (processGone(pid)) {
+      std::error_code rm;
+      fs::remove(it->path(), rm);
+    }
+  }
+}
 
 OutputRules replaceOutputs() { return OutputRules{Overwrite::always, {}}; }
 
@@ -96,6 +145,7 @@ OutputFile::OutputFile(const std::string& path, const OutputRules& rules) : path
   fs::create_directories(folder, ec);
   if (ec)
     throw InputError(path, "cannot create the folder '" + folder.string() + "': " + ec.message());
+  cleanOnce(folder);
 
   // Process id plus a counter: two runs, or two outputs of one run, never share a temp name.
   static std::atomic<unsigned> counter{0};
@@ -153,5 +203,11 @@ void installStopHandlers() {
 }
 
 int stopSignal() { return gStopSignal.load(); }
+
+std::string signalName(int signal) {
+  if (signal == SIGINT) return "SIGINT";
+  if (signal == SIGTERM) return "SIGTERM";
+  return "signal " + std::to_string(signal);
+}
 
 }  // namespace vf

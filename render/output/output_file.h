@@ -68,10 +68,17 @@ class OutputFile {
   bool committed_ = false;
 };
 
+// Removes the temporary files (".NAME.partial-PID-N.EXT") in `folder` whose process is gone: a
+// run killed with SIGKILL (or by a crash, or a power cut) cannot remove its own. A file of a
+// process that still runs is kept. OutputFile calls this once per folder and process.
+void removeStalePartials(const std::string& folder);
+
 // Makes the first SIGINT or SIGTERM a request to stop (see above). A signal the parent made
 // the process ignore stays ignored.
 void installStopHandlers();
 // The first stop signal received (SIGINT or SIGTERM), 0 if none.
 int stopSignal();
+// "SIGINT", "SIGTERM" (or "signal N"): how summaries name a stop signal.
+std::string signalName(int signal);
 
 }  // namespace vf

@@ -355,11 +355,34 @@ std::vector<std::vector<Point2>> Ensemble::releaseAreas() const {
   return squares;
 }
 
-std::vector<RealisationResult> runRealisations(const Ensemble& ensemble,
-                                               const std::vector<std::int64_t>& indices,
-                                               std::uint64_t ensembleSeed, int jobs, bool keepPaths,
-                                               const std::function<void(int)>& progress,
-                                               const std::function<bool()>& stop) {
+namespace {
+
+// Slots of complete realisations, filled by the workers and handed to the calling thread.
+class FinishedQueue {
+ public:
+  void push(std::size_t k) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    slots_.push_back(k);
+  }
+  std::vector<std::size_t> take() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<std::size_t> out;
+    out.swap(slots_);
+    return out;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::size_t> slots_;
+};
+
+}  // namespace
+
+std::vector<RealisationResult> runRealisations(
+    const Ensemble& ensemble, const std::vector<std::int64_t>& indices, std::uint64_t ensembleSeed,
+    int jobs, bool keepPaths, const std::function<void(int)>& progress,
+    const std::function<bool()>& stop,
+    const std::function<void(const RealisationResult&)>& onResult) {
   std::vector<RealisationResult> results(indices.size());
   for (std::size_t k = 0; k < indices.size(); ++k) results[k].index = indices[k];
   std::atomic<std::size_t> next{0};
@@ -368,6 +391,7 @@ std::vector<RealisationResult> runRealisations(const Ensemble& ensemble,
   std::atomic<int> running{threads};
   std::mutex failure;
   std::exception_ptr error;
+  FinishedQueue finished;
   // Each worker takes the next index; results land at their own slot, so the order of the
   // results never depends on which thread ran what.
   const auto work = [&] {
@@ -383,24 +407,33 @@ std::vector<RealisationResult> runRealisations(const Ensemble& ensemble,
         next.store(indices.size());
         break;
       }
+      if (results[k].complete) finished.push(k);
       done.fetch_add(1);
     }
     running.fetch_sub(1);
   };
+  // The calling thread hands over finished results (in the order they finish) and reports
+  // progress while the workers run, so that a journal or MPI sees only this thread.
+  const auto handOver = [&] {
+    if (!onResult) return;
+    for (std::size_t k : finished.take()) onResult(results[k]);
+  };
   std::vector<std::thread> workers;
   for (int t = 0; t < threads; ++t) workers.emplace_back(work);
-  // The calling thread reports progress while the workers run.
   while (running.load() > 0) {
+    handOver();
     if (progress) progress(done.load());
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   for (std::thread& w : workers) w.join();
+  handOver();
   if (error) std::rethrow_exception(error);
   if (progress) progress(done.load());
   return results;
 }
 
-// --- serialisation (MPI) ------------------------------------------------------------------
+// --- serialisation (MPI, journal)
+// ------------------------------------------------------------------
 
 namespace {
 
@@ -429,71 +462,87 @@ Vec3 takeVec(const std::string& s, std::size_t& pos) {
   return v;
 }
 
+// A count of items of `itemBytes` each that must fit in the bytes left.
+std::size_t takeCount(const std::string& s, std::size_t& pos, std::size_t itemBytes) {
+  const std::uint64_t n = take<std::uint64_t>(s, pos);
+  if (n > (s.size() - pos) / itemBytes) throw InputError("", "truncated ensemble results");
+  return static_cast<std::size_t>(n);
+}
+
 }  // namespace
+
+void serializeResult(const RealisationResult& r, std::string& s) {
+  put(s, r.index);
+  put(s, r.seed);
+  put<std::uint8_t>(s, r.complete ? 1 : 0);
+  put<std::int32_t>(s, r.shape);
+  putVec(s, r.release);
+  putVec(s, r.end);
+  put(s, r.endTime);
+  put<std::int32_t>(s, static_cast<std::int32_t>(r.state));
+  for (double v : {r.runout, r.reachAngle, r.maxSpeed, r.maxEnergy, r.maxJumpHeight}) put(s, v);
+  put(s, r.steps);
+  put(s, r.checksum);
+  put<std::uint64_t>(s, r.cells.size());
+  for (const CellPassage& c : r.cells) {
+    put(s, c.cell);
+    put(s, c.energy);
+    put(s, c.height);
+    put(s, c.speed);
+  }
+  put<std::uint64_t>(s, r.path.size());
+  for (const PathPoint& p : r.path) {
+    put(s, p.time);
+    putVec(s, p.x);
+  }
+}
+
+RealisationResult deserializeResult(const std::string& s, std::size_t& pos) {
+  RealisationResult r;
+  r.index = take<std::int64_t>(s, pos);
+  r.seed = take<std::uint64_t>(s, pos);
+  r.complete = take<std::uint8_t>(s, pos) != 0;
+  r.shape = take<std::int32_t>(s, pos);
+  r.release = takeVec(s, pos);
+  r.end = takeVec(s, pos);
+  r.endTime = take<double>(s, pos);
+  r.state = static_cast<RockState>(take<std::int32_t>(s, pos));
+  r.runout = take<double>(s, pos);
+  r.reachAngle = take<double>(s, pos);
+  r.maxSpeed = take<double>(s, pos);
+  r.maxEnergy = take<double>(s, pos);
+  r.maxJumpHeight = take<double>(s, pos);
+  r.steps = take<std::int64_t>(s, pos);
+  r.checksum = take<std::uint64_t>(s, pos);
+  // Counts are checked against the bytes left before anything is allocated: a damaged count
+  // is an error, not a huge allocation.
+  r.cells.resize(takeCount(s, pos, 28));
+  for (CellPassage& c : r.cells) {
+    c.cell = take<std::int32_t>(s, pos);
+    c.energy = take<double>(s, pos);
+    c.height = take<double>(s, pos);
+    c.speed = take<double>(s, pos);
+  }
+  r.path.resize(takeCount(s, pos, 32));
+  for (PathPoint& p : r.path) {
+    p.time = take<double>(s, pos);
+    p.x = takeVec(s, pos);
+  }
+  return r;
+}
 
 std::string serializeResults(const std::vector<RealisationResult>& results) {
   std::string s;
   put<std::uint64_t>(s, results.size());
-  for (const RealisationResult& r : results) {
-    put(s, r.index);
-    put(s, r.seed);
-    put<std::uint8_t>(s, r.complete ? 1 : 0);
-    put<std::int32_t>(s, r.shape);
-    putVec(s, r.release);
-    putVec(s, r.end);
-    put(s, r.endTime);
-    put<std::int32_t>(s, static_cast<std::int32_t>(r.state));
-    for (double v : {r.runout, r.reachAngle, r.maxSpeed, r.maxEnergy, r.maxJumpHeight}) put(s, v);
-    put(s, r.steps);
-    put(s, r.checksum);
-    put<std::uint64_t>(s, r.cells.size());
-    for (const CellPassage& c : r.cells) {
-      put(s, c.cell);
-      put(s, c.energy);
-      put(s, c.height);
-      put(s, c.speed);
-    }
-    put<std::uint64_t>(s, r.path.size());
-    for (const PathPoint& p : r.path) {
-      put(s, p.time);
-      putVec(s, p.x);
-    }
-  }
+  for (const RealisationResult& r : results) serializeResult(r, s);
   return s;
 }
 
 std::vector<RealisationResult> deserializeResults(const std::string& s) {
   std::size_t pos = 0;
-  std::vector<RealisationResult> out(take<std::uint64_t>(s, pos));
-  for (RealisationResult& r : out) {
-    r.index = take<std::int64_t>(s, pos);
-    r.seed = take<std::uint64_t>(s, pos);
-    r.complete = take<std::uint8_t>(s, pos) != 0;
-    r.shape = take<std::int32_t>(s, pos);
-    r.release = takeVec(s, pos);
-    r.end = takeVec(s, pos);
-    r.endTime = take<double>(s, pos);
-    r.state = static_cast<RockState>(take<std::int32_t>(s, pos));
-    r.runout = take<double>(s, pos);
-    r.reachAngle = take<double>(s, pos);
-    r.maxSpeed = take<double>(s, pos);
-    r.maxEnergy = take<double>(s, pos);
-    r.maxJumpHeight = take<double>(s, pos);
-    r.steps = take<std::int64_t>(s, pos);
-    r.checksum = take<std::uint64_t>(s, pos);
-    r.cells.resize(take<std::uint64_t>(s, pos));
-    for (CellPassage& c : r.cells) {
-      c.cell = take<std::int32_t>(s, pos);
-      c.energy = take<double>(s, pos);
-      c.height = take<double>(s, pos);
-      c.speed = take<double>(s, pos);
-    }
-    r.path.resize(take<std::uint64_t>(s, pos));
-    for (PathPoint& p : r.path) {
-      p.time = take<double>(s, pos);
-      p.x = takeVec(s, pos);
-    }
-  }
+  const std::uint64_t n = take<std::uint64_t>(s, pos);
+  std::vector<RealisationResult> out;
+  for (std::uint64_t k = 0; k < n; ++k) out.push_back(deserializeResult(s, pos));
   return out;
 }
 

@@ -105,14 +105,20 @@ class Ensemble {
 // Runs realisations `indices` of `ensemble` on `jobs` threads (each takes the next index in
 // turn); results come back in the order of `indices`, so what is made of them does not
 // depend on `jobs`. `progress(done)` is called on the calling thread a few times a second;
-// `stop` is polled by every worker between steps.
-std::vector<RealisationResult> runRealisations(const Ensemble& ensemble,
-                                               const std::vector<std::int64_t>& indices,
-                                               std::uint64_t ensembleSeed, int jobs, bool keepPaths,
-                                               const std::function<void(int)>& progress,
-                                               const std::function<bool()>& stop);
+// `stop` is polled by every worker between steps. `onResult`, when given, receives each
+// complete realisation on the calling thread, in the order they finish (for a journal or MPI,
+// which then need no lock and see one thread only).
+std::vector<RealisationResult> runRealisations(
+    const Ensemble& ensemble, const std::vector<std::int64_t>& indices, std::uint64_t ensembleSeed,
+    int jobs, bool keepPaths, const std::function<void(int)>& progress,
+    const std::function<bool()>& stop,
+    const std::function<void(const RealisationResult&)>& onResult = {});
 
-// Results as bytes and back (the MPI gather; same architecture on every rank).
+// Results as bytes and back (MPI and the journal; same architecture on every rank). One
+// result is appended to `bytes`, or read from `bytes` at `pos` (advanced past it); InputError
+// when the bytes end early.
+void serializeResult(const RealisationResult& result, std::string& bytes);
+RealisationResult deserializeResult(const std::string& bytes, std::size_t& pos);
 std::string serializeResults(const std::vector<RealisationResult>& results);
 std::vector<RealisationResult> deserializeResults(const std::string& bytes);
 

@@ -63,11 +63,13 @@ class EnsembleCommandTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  // Every regular file of an output folder, by name.
+  // Every output file of an output folder, by name: all but the journal, whose records are in
+  // the order the realisations finished.
   std::map<std::string, std::string> files(const std::string& folder) const {
     std::map<std::string, std::string> out;
     for (const auto& e : fs::directory_iterator(dir_ / folder))
-      out[e.path().filename().string()] = readFile(e.path());
+      if (e.path().filename() != "ensemble.journal")
+        out[e.path().filename().string()] = readFile(e.path());
     return out;
   }
 
@@ -356,7 +358,7 @@ TEST_F(EnsembleCommandTest, RegressCaseIsTheSubsetBakeAndChecksTheRealisations) 
       << changed.out;
 }
 
-TEST_F(EnsembleCommandTest, AnInterruptedEnsembleWritesItsCompletePrefix) {
+TEST_F(EnsembleCommandTest, AnInterruptedEnsembleWritesItsCompleteRealisationsAndSaysSo) {
   vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 10.0);
   const pid_t child = ::fork();
   if (child == 0) {
@@ -379,17 +381,26 @@ TEST_F(EnsembleCommandTest, AnInterruptedEnsembleWritesItsCompletePrefix) {
   EXPECT_EQ(WEXITSTATUS(status), 130);
   const auto rows = lines(readFile(dir_ / "int" / "runs.csv"));
   ASSERT_GE(rows.size(), 2u) << "no realisation finished in 4 s";
-  const std::size_t k = rows.size() - 1;
-  for (std::size_t i = 0; i < k; ++i) EXPECT_EQ(split(rows[i + 1])[0], std::to_string(i));
-  // Exactly what --runs k writes.
-  const auto ref =
-      runVoxfall(kExe, dir_, "ensemble scene.toml -q -o ref --runs " + std::to_string(k));
+  // The complete realisations, in index order (not necessarily 0 .. k-1: a slow one may still
+  // have been running), each the row it has in an ensemble that ran it to the end.
+  std::vector<std::string> indices;
+  for (std::size_t i = 1; i < rows.size(); ++i) indices.push_back(split(rows[i])[0]);
+  for (std::size_t i = 1; i < indices.size(); ++i)
+    EXPECT_LT(std::stoll(indices[i - 1]), std::stoll(indices[i]));
+  const auto ref = runVoxfall(
+      kExe, dir_,
+      "ensemble scene.toml -q -o ref --runs " + std::to_string(std::stoll(indices.back()) + 1));
   ASSERT_EQ(ref.code, 0) << ref.err;
-  const auto a = files("int"), b = files("ref");
-  for (const auto& [name, bytes] : b) {
-    if (name == "summary.json") continue;  // it names the runs asked for (100000 and k)
-    EXPECT_TRUE(a.count(name) && a.at(name) == bytes) << name;
-  }
+  std::map<std::string, std::string> refRows;
+  for (const std::string& row : lines(readFile(dir_ / "ref" / "runs.csv")))
+    refRows[split(row)[0]] = row;
+  for (std::size_t i = 1; i < rows.size(); ++i) EXPECT_EQ(rows[i], refRows[indices[i - 1]]);
+  // The summary says the run was interrupted, and which realisations the files hold.
+  const std::string summary = readFile(dir_ / "int" / "summary.json");
+  EXPECT_NE(summary.find("\"signal\": \"SIGINT\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"runs\": " + std::to_string(rows.size() - 1)), std::string::npos);
+  EXPECT_NE(readFile(dir_ / "ref" / "summary.json").find("\"interrupted\": null"),
+            std::string::npos);
 }
 
 // The number of runs.csv rows whose state is `state`.
@@ -432,7 +443,10 @@ TEST_F(EnsembleCommandTest, ExistingOutputsNeedMinusY) {
   ASSERT_EQ(runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o o").code, 0);
   const auto again = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o o");
   EXPECT_EQ(again.code, 1);
-  EXPECT_NE(again.err.find("already exists; use -y"), std::string::npos) << again.err;
+  // The journal is the first output checked: its message points at --resume as well as -y.
+  EXPECT_NE(again.err.find("o/ensemble.journal: already exists: an ensemble ran into this folder"),
+            std::string::npos)
+      << again.err;
   EXPECT_EQ(runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o o -y").code, 0);
 }
 

@@ -1,0 +1,197 @@
+// The reduced outputs of an ensemble (see ensemble_files.h).
+#include "render/cli/ensemble_files.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "render/cli/commands.h"
+#include "render/cli/ensemble_output.h"
+#include "render/maps/hazard_map.h"
+#include "sim/core/error.h"
+#include "sim/ensemble/ensemble_bake.h"
+#include "sim/ensemble/raster_output.h"
+
+namespace vf::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The cells with the most passages that --converge follows.
+constexpr int kConvergenceCells = 3;
+
+const char* const kLayerNames[] = {"passages",   "reach_probability", "energy_mean",
+                                   "energy_p50", "energy_p95",        "energy_max",
+                                   "height_p95", "speed_p95",         "deposited"};
+
+}  // namespace
+
+// One output per statistic and format, the runs table, the summary and the optional files.
+struct EnsembleFiles::Files {
+  struct Raster {
+    std::unique_ptr<OutputFile> tif, asc, prj;
+  };
+  std::vector<Raster> rasters;  // per layer, in cellStatistics' order
+  std::unique_ptr<OutputFile> runs, summary, converge, paths, bake;
+  std::vector<fs::path> maps;  // --maps: per layer NAME.png, then runout.png
+};
+
+EnsembleFiles::EnsembleFiles(const EnsembleFileOptions& o, const OutputRules& rules, bool hasCrs)
+    : options_(o), rules_(rules), files_(std::make_unique<Files>()) {
+  const fs::path dir(o.outDir);
+  auto open = [&](const std::string& name) {
+    return std::make_unique<OutputFile>((dir / name).string(), rules);
+  };
+  for (const char* name : kLayerNames) {
+    Files::Raster r;
+    r.tif = open(std::string(name) + ".tif");
+    r.asc = open(std::string(name) + ".asc");
+    if (hasCrs) r.prj = open(std::string(name) + ".prj");
+    files_->rasters.push_back(std::move(r));
+  }
+  files_->runs = open("runs.csv");
+  files_->summary = open("summary.json");
+  if (o.converge) files_->converge = open("converge.csv");
+  if (o.paths) files_->paths = open("paths.csv");
+  if (o.videoRuns > 0) {
+    files_->bake = open("ensemble_subset.bake");
+    // Rendered from the bake once it is written (renderToFile opens it then).
+    checkOutputPath((dir / "trajectories.mp4").string(), rules);
+  }
+  if (o.maps) {
+    // The maps are written by render/maps (each through its own OutputFile); -y/-n and the
+    // inputs are checked here, before any realisation runs.
+    for (const char* name : kLayerNames) files_->maps.push_back(dir / (std::string(name) + ".png"));
+    files_->maps.push_back(dir / "runout.png");
+    for (const fs::path& png : files_->maps) checkOutputPath(png.string(), rules);
+  }
+}
+
+EnsembleFiles::~EnsembleFiles() = default;
+
+void EnsembleFiles::commit(OutputFile& f) {
+  f.commit();
+  written_ += (written_.empty() ? "" : ", ") + fs::path(f.path()).filename().string();
+}
+
+// One statistic as a raster into `file`: an error names the output, not its temporary name.
+void EnsembleFiles::writeRasterFile(OutputFile& file, int format, const std::vector<double>& values,
+                                    const Ensemble& ens) {
+  file.closeStream();
+  try {
+    writeRaster(file.tempPath(), static_cast<RasterFormat>(format), values, ens.dem().nx,
+                ens.dem().ny, ens.spec().terrainPath);
+  } catch (const InputError& e) {
+    std::string message = e.message();
+    for (std::size_t at; (at = message.find(file.tempPath() + ": ")) != std::string::npos;)
+      message.erase(at, file.tempPath().size() + 2);
+    throw InputError(file.path(), message);
+  }
+  commit(file);
+}
+
+void EnsembleFiles::writeRasters(const Ensemble& ens, const std::vector<StatLayer>& layers) {
+  for (std::size_t k = 0; k < layers.size(); ++k) {
+    Files::Raster& r = files_->rasters[k];
+    writeRasterFile(*r.tif, static_cast<int>(RasterFormat::kGeoTiff), layers[k].values, ens);
+    writeRasterFile(*r.asc, static_cast<int>(RasterFormat::kEsriAscii), layers[k].values, ens);
+    if (r.prj) {  // the ASCII grid's CRS: the DEM's own WKT
+      std::fputs(ens.dem().crsWkt.c_str(), r.prj->stream());
+      commit(*r.prj);
+    }
+  }
+}
+
+// The first --video-runs realisations (or the --only one), stepped again frame by frame for
+// `voxfall render ensemble_subset.bake`, and their video over the terrain, as `voxfall render`
+// draws the bake (not after an interrupt: the realisations' files come first).
+int EnsembleFiles::writeVideo(const Ensemble& ens, const EnsembleRunInfo& info,
+                              const std::vector<RealisationResult>& runs) {
+  std::vector<std::int64_t> chosen;
+  for (std::size_t k = 0; k < runs.size() && static_cast<int>(k) < options_.videoRuns; ++k)
+    chosen.push_back(runs[k].index);
+  const Bake bake = ensembleBake(ens, info.seed, chosen);
+  writeBake(files_->bake->stream(), files_->bake->path(), bake);
+  commit(*files_->bake);
+  if (info.stopSignal) return 0;
+  const std::string video = (fs::path(options_.outDir) / "trajectories.mp4").string();
+  const int code = renderToFile(files_->bake->path(), video, options_.overwrite,
+                                options_.neverOverwrite, options_.quiet);
+  if (code == 0) written_ += ", trajectories.mp4";
+  return code;
+}
+
+// Hazard maps over the DEM's hillshade with the release areas, and the runout plot.
+void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>& layers,
+                              const std::vector<RealisationResult>& runs) {
+  std::vector<std::vector<Vec2>> areas;
+  for (const std::vector<Point2>& area : ens.releaseAreas()) {
+    areas.emplace_back();
+    for (const Point2& p : area) areas.back().emplace_back(p[0], p[1]);
+  }
+  // A cell no realisation reached has no value on a map (the rasters say 0 passages there):
+  // it shows the hillshade, so the reached area stands out.
+  const std::vector<double>& passages = layers[0].values;
+  for (std::size_t k = 0; k < layers.size(); ++k) {
+    MapLayer layer{layers[k].name, layers[k].title, layers[k].units, layers[k].values};
+    for (std::size_t c = 0; c < passages.size(); ++c)
+      if (passages[c] == 0) layer.values[c] = NAN;
+    writeHazardMap(ens.dem(), layer, areas, files_->maps[k].string(), rules_);
+    written_ += ", " + files_->maps[k].filename().string();
+  }
+  std::vector<double> runouts, reach;
+  for (const RealisationResult& r : runs) {
+    runouts.push_back(r.runout);
+    reach.push_back(r.reachAngle);
+  }
+  writeRunoutPlot(runouts, reach, files_->maps.back().string(), rules_);
+  written_ += ", " + files_->maps.back().filename().string();
+}
+
+int EnsembleFiles::write(const Ensemble& ens, const EnsembleRunInfo& info,
+                         const std::vector<RealisationResult>& runs) {
+  const Heightfield& dem = ens.dem();
+  const std::vector<StatLayer> layers = cellStatistics(dem, runs);
+  writeRasters(ens, layers);
+  writeRunsCsv(files_->runs->stream(), ens, runs);
+  commit(*files_->runs);
+  if (files_->paths) {
+    writePathsCsv(files_->paths->stream(), dem, runs);
+    commit(*files_->paths);
+  }
+  const int videoCode = files_->bake ? writeVideo(ens, info, runs) : 0;
+  std::vector<ConvergenceRow> conv;
+  if (files_->converge) {
+    conv = convergence(dem, runs, kConvergenceCells);
+    writeConvergence(files_->converge->stream(), stderr, dem, conv);
+    commit(*files_->converge);
+  }
+  if (options_.maps) writeMaps(ens, layers, runs);
+  writeEnsembleSummary(files_->summary->stream(), ens.spec(), dem, info, runs, layers, conv);
+  commit(*files_->summary);
+  return videoCode;
+}
+
+void reportEnsemble(const Ensemble& ens, const EnsembleRunInfo& info,
+                    const std::vector<RealisationResult>& runs, const EnsembleFiles& files) {
+  const SceneSpec& spec = ens.spec();
+  int states[4] = {0, 0, 0, 0};
+  for (const RealisationResult& r : runs) ++states[static_cast<int>(r.state)];
+  std::printf(
+      "%s: %zu realisations (seed %llu): %d stopped, %d left the DEM, %d buried, %d "
+      "still moving at %.4g s\n",
+      spec.name.c_str(), runs.size(), static_cast<unsigned long long>(info.seed), states[1],
+      states[2], states[3], states[0], spec.duration);
+  std::printf("  wrote %s in %s\n", files.written().c_str(), files.options().outDir.c_str());
+  // A realisation cut off by the duration records its rock where it was then: the hazard
+  // products understate the reach without saying so unless told here (--quiet or not).
+  if (states[0] > 0)
+    std::fprintf(stderr,
+                 "voxfall: warning: %d of %zu realisations ended at the scene's duration (%.4g s) "
+                 "with the rock still moving; runs.csv, the runouts and the maps show those "
+                 "rocks where they were then, not where they stop: raise [simulation] "
+                 "duration\n",
+                 states[0], runs.size(), spec.duration);
+}
+
+}  // namespace vf::cli

@@ -1,0 +1,73 @@
+// The reduced outputs of an ensemble (rasters, runs.csv, summary.json and the optional tables,
+// maps, bake and video), written from complete realisations in index order. Shared by
+// `voxfall ensemble` and `voxfall ensemble-merge`, so a merge of shards writes what one run
+// writes, byte for byte. Every file goes through render/output/output_file.h.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "render/output/output_file.h"
+#include "sim/ensemble/ensemble.h"
+#include "sim/ensemble/ensemble_stats.h"
+
+namespace vf::cli {
+
+// What to write, and how (the options of the command).
+struct EnsembleFileOptions {
+  std::string outDir;
+  bool converge = false;  // converge.csv
+  bool paths = false;     // paths.csv
+  bool maps = false;      // a PNG per statistic and runout.png
+  int videoRuns = 0;      // ensemble_subset.bake and trajectories.mp4
+  bool overwrite = false, neverOverwrite = false, quiet = false;
+};
+
+// What the outputs hold, for summary.json.
+struct EnsembleRunInfo {
+  std::uint64_t seed = 0;
+  std::int64_t runsRequested = 0;
+  std::optional<std::int64_t> only;  // --only
+  int stopSignal = 0;                // SIGINT or SIGTERM when the run was stopped
+};
+
+class EnsembleFiles {
+ public:
+  // Checks every output path and creates its temporary file, before any realisation runs.
+  EnsembleFiles(const EnsembleFileOptions& options, const OutputRules& rules, bool hasCrs);
+  ~EnsembleFiles();
+  // Reduces `runs` (complete, in index order) into every file; returns 0, or the video's
+  // render's exit code (130/143 when it was interrupted).
+  int write(const Ensemble& ensemble, const EnsembleRunInfo& info,
+            const std::vector<RealisationResult>& runs);
+  // The files written, by name: "passages.tif, ..., summary.json".
+  const std::string& written() const { return written_; }
+  const EnsembleFileOptions& options() const { return options_; }
+
+ private:
+  struct Files;
+  void writeRasters(const Ensemble& ensemble, const std::vector<StatLayer>& layers);
+  void writeRasterFile(OutputFile& file, int format, const std::vector<double>& values,
+                       const Ensemble& ensemble);
+  int writeVideo(const Ensemble& ensemble, const EnsembleRunInfo& info,
+                 const std::vector<RealisationResult>& runs);
+  void writeMaps(const Ensemble& ensemble, const std::vector<StatLayer>& layers,
+                 const std::vector<RealisationResult>& runs);
+  void commit(OutputFile& file);
+
+  EnsembleFileOptions options_;
+  OutputRules rules_;
+  std::unique_ptr<Files> files_;
+  std::string written_;
+};
+
+// The lines an ensemble prints when its files are written: the states on stdout, the files,
+// and the warning about realisations cut off by the duration (stderr, --quiet or not).
+void reportEnsemble(const Ensemble& ensemble, const EnsembleRunInfo& info,
+                    const std::vector<RealisationResult>& runs, const EnsembleFiles& files);
+
+}  // namespace vf::cli
