@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "render/output/output_file.h"
 #include "sim/core/error.h"
@@ -34,9 +35,16 @@ std::string shellWord(const std::string& s) {
 }
 
 std::string seriesClause(const Series& s) {
+  if (s.hollow && !s.title.empty())
+    throw std::logic_error("series '" + s.title +
+                           "' is hollow and has a legend entry: hollow marks mean "
+                           "interpenetration; give the legend a filled keyOnly series");
   std::ostringstream o;
   const char* color = kPalette[static_cast<std::size_t>(s.color) % kPalette.size()];
-  o << gnuplotString(s.csv) << " using " << s.using_ << " with " << s.style;
+  if (s.keyOnly)
+    o << "keyentry with " << s.style;
+  else
+    o << gnuplotString(s.csv) << " using " << s.using_ << " with " << s.style;
   o << " lc rgb " << gnuplotString(color) << " lw 2";
   if (s.style == "boxes")  // the fill takes the line colour; the border is given again
     o << (s.hollow ? " fs empty border lc rgb " : " fs solid 0.75 border lc rgb ")

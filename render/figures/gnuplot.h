@@ -18,7 +18,11 @@ struct Series {
   std::string using_;                 // gnuplot `using` expression, e.g. "1:2" or "0:5:xtic(4)"
   std::string style = "linespoints";  // "linespoints", "lines", "points", "boxes"
   int color = 0;                      // index into the shared palette
-  bool hollow = false;  // open markers / unfilled boxes (e.g. runs that interpenetrated)
+  // Open markers / unfilled boxes: in voxfall's figures they mean a run that interpenetrated,
+  // so a hollow series never carries a legend entry (drawFigure refuses one); its legend entry
+  // is a filled `keyOnly` series of the same colour.
+  bool hollow = false;
+  bool keyOnly = false;  // a legend entry alone (gnuplot's keyentry): no data is read
 };
 
 struct Panel {

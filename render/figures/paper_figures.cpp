@@ -284,10 +284,11 @@ Panel comparisonPanel(const std::string& title, const std::string& csv,
     bool any = false, anyClean = false;
     for (const Comparison& c : rows)
       if (methodName(c.config) == method) any = true, anyClean |= !c.result.interpenetrated();
-    if (any)
-      p.series.push_back(
-          {std::string(method) + " method", csv, "1:(" + is + " ? $7 : NaN)", style, color, true});
+    if (!any) continue;
+    // Every run hollow, the clean ones filled over them; the legend shows the method filled.
+    p.series.push_back({"", csv, "1:(" + is + " ? $7 : NaN)", style, color, true});
     if (anyClean) p.series.push_back({"", csv, "1:(" + is + " ? $8 : NaN)", style, color, false});
+    p.series.push_back({std::string(method) + " method", "", "", style, color, false, true});
   }
   return p;
 }
@@ -368,7 +369,7 @@ Section figure10(const PaperFigureOptions& o, int repeats, RunProgress& progress
                               base + ".csv", "1:4", "linespoints", 0, false}};
   if (!o.quick)
     errors.push_back({"from level 6 at 1/2160 (the paper's reference)", base + ".csv", "1:7",
-                      "linespoints", 1, true});
+                      "linespoints", 1, false});
   const Panel err{
       "mean distance of the final centres from a reference",
       "voxel level Lv",
@@ -572,8 +573,10 @@ Section figure16(const PaperFigureOptions& o, int repeats, RunProgress& progress
   for (const std::string& label : {std::string("Lv 4 at 1/150"), std::string("polygon at 1/600"),
                                    std::string("polygon at 1/1200")}) {
     const std::string is = "strcol(2) eq \"" + label + "\"";
+    // Every run hollow, the clean ones filled over them; the legend shows the series filled.
     p.series.push_back(
-        {label, base + ".csv", "6:(" + is + " ? $7 : NaN)", "linespoints", color, true});
+        {"", base + ".csv", "6:(" + is + " ? $7 : NaN)", "linespoints", color, true});
+    p.series.push_back({label, "", "", "linespoints", color, false, true});
     // gnuplot refuses a series without a single defined point.
     if (std::any_of(rows.begin(), rows.end(), [&](const Comparison& c) {
           return c.label == label && !c.result.interpenetrated();

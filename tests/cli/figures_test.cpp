@@ -15,10 +15,12 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "render/figures/filmstrip.h"
+#include "render/figures/gnuplot.h"
 #include "render/output/png_writer.h"
 #include "tests/render/render_test_util.h"
 #include "tests/support/voxfall_command.h"
@@ -87,6 +89,38 @@ TEST(FiguresCommand, QuickFig10WritesItsFilesAndTheErrorFallsWithTheLevel) {
 }
 
 TEST(FiguresCommand, UnknownFigureIsAUsageError) { EXPECT_EQ(voxfall("figures fig99"), 2); }
+
+// The gnuplot point type of the legend sample drawn after the legend text `label` in an SVG
+// (gnuplot's SVG names point type N as gpPt(N-1)): gpPt6 is the filled circle, gpPt5 the open
+// one. -1 when there is none.
+int legendPointAfter(const std::string& svg, const std::string& label) {
+  const std::size_t text = svg.find("<text>" + label + "</text>");
+  const std::size_t use = svg.find("xlink:href='#gpPt", text);
+  if (text == std::string::npos || use == std::string::npos) return -1;
+  return std::atoi(svg.c_str() + use + 17);
+}
+
+// Hollow marks mean a run that interpenetrated (the footnote says so), so a legend must show
+// each series filled, whether or not its runs are clean: fig. 14 (points) and fig. 16 (lines
+// and points) read from their SVGs; fig. 13's bars come from the same code as fig. 14's.
+TEST(FiguresCommand, LegendsShowTheSeriesFilled) {
+  test::ScratchDir dir("figures_legends");
+  const std::string out = (dir.path() / "figs").string();
+  ASSERT_EQ(voxfall("figures fig13 fig14 fig16 --quick --quiet --scenes '" + kScenes + "' -o '" +
+                    out + "'"),
+            0);
+  const std::string fig14 = test::readFile(out + "/fig14.svg");
+  for (const char* label : {"voxel method", "polygon method"})
+    EXPECT_EQ(legendPointAfter(fig14, label), 6) << label;
+  const std::string fig16 = test::readFile(out + "/fig16.svg");
+  for (const char* label : {"Lv 4 at 1/150", "polygon at 1/600", "polygon at 1/1200"})
+    EXPECT_EQ(legendPointAfter(fig16, label), 6) << label;
+  // And a figure that would give a hollow series a legend entry is refused before drawing.
+  fig::Figure f;
+  f.panels.push_back(
+      {"p", "x", "y", false, false, {{"runs", "a.csv", "1:2", "points", 0, true}}, {}});
+  EXPECT_THROW(fig::drawFigure(f, (dir.path() / "bad").string()), std::logic_error);
+}
 
 TEST(FilmstripCommand, EachFrameIsExactlyTheRenderedFrame) {
   test::ScratchDir dir("filmstrip");
