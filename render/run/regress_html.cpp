@@ -114,9 +114,7 @@ std::string passingFrames(const CaseResult& c) {
   std::string items;
   int n = 0;
   for (const FrameResult& f : c.frames) {
-    if (f.status == FrameStatus::kFail || f.status == FrameStatus::kMissing ||
-        f.status == FrameStatus::kUnreadable)
-      continue;
+    if (f.failed()) continue;
     ++n;
     items += "<li><span class=\"ok\">" + e(f.file) + "</span> <span class=\"metrics\">" +
              e(f.detail) + "</span></li>";
@@ -134,14 +132,10 @@ std::string caseSection(const CaseResult& c) {
     return out + "<p class=\"bad\">" + e(c.where) + ": " + e(c.error) + "</p></section>";
   out += "<p>" + std::to_string(c.frames.size()) + " frames at " + std::to_string(c.width) + "x" +
          std::to_string(c.height) + e(c.what) + "</p>";
-  const std::string line = caseLines(c, ".")[1];  // the checksum line
-  const bool sumOk =
-      c.checksumStatus != ChecksumStatus::kFail && c.checksumStatus != ChecksumStatus::kMissing;
-  out += "<p class=\"metrics " + std::string(sumOk ? "ok" : "bad") + "\">" + e(line) + "</p>";
+  out += "<p class=\"metrics " + std::string(c.checksumFailed() ? "bad" : "ok") + "\">" +
+         e(checksumLine(c)) + "</p>";
   for (const FrameResult& f : c.frames)
-    if (f.status == FrameStatus::kFail || f.status == FrameStatus::kMissing ||
-        f.status == FrameStatus::kUnreadable)
-      out += failingFrame(c, f);
+    if (f.failed()) out += failingFrame(c, f);
   return out + passingFrames(c) + "</section>";
 }
 

@@ -36,9 +36,7 @@ std::string testcase(const std::string& suite, const std::string& name, const st
 
 std::string checksumCase(const CaseResult& c, Counts& n) {
   ++n.tests;
-  const bool failed =
-      c.checksumStatus == ChecksumStatus::kFail || c.checksumStatus == ChecksumStatus::kMissing;
-  if (!failed) return testcase(c.name, "checksum", "", "", "");
+  if (!c.checksumFailed()) return testcase(c.name, "checksum", "", "", "");
   ++n.failures;
   const std::string message = c.checksumStatus == ChecksumStatus::kMissing
                                   ? "no golden checksum (run with --update to create it)"
@@ -50,9 +48,7 @@ std::string checksumCase(const CaseResult& c, Counts& n) {
 std::string frameCase(const CaseResult& c, const FrameResult& f, const std::string& reportDir,
                       Counts& n) {
   ++n.tests;
-  const bool failed = f.status == FrameStatus::kFail || f.status == FrameStatus::kMissing ||
-                      f.status == FrameStatus::kUnreadable;
-  if (!failed) return testcase(c.name, f.file, "", "", "");
+  if (!f.failed()) return testcase(c.name, f.file, "", "", "");
   ++n.failures;
   const std::string picture = f.compareImage.empty() ? f.actualImage : f.compareImage;
   return testcase(c.name, f.file, "failure", f.detail,

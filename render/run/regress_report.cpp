@@ -11,14 +11,7 @@ std::string plural(int n, const char* word) {
   return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
 }
 
-bool frameFailed(const FrameResult& f) {
-  return f.status == FrameStatus::kFail || f.status == FrameStatus::kMissing ||
-         f.status == FrameStatus::kUnreadable;
-}
-
-bool checksumFailed(const CaseResult& c) {
-  return c.checksumStatus == ChecksumStatus::kFail || c.checksumStatus == ChecksumStatus::kMissing;
-}
+}  // namespace
 
 std::string checksumLine(const CaseResult& c) {
   const std::string head = "  checksum " + c.checksum + ": ";
@@ -39,6 +32,8 @@ std::string checksumLine(const CaseResult& c) {
          " (the simulated states are not bit-identical; the frames below show whether it is "
          "visible)";
 }
+
+namespace {
 
 std::string frameLine(const FrameResult& f, const std::string& reportDir) {
   const std::string head = "  " + f.file + ": ";
@@ -65,9 +60,9 @@ std::string frameLine(const FrameResult& f, const std::string& reportDir) {
 }  // namespace
 
 bool CaseResult::passed() const {
-  if (!error.empty() || checksumFailed(*this)) return false;
+  if (!error.empty() || checksumFailed()) return false;
   for (const FrameResult& f : frames)
-    if (frameFailed(f)) return false;
+    if (f.failed()) return false;
   return true;
 }
 
@@ -97,13 +92,13 @@ std::string closingLine(const SuiteResult& s) {
   int passed = 0, failed = 0, written = 0, checksums = 0, broken = 0;
   for (const CaseResult& c : s.cases) {
     if (!c.error.empty()) ++broken;
-    if (checksumFailed(c)) ++checksums;
+    if (c.checksumFailed()) ++checksums;
     if (c.checksumStatus == ChecksumStatus::kWritten ||
         c.checksumStatus == ChecksumStatus::kWrittenNew)
       ++written;
     for (const FrameResult& f : c.frames) {
       if (f.status == FrameStatus::kOk) ++passed;
-      if (frameFailed(f)) ++failed;
+      if (f.failed()) ++failed;
       if (f.status == FrameStatus::kWritten || f.status == FrameStatus::kWrittenNew) ++written;
     }
   }

@@ -28,6 +28,11 @@ struct FrameResult {
   std::optional<PixelRect> crop;  // around the change (compare_image.h), for failing frames
   // Report files, relative to the report folder; "" where none was written.
   std::string expectedImage, actualImage, diffImage, compareImage;
+  // Over tolerance, or without a golden to compare with (missing or unreadable).
+  bool failed() const {
+    return status == FrameStatus::kFail || status == FrameStatus::kMissing ||
+           status == FrameStatus::kUnreadable;
+  }
 };
 
 struct CaseResult {
@@ -43,6 +48,9 @@ struct CaseResult {
   std::string changedRealisations;       // " (realisations 1, 2)" or ""
   std::vector<FrameResult> frames;
   std::vector<std::string> stale;  // goldens in the folder that no frame lists
+  bool checksumFailed() const {
+    return checksumStatus == ChecksumStatus::kFail || checksumStatus == ChecksumStatus::kMissing;
+  }
   bool passed() const;
 };
 
@@ -59,6 +67,7 @@ struct SuiteResult {
 // line of the whole run.
 std::vector<std::string> caseLines(const CaseResult& c, const std::string& reportDir);
 std::string headerLine(const SuiteResult& s);
+std::string checksumLine(const CaseResult& c);
 std::string closingLine(const SuiteResult& s);
 
 // One self-contained HTML page (styles and script inline, images by paths relative to the

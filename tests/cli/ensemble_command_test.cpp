@@ -360,16 +360,8 @@ TEST_F(EnsembleCommandTest, RegressCaseIsTheSubsetBakeAndChecksTheRealisations) 
 
 TEST_F(EnsembleCommandTest, AnInterruptedEnsembleWritesItsCompleteRealisationsAndSaysSo) {
   vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 10.0);
-  const pid_t child = ::fork();
-  if (child == 0) {
-    if (::chdir(dir_.c_str()) != 0) ::_exit(126);
-    const int null = ::open("/dev/null", O_WRONLY);
-    ::dup2(null, 1);
-    ::dup2(null, 2);
-    ::execl(kExe.c_str(), kExe.c_str(), "ensemble", "scene.toml", "--runs", "100000", "--jobs", "2",
-            "-q", "-o", "int", static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
+  const pid_t child = vf::test::startVoxfall(
+      kExe, dir_, {"ensemble", "scene.toml", "--runs", "100000", "--jobs", "2", "-q", "-o", "int"});
   // Long enough for some realisations (tens of milliseconds each) to finish, on a busy machine
   // too (2 s can be too short in a `ctest -j2` run of the whole suite; 4 s holds beside the
   // heaviest tests); 100000 of them take minutes, so the run is still going.

@@ -76,13 +76,9 @@ int takenFromJournal(const std::string& err) {
 
 TEST_F(EnsembleJournalTest, AKilledRunResumedWritesTheBytesOfOneRun) {
   ensemble("--runs 40 --jobs 2 --converge -o ref");
-  const pid_t child = ::fork();
-  if (child == 0) {
-    if (::chdir(dir_.c_str()) != 0) ::_exit(126);
-    ::execl(kExe.c_str(), kExe.c_str(), "ensemble", "scene.toml", "--runs", "40", "--seed", "7",
-            "--jobs", "2", "--converge", "-q", "-o", "cut", static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
+  const pid_t child = vf::test::startVoxfall(kExe, dir_,
+                                             {"ensemble", "scene.toml", "--runs", "40", "--seed",
+                                              "7", "--jobs", "2", "--converge", "-q", "-o", "cut"});
   // Killed as soon as the journal holds a realisation (a few hundred bytes past its header and
   // the --runs record), long before the 40 are done.
   const fs::path journal = dir_ / "cut" / kJournal;

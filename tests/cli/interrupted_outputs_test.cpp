@@ -65,25 +65,7 @@ class InterruptedOutputs : public ::testing::Test {
   // Starts `voxfall ARGS...` in dir_ and sends `sig` once `ready()` holds; returns the child's
   // wait status.
   int interrupt(const std::vector<std::string>& args, int sig, const std::function<bool()>& ready) {
-    const pid_t child = ::fork();
-    if (child == 0) {
-      if (::chdir(dir_.c_str()) != 0) ::_exit(126);
-      const int null = ::open("/dev/null", O_WRONLY);
-      ::dup2(null, 1);
-      ::dup2(null, 2);
-      std::vector<char*> argv{const_cast<char*>(kExe.c_str())};
-      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
-      ::execv(kExe.c_str(), argv.data());
-      ::_exit(127);
-    }
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (!ready() && std::chrono::steady_clock::now() < deadline)
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    ::kill(child, sig);
-    int status = 0;
-    ::waitpid(child, &status, 0);
-    return status;
+    return vf::test::interruptVoxfall(kExe, dir_, args, sig, ready);
   }
 
   fs::path dir_;

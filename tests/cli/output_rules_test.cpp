@@ -73,25 +73,8 @@ class OutputRules : public ::testing::Test {
   // `sig` and returns the exit status.
   int interrupt(const std::vector<std::string>& args, int sig, const std::function<bool()>& ready) {
     fs::remove(dir_ / "stderr.txt");  // ready() must not read an earlier run's
-    const pid_t child = ::fork();
-    if (child == 0) {
-      if (::chdir(dir_.c_str()) != 0) ::_exit(126);
-      const int err = ::open("stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      const int out = ::open("/dev/null", O_WRONLY);
-      ::dup2(out, 1);
-      ::dup2(err, 2);
-      std::vector<char*> argv{const_cast<char*>(VOXFALL_EXE)};
-      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
-      ::execv(VOXFALL_EXE, argv.data());
-      ::_exit(127);
-    }
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (!ready() && std::chrono::steady_clock::now() < deadline)
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    ::kill(child, sig);
-    int status = 0;
-    ::waitpid(child, &status, 0);
+    const int status =
+        vf::test::interruptVoxfall(VOXFALL_EXE, dir_, args, sig, ready, "stderr.txt");
     err_ = readFile(dir_ / "stderr.txt");
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }

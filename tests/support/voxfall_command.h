@@ -2,14 +2,20 @@
 // `voxfall ARGS` run in a folder with its exit code, stdout and stderr.
 #pragma once
 
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace vf::test {
 
@@ -50,6 +56,43 @@ inline CommandResult runVoxfall(const std::string& exe, const std::filesystem::p
   std::filesystem::remove(out);
   std::filesystem::remove(err);
   return r;
+}
+
+// Starts `EXE ARGS...` in `dir` as a child process, its stdout to /dev/null and its stderr to
+// `stderrFile` in `dir` (or /dev/null when empty), and returns its process id without waiting:
+// for tests that signal or kill a run part-way.
+inline pid_t startVoxfall(const std::string& exe, const std::filesystem::path& dir,
+                          const std::vector<std::string>& args,
+                          const std::string& stderrFile = "") {
+  const pid_t child = ::fork();
+  if (child != 0) return child;
+  if (::chdir(dir.c_str()) != 0) ::_exit(126);
+  const int null = ::open("/dev/null", O_WRONLY);
+  const int err =
+      stderrFile.empty() ? null : ::open(stderrFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  ::dup2(null, 1);
+  ::dup2(err, 2);
+  std::vector<char*> argv{const_cast<char*>(exe.c_str())};
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  ::execv(exe.c_str(), argv.data());
+  ::_exit(127);
+}
+
+// Starts `EXE ARGS...` as startVoxfall does, sends `sig` once `ready()` holds (or after a
+// minute), and returns the child's wait status.
+inline int interruptVoxfall(const std::string& exe, const std::filesystem::path& dir,
+                            const std::vector<std::string>& args, int sig,
+                            const std::function<bool()>& ready,
+                            const std::string& stderrFile = "") {
+  const pid_t child = startVoxfall(exe, dir, args, stderrFile);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!ready() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ::kill(child, sig);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return status;
 }
 
 }  // namespace vf::test
