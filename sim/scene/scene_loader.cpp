@@ -298,8 +298,8 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
     const std::string v = r.string(*n, "rotation");
     if (v != "euler" && v != "midpoint")
       r.fail(*n,
-             "'rotation' must be \"euler\" (the paper's explicit Euler, the default) or "
-             "\"midpoint\" (keeps the energy of free tumbling), got \"" +
+             "'rotation' must be \"euler\" (the paper's explicit Euler) or \"midpoint\" (keeps "
+             "the energy of free tumbling; the default with ground materials), got \"" +
                  v + "\"");
     spec.rotation = v == "midpoint" ? RotationUpdate::kMidpoint : RotationUpdate::kExplicitEuler;
   }
@@ -1029,6 +1029,11 @@ SceneSpec loadScene(const std::string& path) {
   if (const auto* n = root.get("simulation")) readSimulation(r, r.table(*n, "simulation"), spec);
   if (const auto* n = root.get("contact")) readContact(r, r.table(*n, "contact"), spec.contact);
   if (const auto* n = root.get("ground")) readGround(r, r.table(*n, "ground"), sceneFolder, spec);
+  // A rock-fall scene (one with ground materials) rotates by the midpoint rule unless it says
+  // otherwise: the paper's explicit Euler gains energy in free tumbling, and a rock's runout
+  // depends on the spin it keeps in flight. Scenes without materials keep the paper's update.
+  if (!spec.groundMaterial.empty() && root.at_path("simulation.rotation").node() == nullptr)
+    spec.rotation = RotationUpdate::kMidpoint;
   if (const auto* n = root.get("shapes")) readShapes(r, r.table(*n, "shapes"), sceneFolder, spec);
   if (const auto* n = root.get("bodies")) readBodies(r, arrayOfTables(r, *n, "bodies"), spec);
   if (const auto* n = root.get("emitters")) readEmitters(r, arrayOfTables(r, *n, "emitters"), spec);

@@ -618,6 +618,11 @@ TEST_F(SceneTest, RockfallRunKeys) {
   EXPECT_EQ(plain.rotation, RotationUpdate::kExplicitEuler);
   EXPECT_FALSE(plain.stopWhenSettled);
   EXPECT_EQ(plain.terrainEdge, TerrainEdge::kAuto);
+  // With a ground material the default becomes the midpoint rule; an explicit key still wins.
+  const std::string rock = kShape + "[ground]\nplane = 0\nmaterial = \"bedrock\"\n";
+  EXPECT_EQ(loadScene(write("rock.toml", rock)).rotation, RotationUpdate::kMidpoint);
+  EXPECT_EQ(loadScene(write("euler.toml", "[simulation]\nrotation = \"euler\"\n" + rock)).rotation,
+            RotationUpdate::kExplicitEuler);
   expectError(kShape + "[simulation]\nstop = \"never\"\n", "\"never\"", "'stop' must be");
   expectError(kShape + "[simulation]\nrotation = \"rk4\"\n", "\"rk4\"", "'rotation' must be");
   expectError(kShape + "[ground]\nplane = 0\nedge = \"bounce\"\n", "\"bounce\"", "'edge' must be");
