@@ -680,8 +680,14 @@ void readShapes(const Reader& r, const toml::table& t, const fs::path& sceneFold
     if (!v->is_table())
       r.fail(*v, "'shapes." + name + "' must be a table ([shapes." + name +
                      "] with mesh, scale, density), got " + typeName(*v));
-    for (ShapeSpec& s : readShape(r, name, *v->as_table(), sceneFolder))
+    for (ShapeSpec& s : readShape(r, name, *v->as_table(), sceneFolder)) {
+      // A family's NAME#k could meet a table quoted as [shapes."NAME#k"].
+      for (const ShapeSpec& other : spec.shapes)
+        if (other.name == s.name)
+          r.fail(*v, "shape '" + s.name + "' is defined twice (a rock family names its rocks " +
+                         "NAME#0, NAME#1, ...)");
       spec.shapes.push_back(std::move(s));
+    }
   }
 }
 

@@ -148,6 +148,9 @@ TEST_F(RockSceneTest, AFamilyBecomesVariantsWithConsecutiveSeeds) {
   expectError(kFamily + "[[bodies]]\nshape = \"boulders\"\n", "\"boulders\"",
               "'boulders' is a family of 3 rocks (rock.seeds); name one of them, 'boulders#0' to "
               "'boulders#2'");
+  // A variant's name taken by another table.
+  expectError(kFamily + "[shapes.\"boulders#1\"]\nmesh = \"cube.obj\"\ndensity = 1\n",
+              "[shapes.\"boulders#1\"]", "shape 'boulders#1' is defined twice");
 }
 
 // An ensemble over the chute (tests/support/chute_dem.h) drawing shape "plain" or family "fam".
