@@ -126,8 +126,9 @@ TEST_F(BakeCommand, ABakeKeepsTheScenesNamedCameras) {
 }
 
 TEST_F(BakeCommand, AVersion1BakeStillRendersWithItsOneCamera) {
-  // Version 1 headers had `camera` only: rewrite this run's header as version 1 would have been
-  // written (no `cameras`, no camera `name` or `where`) and check it draws the same frames.
+  // Version 1 headers had `camera` only, and versions 1 and 2 no shape `repair`, `rock` or `up`:
+  // rewrite this run's header as version 1 would have been written (no `cameras`, no camera
+  // `name` or `where`, none of those shape keys) and check it draws the same frames.
   ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
   std::string bytes = readFile(dir_.path() / "run.bake");
   const std::size_t start = bytes.find('\n') + 1, end = bytes.find('\n', start);
@@ -136,8 +137,12 @@ TEST_F(BakeCommand, AVersion1BakeStillRendersWithItsOneCamera) {
   cut(std::regex(R"re(,?"cameras":\[[^\]]*\])re"));
   cut(std::regex(R"re("name":"camera",)re"));
   cut(std::regex(R"re(,"where":"[^"]*")re"));  // the header's keys are sorted: last
-  header = std::regex_replace(header, std::regex(R"re("version":2)re"), R"re("version":1)re");
+  cut(std::regex(R"re("repair":false,"rock":null,)re"));
+  cut(std::regex(R"re(,"up":"z")re"));
+  header = std::regex_replace(header, std::regex(R"re("version":3)re"), R"re("version":1)re");
   ASSERT_EQ(header.find("cameras"), std::string::npos) << header;
+  ASSERT_EQ(header.find("rock"), std::string::npos) << header;
+  ASSERT_EQ(header.find("\"up\":\"z\""), std::string::npos) << header;
   ASSERT_NE(header.find(R"re("version":1)re"), std::string::npos) << header;
   std::ofstream(dir_.path() / "v1.bake", std::ios::binary)
       << bytes.substr(0, start) << header << bytes.substr(end);
@@ -148,11 +153,11 @@ TEST_F(BakeCommand, AVersion1BakeStillRendersWithItsOneCamera) {
   EXPECT_NE(err_.find("v1.bake: no camera named 'chase'; the scene has: camera"), std::string::npos)
       << err_;
   // A version from the future is refused by number, not misread.
-  header = std::regex_replace(header, std::regex(R"re("version":1)re"), R"re("version":3)re");
-  std::ofstream(dir_.path() / "v3.bake", std::ios::binary)
+  header = std::regex_replace(header, std::regex(R"re("version":1)re"), R"re("version":4)re");
+  std::ofstream(dir_.path() / "v4.bake", std::ios::binary)
       << bytes.substr(0, start) << header << bytes.substr(end);
-  EXPECT_EQ(run("render v3.bake -o x.mp4"), 1);
-  EXPECT_NE(err_.find("bake version 3 is not one this voxfall reads (1..2)"), std::string::npos)
+  EXPECT_EQ(run("render v4.bake -o x.mp4"), 1);
+  EXPECT_NE(err_.find("bake version 4 is not one this voxfall reads (1..3)"), std::string::npos)
       << err_;
 }
 
