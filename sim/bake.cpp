@@ -20,7 +20,6 @@
 #include <utility>
 
 #include "sim/core/error.h"
-#include "sim/geometry/mesh_import.h"
 #include "sim/shape/sphere_tree.h"
 #include "sim/solve/integrate.h"
 
@@ -32,11 +31,21 @@ using nlohmann::json;
 
 constexpr char kSignature[] = "VOXFALL-BAKE 1\n";
 // 2: the header holds the scene's named cameras ([cameras.NAME]) as well; 1 is still read.
-constexpr int kVersion = 2;
+// 3: each shape holds its up axis, repair flag and generated rock; 1 and 2 are still read.
+constexpr int kVersion = 3;
 constexpr int kValuesPerBody = 14;  // active, x(3), q(w, x, y, z), P(3), L(3)
 static_assert(std::endian::native == std::endian::little, "bakes are little-endian float64");
 
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json rockJson(const std::optional<RockDef>& r) {
+  if (!r) return nullptr;
+  return {{"class", r->shapeClass},
+          {"seed", r->seed},
+          {"size", vec(r->extents)},
+          {"length", r->length},
+          {"volume", r->volume}};
+}
 
 json color(const std::optional<Color>& c) {
   if (!c) return nullptr;
@@ -103,6 +112,19 @@ std::optional<Color> readColor(const json& j) {
     c[static_cast<std::size_t>(i)] = static_cast<float>(v);
   }
   return c;
+}
+
+std::optional<RockDef> readRock(const json& j) {
+  if (j.is_null()) return std::nullopt;
+  RockDef r;
+  r.shapeClass = j.at("class").get<std::string>();
+  if (!isRockClass(r.shapeClass))
+    throw std::domain_error("unknown rock class '" + r.shapeClass + "'");
+  r.seed = j.at("seed").get<std::uint64_t>();
+  r.extents = readVec(j.at("size"));
+  r.length = j.at("length").get<double>();
+  r.volume = j.at("volume").get<double>();
+  return r;
 }
 
 // A camera as the header stores it: every key of a [camera] or [cameras.NAME] table, resolved.
@@ -177,15 +199,16 @@ RunSummary readSummary(const json& j) {
 }  // namespace
 
 std::vector<std::shared_ptr<const Shape>> bakeShapes(const Bake& bake) {
-  std::map<std::string, TriMesh> meshes;  // by path
+  std::map<std::string, TriMesh> meshes;  // by shapeMeshKey
   std::vector<std::shared_ptr<const Shape>> shapes;
   for (const ShapeSpec& s : bake.scene.shapes) {
-    auto mesh = meshes.find(s.meshPath);
-    if (mesh == meshes.end()) mesh = meshes.emplace(s.meshPath, importMesh(s.meshPath)).first;
+    const std::string key = shapeMeshKey(s);
+    auto mesh = meshes.find(key);
+    if (mesh == meshes.end()) mesh = meshes.emplace(key, shapeSourceMesh(s)).first;
     auto shape = std::make_shared<Shape>();
     shape->name = s.name;
     // centredMesh() is bit-identical to the mesh makeShape() keeps (shape.h).
-    shape->mesh = centredMesh(mesh->second, s.scale);
+    shape->mesh = centredMesh(mesh->second, shapeScale(s));
     double farthest = 0;
     for (const Vec3& v : shape->mesh.vertices) farthest = std::max(farthest, v.norm());
     shape->diameter = 2 * farthest;
@@ -257,7 +280,10 @@ void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
                       {"scale", vec(shape.scale)},
                       {"density", shape.density},
                       {"level", shape.level.value_or(s.level)},
-                      {"color", color(shape.color)}});
+                      {"color", color(shape.color)},
+                      {"up", shape.yUp ? "y" : "z"},
+                      {"repair", shape.repair},
+                      {"rock", rockJson(shape.rock)}});
   json bodies = json::array();
   for (const BakeBody& b : bake.bodies) {
     json inertia = json::array();
@@ -385,7 +411,16 @@ void checkHeader(const Bake& bake, const std::string& where) {
     const ShapeSpec& shape = s.shapes[i];
     const std::string key = "shapes[" + std::to_string(i) + "].";
     for (int i = 0; i < 3; ++i) positive(key + "scale", shape.scale[i]);
-    positive(key + "density", shape.density);
+    nonNegative(key + "density", shape.density);  // 0: the scene gave the shape's mass
+    if (const auto& r = shape.rock) {
+      // Exactly one size, as the scene loader leaves it; the generator asserts as much.
+      const int sizes = (r->extents != Vec3::Zero()) + (r->length != 0) + (r->volume != 0);
+      if (sizes != 1) fail(key + "rock", "must give one of size, length and volume", sizes);
+      if (r->extents != Vec3::Zero())
+        for (int k = 0; k < 3; ++k) positive(key + "rock.size", r->extents[k]);
+      if (r->length != 0) positive(key + "rock.length", r->length);
+      if (r->volume != 0) positive(key + "rock.volume", r->volume);
+    }
     const int level = shape.level.value_or(kMinLevel);
     if (level < kMinLevel || level > kMaxLevel)
       fail(key + "level", "must be " + std::to_string(kMinLevel) + ".." + std::to_string(kMaxLevel),
@@ -446,6 +481,11 @@ Bake readBake(const std::string& path) {
       shape.density = j.at("density").get<double>();
       shape.level = readInteger<int>(j.at("level"), "shapes[].level");
       shape.color = readColor(j.at("color"));
+      if (version >= 3) {  // 1 and 2 had z-up meshes as the files hold them, and no rocks
+        shape.yUp = j.at("up").get<std::string>() == "y";
+        shape.repair = j.at("repair").get<bool>();
+        shape.rock = readRock(j.at("rock"));
+      }
       s.shapes.push_back(shape);
     }
     for (const json& j : h.at("bodies")) {

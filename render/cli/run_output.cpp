@@ -55,7 +55,8 @@ OutputRules runOutputRules(const SceneSpec& spec, const std::string& inputFile, 
                                    : Overwrite::refuse;
   rules.inputs.push_back(inputFile);
   if (!spec.path.empty()) rules.inputs.push_back(spec.path);
-  for (const ShapeSpec& s : spec.shapes) rules.inputs.push_back(s.meshPath);
+  for (const ShapeSpec& s : spec.shapes)
+    if (!s.meshPath.empty()) rules.inputs.push_back(s.meshPath);  // "" for a generated rock
   if (!spec.terrainPath.empty()) rules.inputs.push_back(spec.terrainPath);
   return rules;
 }

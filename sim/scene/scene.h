@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sim/core/math.h"
+#include "sim/geometry/rock_mesh.h"
 #include "sim/world.h"
 
 namespace vf {
@@ -19,8 +20,12 @@ namespace vf {
 using Color = std::array<float, 3>;  // linear RGB in [0, 1]
 
 struct ShapeSpec {
-  std::string name;           // key of [shapes.NAME]
-  std::string meshPath;       // resolved against the scene file's folder
+  std::string name;             // key of [shapes.NAME]; NAME#k for variant k of a rock family
+  std::string meshPath;         // resolved against the scene file's folder; "" for a rock
+  std::optional<RockDef> rock;  // `rock = { ... }`: a generated rock instead of a mesh file
+  // `rock.seeds = N` makes N shapes NAME#0 .. NAME#(N-1), seeds seed .. seed + N - 1, each with
+  // `family` = NAME; "" for any other shape.
+  std::string family;
   Vec3 scale = Vec3::Ones();  // uniform number or [sx, sy, sz] in the file
   double density = 0;         // kg/m^3; 0 when `mass` is given instead
   double mass = 0;            // kg; 0 when `density` is given
@@ -112,9 +117,11 @@ enum class ReleaseKind { kArea, kLine, kPoints, kCells };
 using Point2 = std::array<double, 2>;  // world x, y (m)
 
 struct EnsembleSpec {
-  std::uint64_t seed = 1;           // `seed`; --seed overrides it
-  std::vector<std::string> shapes;  // `shapes` (or `shape`): drawn with `weights`
-  std::vector<double> weights;      // one per shape, > 0; equal when not given
+  std::uint64_t seed = 1;  // `seed`; --seed overrides it
+  // `shapes` (or `shape`), drawn with `weights`; a rock family's entry is replaced by its
+  // variants (NAME#k), which share the entry's weight equally.
+  std::vector<std::string> shapes;
+  std::vector<double> weights;  // one per entry of `shapes`, > 0; equal when not given
   ReleaseKind release = ReleaseKind::kPoints;
   std::vector<Point2> releasePoints;           // area polygon, line vertices or points, world x, y
   std::vector<std::string> releasePointWhere;  // "file:line:column" of each point
@@ -261,6 +268,15 @@ struct SceneShape {
   std::optional<Color> color;
 };
 std::map<std::string, SceneShape> buildSceneShapes(const SceneSpec& spec);
+// A shape's mesh before `scale`: its rock generated, or its mesh file imported, repaired when
+// asked, checked closed (InputError naming the file) and turned z-up. Bakes rebuild their
+// shapes' meshes with it too.
+TriMesh shapeSourceMesh(const ShapeSpec& s);
+// The shape's scale in the axes of shapeSourceMesh (a y-up mesh's y and z factors swap).
+Vec3 shapeScale(const ShapeSpec& s);
+// Equal for two shapes exactly when shapeSourceMesh gives them the same mesh (file, up axis and
+// repair, or the whole rock definition): the key of the caches of meshes and sphere trees.
+std::string shapeMeshKey(const ShapeSpec& s);
 // Centre of mass of a body of `shape` whose mesh-file origin is at `filePosition` with
 // orientation q (scenes place the file origin; the World places the centre of mass), m.
 Vec3 centreOfMass(const Shape& shape, const Vec3& filePosition, const Quat& q);
@@ -268,8 +284,9 @@ Vec3 centreOfMass(const Shape& shape, const Vec3& filePosition, const Quat& q);
 // [0, 1).
 Quat uniformRotation(double u1, double u2, double u3);
 
-// Loads meshes (each file once), validates them, builds each shape's sphere tree once per
-// (mesh, scale, level), and adds the bodies and the emitters' bodies (with release times).
+// Loads meshes (each file once) or generates rocks, validates them, builds each shape's sphere
+// tree once per (mesh, scale, level), and adds the bodies and the emitters' bodies (with release
+// times).
 BuiltScene buildScene(const SceneSpec& spec);
 
 }  // namespace vf

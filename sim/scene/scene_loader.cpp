@@ -507,17 +507,57 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
   r.fail(n, message);
 }
 
-ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table& t,
-                    const fs::path& sceneFolder) {
-  const std::string label = "[shapes." + name + "]";
-  r.checkKeys(t, sceneKeysOf("shapes.NAME"), label);
-  ShapeSpec s;
-  s.name = name;
-  s.where = r.where(t);
+// Guards the load: each variant of a rock family is built (voxelised) when the scene is.
+constexpr std::int64_t kMaxRockSeeds = 1000;
 
-  if (const auto* n = t.get("repair")) s.repair = r.boolean(*n, "repair");
+// `rock = { class, seed, seeds, size, volume }`; `seeds` (a family's size, 0 without) is
+// returned apart, since it makes several shapes of one table.
+RockDef readRock(const Reader& r, const toml::node& n, const std::string& label,
+                 std::int64_t& seeds) {
+  const std::string rockLabel = label + " rock";
+  const toml::table& t = r.table(n, "rock");
+  r.checkKeys(t, sceneKeysOf("shapes.NAME.rock"), rockLabel);
+  RockDef d;
+  const toml::node& c = r.require(t, "class", rockLabel);
+  d.shapeClass = r.string(c, "rock.class");
+  if (!isRockClass(d.shapeClass)) {
+    std::string message = "unknown rock class '" + d.shapeClass + "'";
+    if (auto guess = nearestName(d.shapeClass, rockClassNames()))
+      message += "; did you mean '" + *guess + "'?";
+    r.fail(c, message + " (classes: " + joinNames(rockClassNames()) + ")");
+  }
+  if (const auto* x = t.get("seed")) {
+    const std::int64_t seed = r.integer(*x, "rock.seed");
+    if (seed < 0) r.fail(*x, "'rock.seed' must be an integer >= 0, got " + std::to_string(seed));
+    d.seed = static_cast<std::uint64_t>(seed);
+  }
+  seeds = 0;
+  if (const auto* x = t.get("seeds")) seeds = r.integerInRange(*x, "rock.seeds", 1, kMaxRockSeeds);
+  const toml::node* size = t.get("size");
+  const toml::node* volume = t.get("volume");
+  if (size != nullptr && volume != nullptr)
+    r.fail(*volume, "give either 'rock.size' or 'rock.volume' in " + label + ", not both");
+  if (size != nullptr && size->is_number()) {
+    d.length = r.positive(*size, "rock.size", " m (the longest extent)");
+  } else if (size != nullptr) {
+    if (!size->is_array())
+      r.fail(*size,
+             "'rock.size' must be a number (the longest extent) or an array of 3 numbers "
+             "[x, y, z] (the extents), got " +
+                 typeName(*size));
+    d.extents = r.vec3(*size, "rock.size");
+    for (int i = 0; i < 3; ++i)
+      if (!(d.extents[i] > 0))
+        r.fail(*size, "'rock.size' extents must be > 0 m, got " + formatNumber(d.extents[i]));
+    const std::string problem = rockExtentsProblem(d.shapeClass, d.extents);
+    if (!problem.empty()) r.fail(*size, "'rock.size': " + problem);
+  }
+  if (volume != nullptr) d.volume = r.positive(*volume, "rock.volume", " m^3");
+  return d;
+}
 
-  const toml::node& meshNode = r.require(t, "mesh", label);
+// `mesh`: the resolved path of an existing file.
+std::string readMeshPath(const Reader& r, const toml::node& meshNode, const fs::path& sceneFolder) {
   const std::string given = r.string(meshNode, "mesh");
   if (given.empty()) r.fail(meshNode, "'mesh' must name a mesh file, got an empty string");
   fs::path resolved(given);
@@ -525,7 +565,66 @@ ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table&
   resolved = resolved.lexically_normal();
   std::error_code ec;
   if (!fs::is_regular_file(resolved, ec)) failMissingMesh(r, meshNode, resolved, given);
-  s.meshPath = resolved.string();
+  return resolved.string();
+}
+
+// `density` or `mass`, and for a rock given neither `rock.size` nor `rock.volume`, both: its
+// volume is mass / density.
+void readMass(const Reader& r, const toml::table& t, const std::string& label, ShapeSpec& s) {
+  const toml::node* density = t.get("density");
+  const toml::node* mass = t.get("mass");
+  const bool rockSized =
+      s.rock && (s.rock->extents != Vec3::Zero() || s.rock->length > 0 || s.rock->volume > 0);
+  if (s.rock && !rockSized) {
+    if (density == nullptr || mass == nullptr)
+      r.fail(t,
+             "a rock needs a size: give 'rock.size' or 'rock.volume', or both 'mass' and "
+             "'density' (its volume is then mass / density) in " +
+                 label);
+    s.density = r.positive(*density, "density", " kg/m^3");
+    s.rock->volume = r.positive(*mass, "mass", " kg") / s.density;
+    return;
+  }
+  if (density != nullptr && mass != nullptr)
+    r.fail(*mass, "give either 'density' or 'mass' in " + label + ", not both");
+  if (mass != nullptr)
+    s.mass = r.positive(*mass, "mass", " kg");
+  else
+    s.density = r.positive(r.require(t, "density", label), "density", " kg/m^3");
+}
+
+// One [shapes.NAME] table: one shape, or a rock family's variants (rock.seeds).
+std::vector<ShapeSpec> readShape(const Reader& r, const std::string& name, const toml::table& t,
+                                 const fs::path& sceneFolder) {
+  const std::string label = "[shapes." + name + "]";
+  r.checkKeys(t, sceneKeysOf("shapes.NAME"), label);
+  ShapeSpec s;
+  s.name = name;
+  s.where = r.where(t);
+
+  const toml::node* meshNode = t.get("mesh");
+  const toml::node* rockNode = t.get("rock");
+  if (meshNode != nullptr && rockNode != nullptr)
+    r.fail(*rockNode, "give either 'mesh' (a mesh file) or 'rock' (a generated rock) in " + label +
+                          ", not both");
+  if (meshNode == nullptr && rockNode == nullptr)
+    r.fail(t,
+           "missing required key 'mesh' (a mesh file) or 'rock' (a generated rock, e.g. "
+           "rock = { class = \"compact\", volume = 0.5 }) in " +
+               label);
+  std::int64_t seeds = 0;
+  if (rockNode != nullptr) {
+    for (const char* key : {"scale", "up", "repair"})
+      if (const auto* n = t.get(key))
+        r.fail(*n, "'" + std::string(key) +
+                       "' applies to a mesh file; a rock is sized by "
+                       "'rock.size' or 'rock.volume' in " +
+                       label);
+    s.rock = readRock(r, *rockNode, label, seeds);
+  } else {
+    if (const auto* n = t.get("repair")) s.repair = r.boolean(*n, "repair");
+    s.meshPath = readMeshPath(r, *meshNode, sceneFolder);
+  }
 
   if (const auto* n = t.get("scale")) {
     if (n->is_number()) {
@@ -543,14 +642,7 @@ ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table&
              "'scale' must be a number or an array of 3 numbers [sx, sy, sz], got " + typeName(*n));
     }
   }
-  const toml::node* density = t.get("density");
-  const toml::node* mass = t.get("mass");
-  if (density != nullptr && mass != nullptr)
-    r.fail(*mass, "give either 'density' or 'mass' in " + label + ", not both");
-  if (mass != nullptr)
-    s.mass = r.positive(*mass, "mass", " kg");
-  else
-    s.density = r.positive(r.require(t, "density", label), "density", " kg/m^3");
+  readMass(r, t, label, s);
   if (const auto* n = t.get("up")) {
     const std::string up = r.string(*n, "up");
     if (up != "z" && up != "y")
@@ -563,7 +655,16 @@ ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table&
   if (const auto* n = t.get("level"))
     s.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
   if (const auto* n = t.get("color")) s.color = r.color(*n, "color");
-  return s;
+  if (seeds == 0) return {s};
+  std::vector<ShapeSpec> variants;
+  for (std::int64_t k = 0; k < seeds; ++k) {
+    ShapeSpec v = s;
+    v.name = name + "#" + std::to_string(k);
+    v.family = name;
+    v.rock->seed = s.rock->seed + static_cast<std::uint64_t>(k);
+    variants.push_back(std::move(v));
+  }
+  return variants;
 }
 
 void readShapes(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
@@ -579,22 +680,52 @@ void readShapes(const Reader& r, const toml::table& t, const fs::path& sceneFold
     if (!v->is_table())
       r.fail(*v, "'shapes." + name + "' must be a table ([shapes." + name +
                      "] with mesh, scale, density), got " + typeName(*v));
-    spec.shapes.push_back(readShape(r, name, *v->as_table(), sceneFolder));
+    for (ShapeSpec& s : readShape(r, name, *v->as_table(), sceneFolder)) {
+      // A family's NAME#k could meet a table quoted as [shapes."NAME#k"].
+      for (const ShapeSpec& other : spec.shapes)
+        if (other.name == s.name)
+          r.fail(*v, "shape '" + s.name + "' is defined twice (a rock family names its rocks " +
+                         "NAME#0, NAME#1, ...)");
+      spec.shapes.push_back(std::move(s));
+    }
   }
 }
 
+// The names a scene's shapes go by in messages: each [shapes.NAME], a rock family once.
 std::vector<std::string> shapeNames(const SceneSpec& spec) {
   std::vector<std::string> names;
-  for (const auto& s : spec.shapes) names.push_back(s.name);
+  for (const auto& s : spec.shapes)
+    if (s.family.empty())
+      names.push_back(s.name);
+    else if (names.empty() || names.back() != s.family)
+      names.push_back(s.family);
   return names;
+}
+
+// The variants of rock family `name`, in seed order; empty when `name` is not a family.
+std::vector<std::string> familyMembers(const SceneSpec& spec, const std::string& name) {
+  std::vector<std::string> members;
+  for (const auto& s : spec.shapes)
+    if (s.family == name) members.push_back(s.name);
+  return members;
+}
+
+bool isShapeName(const SceneSpec& spec, const std::string& name) {
+  for (const auto& s : spec.shapes)
+    if (s.name == name) return true;
+  return false;
 }
 
 std::string readShapeReference(const Reader& r, const toml::table& t, const std::string& label,
                                const SceneSpec& spec) {
   const toml::node& n = r.require(t, "shape", label);
   const std::string name = r.string(n, "shape");
+  if (isShapeName(spec, name)) return name;
+  if (const auto members = familyMembers(spec, name); !members.empty())
+    r.fail(n, "'" + name + "' is a family of " + std::to_string(members.size()) +
+                  " rocks (rock.seeds); name one of them, '" + members.front() + "' to '" +
+                  members.back() + "', or draw among them with [ensemble] shapes");
   const auto names = shapeNames(spec);
-  if (std::find(names.begin(), names.end(), name) != names.end()) return name;
   std::string message = "unknown shape '" + name + "'";
   if (names.empty()) {
     message += "; no shapes are defined (add a [shapes." + (name.empty() ? "NAME" : name) +
@@ -940,9 +1071,11 @@ void readEnsemble(const Reader& r, const toml::table& t, const fs::path& sceneFo
   if (one != nullptr && many != nullptr)
     r.fail(*many, "give either 'shape' or 'shapes' in [ensemble], not both");
   const auto names = shapeNames(spec);
-  auto shapeName = [&](const toml::node& n, const std::string& key) {
+  // An entry names a shape, or a rock family: all its variants, equally likely.
+  auto shapeEntry = [&](const toml::node& n, const std::string& key) {
     const std::string name = r.string(n, key);
-    if (std::find(names.begin(), names.end(), name) != names.end()) return name;
+    if (isShapeName(spec, name)) return std::vector<std::string>{name};
+    if (auto members = familyMembers(spec, name); !members.empty()) return members;
     std::string message = "unknown shape '" + name + "'";
     if (auto guess = nearestName(name, names))
       message += "; did you mean '" + *guess + "'?";
@@ -950,28 +1083,34 @@ void readEnsemble(const Reader& r, const toml::table& t, const fs::path& sceneFo
       message += "; defined shapes: " + (names.empty() ? std::string("none") : joinNames(names));
     r.fail(n, message);
   };
+  std::vector<std::vector<std::string>> entries;
   if (one != nullptr) {
-    e.shapes.push_back(shapeName(*one, "shape"));
+    entries.push_back(shapeEntry(*one, "shape"));
   } else if (many != nullptr) {
     const toml::array* a = many->as_array();
     if (a == nullptr || a->empty())
       r.fail(*many, "'shapes' must be a non-empty array of shape names, got " +
                         (a == nullptr ? typeName(*many) : std::string("an empty array")));
     for (std::size_t i = 0; i < a->size(); ++i)
-      e.shapes.push_back(shapeName(*a->get(i), "shapes[" + std::to_string(i) + "]"));
+      entries.push_back(shapeEntry(*a->get(i), "shapes[" + std::to_string(i) + "]"));
   } else {
     r.fail(t, "missing required key 'shape' (or 'shapes', drawn with 'weights') in [ensemble]");
   }
+  std::vector<double> entryWeights(entries.size(), 1.0);
   if (const auto* n = t.get("weights")) {
     const toml::array* a = n->as_array();
-    if (a == nullptr || a->size() != e.shapes.size())
-      r.fail(*n, "'weights' must be an array of " + std::to_string(e.shapes.size()) +
+    if (a == nullptr || a->size() != entries.size())
+      r.fail(*n, "'weights' must be an array of " + std::to_string(entries.size()) +
                      " numbers, one per entry of 'shapes'");
     for (std::size_t i = 0; i < a->size(); ++i)
-      e.weights.push_back(r.positive(*a->get(i), "weights[" + std::to_string(i) + "]", ""));
-  } else {
-    e.weights.assign(e.shapes.size(), 1.0);
+      entryWeights[i] = r.positive(*a->get(i), "weights[" + std::to_string(i) + "]", "");
   }
+  // A family's weight is shared equally by its variants.
+  for (std::size_t i = 0; i < entries.size(); ++i)
+    for (const std::string& name : entries[i]) {
+      e.shapes.push_back(name);
+      e.weights.push_back(entryWeights[i] / static_cast<double>(entries[i].size()));
+    }
   readRelease(r, r.table(r.require(t, "release", "[ensemble]"), "release"), sceneFolder, e);
   if (const auto* n = t.get("drop_height"))
     e.dropHeight = r.nonNegative(*n, "drop_height", " m (lowest point above the surface)");

@@ -126,8 +126,9 @@ TEST_F(BakeCommand, ABakeKeepsTheScenesNamedCameras) {
 }
 
 TEST_F(BakeCommand, AVersion1BakeStillRendersWithItsOneCamera) {
-  // Version 1 headers had `camera` only: rewrite this run's header as version 1 would have been
-  // written (no `cameras`, no camera `name` or `where`) and check it draws the same frames.
+  // Version 1 headers had `camera` only, and versions 1 and 2 no shape `repair`, `rock` or `up`:
+  // rewrite this run's header as version 1 would have been written (no `cameras`, no camera
+  // `name` or `where`, none of those shape keys) and check it draws the same frames.
   ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
   std::string bytes = readFile(dir_.path() / "run.bake");
   const std::size_t start = bytes.find('\n') + 1, end = bytes.find('\n', start);
@@ -136,8 +137,12 @@ TEST_F(BakeCommand, AVersion1BakeStillRendersWithItsOneCamera) {
   cut(std::regex(R"re(,?"cameras":\[[^\]]*\])re"));
   cut(std::regex(R"re("name":"camera",)re"));
   cut(std::regex(R"re(,"where":"[^"]*")re"));  // the header's keys are sorted: last
-  header = std::regex_replace(header, std::regex(R"re("version":2)re"), R"re("version":1)re");
+  cut(std::regex(R"re("repair":false,"rock":null,)re"));
+  cut(std::regex(R"re(,"up":"z")re"));
+  header = std::regex_replace(header, std::regex(R"re("version":3)re"), R"re("version":1)re");
   ASSERT_EQ(header.find("cameras"), std::string::npos) << header;
+  ASSERT_EQ(header.find("rock"), std::string::npos) << header;
+  ASSERT_EQ(header.find("\"up\":\"z\""), std::string::npos) << header;
   ASSERT_NE(header.find(R"re("version":1)re"), std::string::npos) << header;
   std::ofstream(dir_.path() / "v1.bake", std::ios::binary)
       << bytes.substr(0, start) << header << bytes.substr(end);
@@ -148,11 +153,11 @@ TEST_F(BakeCommand, AVersion1BakeStillRendersWithItsOneCamera) {
   EXPECT_NE(err_.find("v1.bake: no camera named 'chase'; the scene has: camera"), std::string::npos)
       << err_;
   // A version from the future is refused by number, not misread.
-  header = std::regex_replace(header, std::regex(R"re("version":1)re"), R"re("version":3)re");
-  std::ofstream(dir_.path() / "v3.bake", std::ios::binary)
+  header = std::regex_replace(header, std::regex(R"re("version":1)re"), R"re("version":4)re");
+  std::ofstream(dir_.path() / "v4.bake", std::ios::binary)
       << bytes.substr(0, start) << header << bytes.substr(end);
-  EXPECT_EQ(run("render v3.bake -o x.mp4"), 1);
-  EXPECT_NE(err_.find("bake version 3 is not one this voxfall reads (1..2)"), std::string::npos)
+  EXPECT_EQ(run("render v4.bake -o x.mp4"), 1);
+  EXPECT_NE(err_.find("bake version 4 is not one this voxfall reads (1..3)"), std::string::npos)
       << err_;
 }
 
@@ -224,6 +229,26 @@ TEST_F(BakeCommand, DamagedHeadersAndRecordsAreRefusedByName) {
   }
   // The undamaged bake reads.
   EXPECT_EQ(run("export run.bake -o out.glb"), 0) << err_;
+}
+
+TEST_F(BakeCommand, GeneratedRocksRenderTheSamePixelsFromTheSceneAndItsBake) {
+  // No mesh file: the bake regenerates the rocks (an EOTA block and a family's variant) from
+  // their definitions. A rock rebuilt differently would move or reshape pixels.
+  std::ofstream(dir_.path() / "rocks.toml")
+      << "[simulation]\nduration = 0.5\nlevel = 3\n[ground]\nplane = 0.0\n"
+         "[shapes.block]\nrock = { class = \"eota_221\", size = 1.0 }\ndensity = 2700\n"
+         "[shapes.stones]\nrock = { class = \"bladed\", seed = 9, seeds = 2, volume = 0.2 }\n"
+         "density = 2700\n"
+         "[[bodies]]\nshape = \"block\"\nposition = [0.0, 0.0, 0.6]\n"
+         "angular_velocity = [2.0, 1.0, 0.0]\n"
+         "[[bodies]]\nshape = \"stones#1\"\nposition = [1.2, 0.0, 0.6]\n";
+  ASSERT_EQ(run("simulate rocks.toml --bake rocks.bake"), 0) << err_;
+  const std::string simulated = checksum();
+  ASSERT_EQ(run("render rocks.toml --size 96x64 --frames 0:15 -o scene/f_##.png"), 0) << err_;
+  EXPECT_EQ(checksum(), simulated);
+  fs::remove(dir_.path() / "rocks.toml");
+  ASSERT_EQ(run("render rocks.bake --size 96x64 --frames 0:15 -o bake/f_##.png"), 0) << err_;
+  expectSameFrames("scene", "bake", 16);
 }
 
 }  // namespace

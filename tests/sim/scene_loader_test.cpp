@@ -6,80 +6,25 @@
 // Build tests check what buildScene hands the World: centre-of-mass placement (against the
 // mesh-file point that is the centroid, transformed by hand), emitter releases, seeded jitter.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <string>
 
 #include "sim/core/error.h"
 #include "sim/scene/scene.h"
+#include "tests/support/scene_file_test.h"
 
 namespace vf {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kCubeObj = std::string(VOXFALL_SOURCE_DIR) + "/scenes/meshes/cube.obj";
-
 // A shape every error scene can refer to; the mesh file sits next to the scene.
 const std::string kShape = "[shapes.cube]\nmesh = \"cube.obj\"\ndensity = 800\n";
 
-class SceneTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("voxfall_scene_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    fs::copy_file(kCubeObj, dir_ / "cube.obj");
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    fs::create_directories(p.parent_path());
-    std::ofstream(p) << text;
-    return p.string();
-  }
-
-  // 1-based line and column of the first occurrence of `needle` in `text`.
-  static std::pair<int, int> positionOf(const std::string& text, const std::string& needle) {
-    const auto at = text.find(needle);
-    EXPECT_NE(at, std::string::npos) << "test bug: '" << needle << "' not in the scene text";
-    int line = 1, column = 1;
-    for (std::size_t i = 0; i < at; ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
-    return {line, column};
-  }
-
-  // Loading `text` must fail at the first occurrence of `needle` with a message containing
-  // `message`.
-  void expectError(const std::string& text, const std::string& needle, const std::string& message) {
-    const std::string path = write("scene.toml", text);
-    const auto [line, column] = positionOf(text, needle);
-    try {
-      loadScene(path);
-      ADD_FAILURE() << "no error; expected '" << message << "' at '" << needle << "'";
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.where(), path + ":" + std::to_string(line) + ":" + std::to_string(column))
-          << e.what();
-      EXPECT_NE(e.message().find(message), std::string::npos)
-          << "message: " << e.message() << "\nexpected to contain: " << message;
-    }
-  }
-
-  fs::path dir_;
-};
+class SceneTest : public test::SceneFileTest {};
 
 // --- syntax and unknown keys ------------------------------------------------------------------
 
@@ -263,7 +208,7 @@ TEST_F(SceneTest, ImpossibleValues) {
 
 TEST_F(SceneTest, MissingRequiredKeys) {
   expectError("[shapes.cube]\ndensity = 800\n", "[shapes.cube]",
-              "missing required key 'mesh' in [shapes.cube]");
+              "missing required key 'mesh' (a mesh file) or 'rock' (a generated rock");
   expectError("[shapes.cube]\nmesh = \"cube.obj\"\n", "[shapes.cube]",
               "missing required key 'density' in [shapes.cube]");
   expectError(kShape + "[[bodies]]\nposition = [0, 0, 1]\n", "[[bodies]]",
@@ -375,7 +320,7 @@ TEST_F(SceneTest, DefaultsAndNormalisation) {
 
 TEST_F(SceneTest, RelativeMeshPathsResolveAgainstTheSceneFolder) {
   fs::create_directories(dir_ / "meshes");
-  fs::copy_file(kCubeObj, dir_ / "meshes" / "box.obj");
+  fs::copy_file(dir_ / "cube.obj", dir_ / "meshes" / "box.obj");
   const std::string path = write("sub/scene.toml",
                                  "[shapes.a]\nmesh = \"../meshes/box.obj\"\ndensity = 1\n"
                                  "[shapes.b]\nmesh = \"" +
