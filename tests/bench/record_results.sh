@@ -3,11 +3,16 @@
 # docs/results/MACHINE/, MACHINE being a short name for this CPU model and core count
 # (e.g. amd-epyc-2cpu). docs/performance.md says what each file and column means.
 #
-#   tests/bench/record_results.sh [--quick] [BUILD_DIR]
+#   tests/bench/record_results.sh [--quick] [--only GROUPS] [BUILD_DIR]
 #
 # BUILD_DIR (default: build/ in the repository) must hold a build with the benchmarks
-# (tests/bench/sim_bench, tests/bench/ensemble_bench, and tests/bench/bullet_compare where
-# libbullet-dev was found) and the voxfall binary.
+# (tests/bench/sim_bench, tests/bench/ensemble_bench, tests/bench/png_bench, and
+# tests/bench/bullet_compare where libbullet-dev was found) and the voxfall binary.
+#
+# --only GROUPS runs some groups, comma-separated, and writes only their files: sim
+# (sim_bench_*.csv), ensemble (ensemble_bench.csv), bullet (bullet_compare_*.csv), commands
+# (commands.csv) and outputs (png_bench.csv, render_outputs.csv: PNG compression of a frame,
+# and the cubes clip rendered to PNG frames and to an MP4 in one run). Default: all.
 #
 # --quick runs a reduced set in a few minutes: the sim_bench rows of every paper scene at
 # Lv 4 (paper's method and extensions) plus a few rows for levels, threads, the clearance step
@@ -35,9 +40,14 @@ usage() {
 
 quick=0
 build=""
+groups="sim,ensemble,bullet,commands,outputs"
+expect_groups=0
 for arg in "$@"; do
+  if ((expect_groups)); then groups=$arg; expect_groups=0; continue; fi
   case "$arg" in
     --quick) quick=1 ;;
+    --only) expect_groups=1 ;;
+    --only=*) groups=${arg#--only=} ;;
     -h | --help) usage; exit 0 ;;
     -*) echo "record_results.sh: unknown option $arg" >&2; exit 2 ;;
     *)
@@ -47,6 +57,15 @@ for arg in "$@"; do
   esac
 done
 
+if ((expect_groups)); then echo "record_results.sh: --only needs a list of groups" >&2; exit 2; fi
+for g in ${groups//,/ }; do
+  case "$g" in
+    sim | ensemble | bullet | commands | outputs) ;;
+    *) echo "record_results.sh: unknown group '$g' (sim, ensemble, bullet, commands, outputs)" >&2; exit 2 ;;
+  esac
+done
+want() { [[ ",$groups," == *",$1,"* ]]; }
+
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 build=$(cd "${build:-$root/build}" && pwd)
 bench=$build/tests/bench
@@ -54,7 +73,7 @@ voxfall=""
 for candidate in "$build/voxfall" "$build/render/voxfall"; do
   if [[ -x "$candidate" ]]; then voxfall=$candidate; break; fi
 done
-for program in "$bench/sim_bench" "$bench/ensemble_bench" "$voxfall"; do
+for program in "$bench/sim_bench" "$bench/ensemble_bench" "$bench/png_bench" "$voxfall"; do
   if [[ ! -x "$program" ]]; then
     echo "record_results.sh: ${program:-voxfall} not found in $build: build the benchmarks" \
       "(e.g. cmake --build build) or name the build folder" >&2
@@ -130,7 +149,9 @@ gbench() {
 
 # Google Benchmark: voxfall's simulation benchmark.
 sb=$bench/sim_bench
-if ((quick)); then
+if ! want sim; then
+  :
+elif ((quick)); then
   gbench sim_bench_scenes.csv "$sb" \
     '^Scene/[^/]+/4/[01]/1/|^Scene/crosses/[23]/[01]/1/|^Scene/crosses/4/[01]/2/|^SceneClearance/crosses/4/|^SceneFile/rockfall/' \
     "$reps"
@@ -147,11 +168,16 @@ else
 fi
 
 # Ensemble throughput (its repetitions are fixed in the benchmark: 3, medians kept).
-gbench ensemble_bench.csv "$bench/ensemble_bench" '.' 3
+if want ensemble; then gbench ensemble_bench.csv "$bench/ensemble_bench" '.' 3; fi
+
+# PNG compression of one rendered frame.
+if want outputs; then gbench png_bench.csv "$bench/png_bench" '.' "$reps"; fi
 
 # bullet_compare: four markdown tables on stdout, one CSV file each. A cell holding several
 # values ("15.7, 0.6") becomes several columns; a ratio loses its "x".
-if [[ -x "$bench/bullet_compare" ]]; then
+if ! want bullet; then
+  :
+elif [[ -x "$bench/bullet_compare" ]]; then
   if ((quick)); then rounds=1; else rounds=5; fi
   say "bullet_compare $rounds"
   "$bench/bullet_compare" "$rounds" >"$tmp/bullet.md"
@@ -212,13 +238,14 @@ else
   timer="bash time"
 fi
 median() { sort -g | awk '{ v[NR] = $1 } END { if (NR) print v[int((NR + 1) / 2)] }'; }
-echo "machine,version,name,command,runs,timer,wall_s_median,wall_s_min,wall_s_max,user_s_median,sys_s_median,max_rss_mb,frames,frames_per_s_drawn,pct_redrawn,realisations_per_s" \
-  >"$tmp/results/commands.csv"
+header="machine,version,name,command,runs,timer,wall_s_median,wall_s_min,wall_s_max,user_s_median,sys_s_median,max_rss_mb,frames,frames_per_s_drawn,pct_redrawn,realisations_per_s"
 
-# timed NAME COMMAND...: COMMAND is a voxfall command line (without the binary); @TMP@ in it
-# is the temporary folder, written so in the CSV.
+# timed FILE NAME COMMAND...: a row of FILE (created with the header at its first row);
+# COMMAND is a voxfall command line (without the binary); @TMP@ in it is the temporary
+# folder, written so in the CSV.
 timed() {
-  local name=$1; shift
+  local file=$1 name=$2; shift 2
+  [[ -f "$tmp/results/$file" ]] || echo "$header" >"$tmp/results/$file"
   local shown="voxfall $*" args=("${@//@TMP@/$tmp}")
   say "$shown ($runs runs, $timer)"
   : >"$tmp/times.txt"
@@ -274,17 +301,25 @@ timed() {
   for col in 1 2 3 4; do
     row="$row,$(awk -v c=$col '$c != "-" { print $c }' "$tmp/reported.txt" | median)"
   done
-  echo "$row" >>"$tmp/results/commands.csv"
+  echo "$row" >>"$tmp/results/$file"
 }
 
 cd "$root"
-timed simulate_rockfall simulate scenes/rockfall.toml -q
-timed render_cubes render scenes/cubes.toml -o @TMP@/cubes.mp4 -y -q
-if ((quick)); then
-  timed ensemble_20 ensemble scenes/rockfall_ensemble.toml --runs 20 -j "$nproc" -o @TMP@/ensemble -y -q
-else
-  timed render_crosses render scenes/crosses.toml -o @TMP@/crosses.mp4 -y -q
-  timed ensemble_1000 ensemble scenes/rockfall_ensemble.toml --runs 1000 -j "$nproc" -o @TMP@/ensemble -y -q
+if want commands; then
+  timed commands.csv simulate_rockfall simulate scenes/rockfall.toml -q
+  timed commands.csv render_cubes render scenes/cubes.toml -o @TMP@/cubes.mp4 -y -q
+  if ((quick)); then
+    timed commands.csv ensemble_20 ensemble scenes/rockfall_ensemble.toml --runs 20 -j "$nproc" -o @TMP@/ensemble -y -q
+  else
+    timed commands.csv render_crosses render scenes/crosses.toml -o @TMP@/crosses.mp4 -y -q
+    timed commands.csv ensemble_1000 ensemble scenes/rockfall_ensemble.toml --runs 1000 -j "$nproc" -o @TMP@/ensemble -y -q
+  fi
+fi
+# The same clip to an MP4 and to PNG frames, one after the other in one run (compare these
+# two rows with each other, not with other runs).
+if want outputs; then
+  timed render_outputs.csv render_cubes_mp4 render scenes/cubes.toml -o @TMP@/cubes.mp4 -y -q
+  timed render_outputs.csv render_cubes_png render scenes/cubes.toml -o @TMP@/cubes_png/frame_####.png -y -q
 fi
 
 mkdir -p "$out"
