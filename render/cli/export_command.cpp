@@ -14,6 +14,7 @@
 #include "render/export/gltf_export.h"
 #include "render/scene_playback.h"
 #include "sim/core/error.h"
+#include "sim/shape/heightfield.h"
 #include "sim/shape/sphere_tree.h"
 
 namespace vf::cli {
@@ -55,7 +56,11 @@ int runExport(const ExportOptions& o) {
   AnimationExport animation;
   animation.name = spec.name;
   animation.fps = spec.fps;
+  animation.shapeNames = played->shapeNames();
   animation.terrain = played->terrainMesh();
+  animation.terrainNormals = played->terrainNormals();
+  if (const auto terrain = played->terrain())
+    animation.georeference = DemGeoreference{terrain->crsName, terrain->crsWkt, terrain->shift};
   for (int k = 0; k < played->frameCount(); ++k) animation.frames.push_back(played->bodiesAt(k));
   writeGltfAnimation(path, animation, rules);
   std::printf("%s: %d frames at %g fps, %zu bodies -> %s\n", spec.name.c_str(),
