@@ -240,68 +240,102 @@ fi
 median() { sort -g | awk '{ v[NR] = $1 } END { if (NR) print v[int((NR + 1) / 2)] }'; }
 header="machine,version,name,command,runs,timer,wall_s_median,wall_s_min,wall_s_max,user_s_median,sys_s_median,max_rss_mb,frames,frames_per_s_drawn,pct_redrawn,realisations_per_s"
 
-# timed FILE NAME COMMAND...: a row of FILE (created with the header at its first row);
-# COMMAND is a voxfall command line (without the binary); @TMP@ in it is the temporary
-# folder, written so in the CSV.
+# once KEY COMMAND...: runs a voxfall command line once (@TMP@ in it is the temporary folder)
+# under $timer (not hyperfine), adding its times to $tmp/KEY.times and what it reports to
+# $tmp/KEY.reported.
+once() {
+  local key=$1; shift
+  local args=("${@//@TMP@/$tmp}")
+  if [[ "$timer" == /usr/bin/time ]]; then
+    /usr/bin/time -f '%e %U %S %M' -o "$tmp/time.txt" \
+      "$voxfall" "${args[@]}" >"$tmp/cmd.out" 2>"$tmp/cmd.err" ||
+      { cat "$tmp/cmd.err" >&2; return 1; }
+    tail -n 1 "$tmp/time.txt" >>"$tmp/$key.times"
+  else
+    local TIMEFORMAT='%R %U %S'
+    { time "$voxfall" "${args[@]}" >"$tmp/cmd.out" 2>"$tmp/cmd.err"; } 2>"$tmp/time.txt" ||
+      { cat "$tmp/cmd.err" >&2; return 1; }
+    echo "$(tail -n 1 "$tmp/time.txt") -" >>"$tmp/$key.times"
+  fi
+  # "  rendered frames 0..60 (1280x720, ...) in 1.23 s: 49.60 frames/s, 12% of the pixels
+  # redrawn" and "voxfall: 20 realisations in 1.20 s (16.67 realisations/s, 2 threads)"
+  cat "$tmp/cmd.out" "$tmp/cmd.err" | awk '
+    BEGIN { frames = fps = p = r = "-" }
+    /rendered .* frames\/s/ {
+      for (i = 1; i < NF; i++) {
+        if ($(i + 1) == "frames/s,") fps = $i
+        if ($(i + 1) == "of" && $(i + 3) == "pixels") { p = $i; sub(/%/, "", p) }
+      }
+      if ($2 == "frames") { split($3, ab, /\.\./); frames = ab[2] - ab[1] + 1 }
+      else if ($2 == "frame") frames = 1
+    }
+    /realisations\/s/ {
+      for (i = 1; i < NF; i++) if ($(i + 1) == "realisations/s,") { r = $i; sub(/^\(/, "", r) }
+    }
+    END { print frames, fps, p, r }' >>"$tmp/$key.reported"
+}
+
+# row FILE NAME KEY SHOWN: FILE's row for NAME (FILE created with the header at its first row)
+# from KEY's times and reports: medians, and the extremes of the wall time.
+row() {
+  local file=$1 name=$2 key=$3 shown=$4
+  [[ -f "$tmp/results/$file" ]] || echo "$header" >"$tmp/results/$file"
+  local wall wmin wmax user sys rss col line
+  wall=$(awk '{ print $1 }' "$tmp/$key.times" | median)
+  wmin=$(awk '{ print $1 }' "$tmp/$key.times" | sort -g | head -n 1)
+  wmax=$(awk '{ print $1 }' "$tmp/$key.times" | sort -g | tail -n 1)
+  user=$(awk '{ print $2 }' "$tmp/$key.times" | median)
+  sys=$(awk '{ print $3 }' "$tmp/$key.times" | median)
+  rss=$(awk '$4 != "-" { printf "%.1f\n", $4 / 1024 }' "$tmp/$key.times" | median)
+  line="$prefix,$(csvq "$name"),$(csvq "$shown"),$runs,$timer,$wall,$wmin,$wmax,$user,$sys,$rss"
+  for col in 1 2 3 4; do
+    line="$line,$(awk -v c=$col '$c != "-" { print $c }' "$tmp/$key.reported" | median)"
+  done
+  echo "$line" >>"$tmp/results/$file"
+}
+
+# timed FILE NAME COMMAND...: a row of FILE for a voxfall command line run `runs` times; @TMP@
+# in it is the temporary folder, written so in the CSV.
 timed() {
   local file=$1 name=$2; shift 2
-  [[ -f "$tmp/results/$file" ]] || echo "$header" >"$tmp/results/$file"
-  local shown="voxfall $*" args=("${@//@TMP@/$tmp}")
+  local shown="voxfall $*" k
   say "$shown ($runs runs, $timer)"
-  : >"$tmp/times.txt"
-  : >"$tmp/reported.txt"
-  local k wmin wmax
+  : >"$tmp/$name.times"
+  : >"$tmp/$name.reported"
   if [[ "$timer" == hyperfine ]]; then
     hyperfine --style none --runs "$runs" --export-csv "$tmp/hf.csv" \
-      "$(printf '%q ' "$voxfall" "${args[@]}")" >/dev/null
-    # command,mean,stddev,median,user,system,min,max (the command's own report is not seen)
-    awk -F, 'NR == 2 { print $4, $5, $6, "-" }' "$tmp/hf.csv" >"$tmp/times.txt"
-    wmin=$(awk -F, 'NR == 2 { print $7 }' "$tmp/hf.csv")
-    wmax=$(awk -F, 'NR == 2 { print $8 }' "$tmp/hf.csv")
-    echo "- - - -" >"$tmp/reported.txt"
+      "$(printf '%q ' "$voxfall" "${@//@TMP@/$tmp}")" >/dev/null
+    # command,mean,stddev,median,user,system,min,max (the command's own report is not seen):
+    # three lines whose medians are hyperfine's medians and whose extremes are its min and max.
+    awk -F, 'NR == 2 { print $7, $5, $6, "-"; print $4, $5, $6, "-"; print $8, $5, $6, "-" }' \
+      "$tmp/hf.csv" >"$tmp/$name.times"
+    echo "- - - -" >"$tmp/$name.reported"
   else
-    for ((k = 0; k < runs; ++k)); do
-      if [[ "$timer" == /usr/bin/time ]]; then
-        /usr/bin/time -f '%e %U %S %M' -o "$tmp/time.txt" \
-          "$voxfall" "${args[@]}" >"$tmp/cmd.out" 2>"$tmp/cmd.err" ||
-          { cat "$tmp/cmd.err" >&2; return 1; }
-        tail -n 1 "$tmp/time.txt" >>"$tmp/times.txt"
-      else
-        local TIMEFORMAT='%R %U %S'
-        { time "$voxfall" "${args[@]}" >"$tmp/cmd.out" 2>"$tmp/cmd.err"; } 2>"$tmp/time.txt" ||
-          { cat "$tmp/cmd.err" >&2; return 1; }
-        echo "$(tail -n 1 "$tmp/time.txt") -" >>"$tmp/times.txt"
-      fi
-      # "  rendered frames 0..60 (1280x720, ...) in 1.23 s: 49.60 frames/s, 12% of the pixels
-      # redrawn" and "voxfall: 20 realisations in 1.20 s (16.67 realisations/s, 2 threads)"
-      cat "$tmp/cmd.out" "$tmp/cmd.err" | awk '
-        BEGIN { frames = fps = p = r = "-" }
-        /rendered .* frames\/s/ {
-          for (i = 1; i < NF; i++) {
-            if ($(i + 1) == "frames/s,") fps = $i
-            if ($(i + 1) == "of" && $(i + 3) == "pixels") { p = $i; sub(/%/, "", p) }
-          }
-          if ($2 == "frames") { split($3, ab, /\.\./); frames = ab[2] - ab[1] + 1 }
-          else if ($2 == "frame") frames = 1
-        }
-        /realisations\/s/ {
-          for (i = 1; i < NF; i++) if ($(i + 1) == "realisations/s,") { r = $i; sub(/^\(/, "", r) }
-        }
-        END { print frames, fps, p, r }' >>"$tmp/reported.txt"
-    done
-    wmin=$(awk '{ print $1 }' "$tmp/times.txt" | sort -g | head -n 1)
-    wmax=$(awk '{ print $1 }' "$tmp/times.txt" | sort -g | tail -n 1)
+    for ((k = 0; k < runs; ++k)); do once "$name" "$@"; done
   fi
-  local wall user sys rss col row
-  wall=$(awk '{ print $1 }' "$tmp/times.txt" | median)
-  user=$(awk '{ print $2 }' "$tmp/times.txt" | median)
-  sys=$(awk '{ print $3 }' "$tmp/times.txt" | median)
-  rss=$(awk '$4 != "-" { printf "%.1f\n", $4 / 1024 }' "$tmp/times.txt" | median)
-  row="$prefix,$(csvq "$name"),$(csvq "$shown"),$runs,$timer,$wall,$wmin,$wmax,$user,$sys,$rss"
-  for col in 1 2 3 4; do
-    row="$row,$(awk -v c=$col '$c != "-" { print $c }' "$tmp/reported.txt" | median)"
+  row "$file" "$name" "$name" "$shown"
+}
+
+# alternated FILE NAME_A NAME_B COMMAND_A... -- COMMAND_B...: two rows of FILE, the two command
+# lines run in turn, `runs` times each, so that both meet the same load of a shared machine.
+alternated() {
+  local file=$1 a=$2 b=$3; shift 3
+  local left=() k
+  while [[ $# -gt 0 && "$1" != "--" ]]; do left+=("$1"); shift; done
+  shift
+  if [[ "$timer" == hyperfine ]]; then
+    timed "$file" "$a" "${left[@]}"
+    timed "$file" "$b" "$@"
+    return
+  fi
+  say "voxfall ${left[*]} and voxfall $* in turn ($runs runs each, $timer)"
+  : >"$tmp/$a.times"; : >"$tmp/$a.reported"; : >"$tmp/$b.times"; : >"$tmp/$b.reported"
+  for ((k = 0; k < runs; ++k)); do
+    once "$a" "${left[@]}"
+    once "$b" "$@"
   done
-  echo "$row" >>"$tmp/results/$file"
+  row "$file" "$a" "$a" "voxfall ${left[*]}"
+  row "$file" "$b" "$b" "voxfall $*"
 }
 
 cd "$root"
@@ -315,11 +349,12 @@ if want commands; then
     timed commands.csv ensemble_1000 ensemble scenes/rockfall_ensemble.toml --runs 1000 -j "$nproc" -o @TMP@/ensemble -y -q
   fi
 fi
-# The same clip to an MP4 and to PNG frames, one after the other in one run (compare these
-# two rows with each other, not with other runs).
+# The same clip to an MP4 and to PNG frames, in turn in one run (compare these two rows with
+# each other, not with other runs).
 if want outputs; then
-  timed render_outputs.csv render_cubes_mp4 render scenes/cubes.toml -o @TMP@/cubes.mp4 -y -q
-  timed render_outputs.csv render_cubes_png render scenes/cubes.toml -o @TMP@/cubes_png/frame_####.png -y -q
+  alternated render_outputs.csv render_cubes_mp4 render_cubes_png \
+    render scenes/cubes.toml -o @TMP@/cubes.mp4 -y -q -- \
+    render scenes/cubes.toml -o @TMP@/cubes_png/frame_####.png -y -q
 fi
 
 mkdir -p "$out"
