@@ -364,7 +364,7 @@ std::optional<Vec3> DrawListBuilder::chaseTarget(std::span<const BodyView> bodie
   return Vec3(sum / count);
 }
 
-void DrawListBuilder::observe(std::span<const BodyView> bodies) {
+void DrawListBuilder::include(std::span<const BodyView> bodies) {
   // The terrain is left out: a large one would shrink the bodies to specks; the bodies (and the
   // floor under them) are where the action is.
   for (const Sphere& s : bodySpheres(bodies, true)) framing_.add(s);
@@ -372,6 +372,9 @@ void DrawListBuilder::observe(std::span<const BodyView> bodies) {
     casterBox_.extend(s.centre - Vec3::Constant(s.radius));
     casterBox_.extend(s.centre + Vec3::Constant(s.radius));
   }
+}
+
+void DrawListBuilder::addDrawnFrame(std::span<const BodyView> bodies) {
   FrameRecord record;
   record.centres.reserve(bodies.size());
   for (const BodyView& b : bodies) {

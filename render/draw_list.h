@@ -143,7 +143,8 @@ constexpr std::size_t kTerrainTileTriangles = 8192;
 // bodies as the next frame and draws that.
 class DrawListBuilder {
  public:
-  // For frames of width x height pixels at `fps` frames per second (frame k at t = k / fps).
+  // For frames of width x height pixels, `fps` drawn frames per simulated second (frame k at
+  // t = k / fps; at [output] speed X, the output's fps / X).
   DrawListBuilder(const CameraSpec& camera, std::optional<double> groundHeight, int width,
                   int height, double fps);
   // The same for an aspect ratio width / height, 720 pixels high, 30 frames per second.
@@ -159,7 +160,16 @@ class DrawListBuilder {
 
   // Folds the next frame's active bodies into the automatic framing and records the frame's
   // body centres and chase target. Frames are observed in order, starting at frame 0.
-  void observe(std::span<const BodyView> bodies);
+  void observe(std::span<const BodyView> bodies) {
+    include(bodies);
+    addDrawnFrame(bodies);
+  }
+  // The two halves of observe(), for playbacks whose drawn frames are not the frames that set
+  // the framing (time remapping: the scene's own frames frame the shot whatever the speed).
+  // include(): folds active bodies into the automatic framing and the shadow map's region.
+  void include(std::span<const BodyView> bodies);
+  // addDrawnFrame(): records the next drawn frame's body centres (trails) and chase target.
+  void addDrawnFrame(std::span<const BodyView> bodies);
   // The draw list of observed frame `frame` drawn with these bodies (its poses).
   DrawList build(std::span<const BodyView> bodies, int frame);
   // Observes the bodies as the next frame and draws it.

@@ -297,26 +297,31 @@ void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
   }
   json cameras = json::array();
   for (const CameraSpec& c : s.cameras) cameras.push_back(cameraJson(c));
-  const json header = {
-      {"format", "voxfall-bake"},
-      {"version", kVersion},
-      {"scene",
-       {{"path", storedPath(s.path, bakePath)},
-        {"name", s.name},
-        {"duration", s.duration},
-        {"fps", s.fps},
-        {"gravity", vec(s.gravity)},
-        {"ground_plane", s.groundPlane ? json(*s.groundPlane) : json(nullptr)},
-        {"terrain", storedPath(s.terrainPath, bakePath)},
-        {"terrain_offset", vec(s.terrainShift)},
-        {"camera", cameraJson(s.camera)},
-        {"cameras", cameras},
-        {"output",
-         {{"width", s.output.width}, {"height", s.output.height}, {"crf", s.output.crf}}}}},
-      {"shapes", shapes},
-      {"bodies", bodies},
-      {"summary", bake.summary ? summaryJson(*bake.summary) : json(nullptr)},
-      {"records", bake.records.size()}};
+  const json header = {{"format", "voxfall-bake"},
+                       {"version", kVersion},
+                       {"scene",
+                        {{"path", storedPath(s.path, bakePath)},
+                         {"name", s.name},
+                         {"duration", s.duration},
+                         {"fps", s.fps},
+                         {"gravity", vec(s.gravity)},
+                         {"ground_plane", s.groundPlane ? json(*s.groundPlane) : json(nullptr)},
+                         {"terrain", storedPath(s.terrainPath, bakePath)},
+                         {"terrain_offset", vec(s.terrainShift)},
+                         {"camera", cameraJson(s.camera)},
+                         {"cameras", cameras},
+                         {"output",
+                          {{"width", s.output.width},
+                           {"height", s.output.height},
+                           {"crf", s.output.crf},
+                           {"speed", s.output.speed},
+                           {"alpha", s.output.alpha},
+                           {"overlay_time", s.output.overlayTime},
+                           {"overlay_scale", s.output.overlayScale}}}}},
+                       {"shapes", shapes},
+                       {"bodies", bodies},
+                       {"summary", bake.summary ? summaryJson(*bake.summary) : json(nullptr)},
+                       {"records", bake.records.size()}};
   std::fputs(kSignature, out);
   const std::string text = header.dump();
   std::fwrite(text.data(), 1, text.size(), out);
@@ -373,6 +378,10 @@ void checkHeader(const Bake& bake, const std::string& where) {
   positive("scene.fps", s.fps);
   if (s.duration * s.fps > kMaxSceneFrames)
     fail("scene.duration", "times fps must be at most 1e7 frames", s.duration);
+  positive("scene.output.speed", s.output.speed);
+  if (s.duration * s.fps / s.output.speed > kMaxSceneFrames)
+    fail("scene.output.speed", "makes more than 1e7 frames of duration * fps / speed",
+         s.output.speed);
   finiteAll("scene.gravity", s.gravity);
   finiteAll("scene.terrain_offset", s.terrainShift);
   if (s.groundPlane) finite("scene.ground_plane", *s.groundPlane);
@@ -473,6 +482,11 @@ Bake readBake(const std::string& path) {
     s.output.width = readInteger<int>(o.at("width"), "scene.output.width");
     s.output.height = readInteger<int>(o.at("height"), "scene.output.height");
     s.output.crf = readInteger<int>(o.at("crf"), "scene.output.crf");
+    // Bakes written before these keys existed draw as they did: speed 1, opaque, no overlay.
+    if (o.contains("speed")) s.output.speed = o.at("speed").get<double>();
+    if (o.contains("alpha")) s.output.alpha = o.at("alpha").get<bool>();
+    if (o.contains("overlay_time")) s.output.overlayTime = o.at("overlay_time").get<bool>();
+    if (o.contains("overlay_scale")) s.output.overlayScale = o.at("overlay_scale").get<bool>();
     for (const json& j : h.at("shapes")) {
       ShapeSpec shape;
       shape.name = j.at("name").get<std::string>();

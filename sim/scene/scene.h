@@ -141,6 +141,12 @@ struct OutputSpec {
   int width = 1280;
   int height = 720;
   int crf = 18;  // H.264 constant rate factor (0..51, lower is better)
+  // Simulated seconds per second of video: frame k shows t = k speed / fps (< 1 slow motion,
+  // > 1 time-lapse). Drawing only: the simulation and `simulate`'s frames do not change.
+  double speed = 1;
+  bool alpha = false;         // PNG frames with a transparent background (no MP4)
+  bool overlayTime = false;   // the simulated time (and the speed) drawn on the frame
+  bool overlayScale = false;  // a scale bar drawn on the frame
 };
 
 // How bodies find their contacts: the paper's voxel sphere trees, or the polygon method it

@@ -37,7 +37,7 @@ const std::vector<SceneTableKeys>& sceneTableKeys() {
       {"cameras.NAME",
        {"position", "look_at", "up", "fov", "follow", "smoothing", "path", "min_pixels", "trail"}},
       {"cameras.NAME.path", {"time", "position", "look_at", "fov"}},
-      {"output", {"width", "height", "crf"}},
+      {"output", {"width", "height", "crf", "speed", "alpha", "overlay"}},
       {"ensemble",
        {"seed", "shape", "shapes", "weights", "release", "drop_height", "orientation", "velocity",
         "angular_velocity", "restitution", "friction", "rolling_resistance"}},

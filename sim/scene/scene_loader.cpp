@@ -941,6 +941,27 @@ void readCameras(const Reader& r, const toml::table& t, SceneSpec& spec) {
   }
 }
 
+// `overlay = ["time", "scale"]`: which overlays are drawn on the frames (any order, none).
+void readOverlay(const Reader& r, const toml::node& n, OutputSpec& out) {
+  const toml::array* a = n.as_array();
+  if (a == nullptr)
+    r.fail(n, "'overlay' must be an array of \"time\" and \"scale\", got " + typeName(n));
+  const std::vector<std::string> names{"time", "scale"};
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    const toml::node& item = *a->get(i);
+    const std::string name = r.string(item, "overlay[" + std::to_string(i) + "]");
+    if (name == "time") {
+      out.overlayTime = true;
+    } else if (name == "scale") {
+      out.overlayScale = true;
+    } else {
+      std::string message = "unknown overlay '" + name + "'";
+      if (auto guess = nearestName(name, names)) message += "; did you mean '" + *guess + "'?";
+      r.fail(item, message + " (overlays: time, scale)");
+    }
+  }
+}
+
 void readOutput(const Reader& r, const toml::table& t, SceneSpec& spec) {
   r.checkKeys(t, sceneKeysOf("output"), "[output]");
   // The size limit is frameSideProblem's; evenness is the MP4 encoder's, so a scene with an odd
@@ -957,6 +978,10 @@ void readOutput(const Reader& r, const toml::table& t, SceneSpec& spec) {
   side("height", spec.output.height);
   if (const auto* n = t.get("crf"))
     spec.output.crf = static_cast<int>(r.integerInRange(*n, "crf", 0, 51));
+  if (const auto* n = t.get("speed"))
+    spec.output.speed = r.positive(*n, "speed", " (simulated seconds per second of video)");
+  if (const auto* n = t.get("alpha")) spec.output.alpha = r.boolean(*n, "alpha");
+  if (const auto* n = t.get("overlay")) readOverlay(r, *n, spec.output);
 }
 
 // --- [ensemble] ---------------------------------------------------------------------------
@@ -1189,6 +1214,14 @@ SceneSpec loadScene(const std::string& path) {
     throw InputError(n != nullptr ? r.where(*n) : path,
                      "duration * fps = " + formatNumber(spec.duration * spec.fps) +
                          " frames; at most " + formatNumber(kMaxSceneFrames) + " are supported");
+  }
+  // Drawn frames: duration * fps / speed (slow motion makes more).
+  if (spec.duration * spec.fps / spec.output.speed > kMaxSceneFrames) {
+    const toml::node* n = root.at_path("output.speed").node();
+    throw InputError(
+        n != nullptr ? r.where(*n) : path,
+        "duration * fps / speed = " + formatNumber(spec.duration * spec.fps / spec.output.speed) +
+            " frames; at most " + formatNumber(kMaxSceneFrames) + " are supported");
   }
   return spec;
 }

@@ -60,6 +60,20 @@ TEST_F(SceneTest, MissingSceneFile) {
   }
 }
 
+TEST_F(SceneTest, OutputLookKeysAreRead) {
+  SceneSpec spec = loadScene(write("scene.toml", "[simulation]\nduration = 1.0\n"));
+  EXPECT_EQ(spec.output.speed, 1.0);  // the defaults: as drawn before these keys
+  EXPECT_FALSE(spec.output.alpha || spec.output.overlayTime || spec.output.overlayScale);
+  spec = loadScene(write(
+      "scene.toml", "[output]\nspeed = 0.25\nalpha = true\noverlay = [\"scale\", \"time\"]\n"));
+  EXPECT_EQ(spec.output.speed, 0.25);
+  EXPECT_TRUE(spec.output.alpha);
+  EXPECT_TRUE(spec.output.overlayTime);
+  EXPECT_TRUE(spec.output.overlayScale);
+  spec = loadScene(write("scene.toml", "[output]\noverlay = []\n"));
+  EXPECT_FALSE(spec.output.overlayTime || spec.output.overlayScale);
+}
+
 TEST_F(SceneTest, UnknownKeySuggestsNearest) {
   const std::string text = "[contact]\nrestitutoin = { body_body = 0.5 }\n";
   expectError(text, "restitutoin",
@@ -203,6 +217,11 @@ TEST_F(SceneTest, ImpossibleValues) {
   expectError("[output]\nheight = 16385\n", "16385",
               "the frame height must be 1..16384 pixels, got 16385");
   expectError("[output]\ncrf = 52\n", "52", "'crf' must be an integer from 0 to 51, got 52");
+  expectError("[output]\nspeed = 0\n", "0", "'speed' must be > 0");
+  expectError("[output]\nalpha = 1\n", "1", "'alpha' must be true or false");
+  expectError("[output]\noverlay = \"time\"\n", "\"time\"", "'overlay' must be an array");
+  expectError("[output]\noverlay = [\"time\", \"scael\"]\n", "\"scael\"",
+              "unknown overlay 'scael'; did you mean 'scale'?");
   expectError("[camera]\nfov = 180\n", "180", "'fov' must be a vertical field of view");
 }
 
