@@ -102,11 +102,14 @@ struct CameraSpec {
   std::string where;              // "file:line:column" of the table
 };
 
-// [ground.materials.NAME]: a custom ground material; unset values fall back to [contact]'s
-// body_ground restitution and friction, and no rolling resistance.
+// [ground.materials.NAME]: a custom ground material. Stone law: unset values fall back to
+// [contact]'s body_ground restitution and friction, and no rolling resistance. Slip law: mu_min,
+// mu_max, kappa and beta are required, restitution defaults to 0.
 struct GroundMaterialSpec {
   std::string name;
+  GroundLawKind law = GroundLawKind::kStone;  // `law = "stone" | "slip"`
   std::optional<double> restitution, friction, rollingResistance, tangentialRestitution;
+  std::optional<double> muMin, muMax, kappa, beta;  // slip law
   std::string where;
 };
 
@@ -183,6 +186,8 @@ struct SceneSpec {
   std::vector<GroundMaterialSpec> groundMaterials;  // custom ones
   std::string groundClassesPath;  // class raster on the DEM's grid; empty: one material
   std::vector<std::pair<int, std::string>> classMaterials;  // class -> material name
+  double groundVariability = 0;             // per-cell +- bound (ground_variability.h); 0: off
+  std::uint64_t groundVariabilitySeed = 1;  // `variability_seed` (an ensemble draws its own)
   std::vector<ShapeSpec> shapes;
   std::vector<BodySpec> bodies;
   std::vector<EmitterSpec> emitters;

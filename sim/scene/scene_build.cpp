@@ -137,17 +137,24 @@ const BuiltShape& findShape(const std::map<std::string, BuiltShape>& shapes,
   return it->second;
 }
 
-// The ground material named `name`: a custom one (its unset values from [contact]), else a
-// preset with [contact]'s body_ground friction.
+// The ground material named `name`: a custom one (a stone material's unset values from
+// [contact]; a slip material's restitution 0, Leine et al. 2014's eps_N), else a preset with
+// [contact]'s body_ground friction.
 GroundMaterial groundMaterial(const SceneSpec& spec, const std::string& name) {
   for (const GroundMaterialSpec& g : spec.groundMaterials)
     if (g.name == name) {
       GroundMaterial m;
       m.name = name;
-      m.restitution = g.restitution.value_or(spec.contact.restitutionBodyGround);
+      m.law = g.law;
+      const bool slip = g.law == GroundLawKind::kSlip;
+      m.restitution = g.restitution.value_or(slip ? 0.0 : spec.contact.restitutionBodyGround);
       m.friction = g.friction.value_or(spec.contact.frictionBodyGround);
       m.rollingResistance = g.rollingResistance.value_or(0.0);
       m.tangentialRestitution = g.tangentialRestitution.value_or(1.0);
+      m.muMin = g.muMin.value_or(0.0);
+      m.muMax = g.muMax.value_or(0.0);
+      m.kappa = g.kappa.value_or(0.0);
+      m.beta = g.beta.value_or(0.0);
       m.source = "scene " + g.where;
       return m;
     }
@@ -155,9 +162,16 @@ GroundMaterial groundMaterial(const SceneSpec& spec, const std::string& name) {
   throw InputError(spec.path, "unknown ground material '" + name + "'");  // loadScene checks
 }
 
-std::shared_ptr<const GroundMap> buildGroundMap(const SceneSpec& spec, const Heightfield* dem) {
+std::shared_ptr<const GroundMap> buildGroundMap(const SceneSpec& spec,
+                                                std::shared_ptr<const Heightfield> terrain) {
+  const Heightfield* dem = terrain.get();
   auto map = std::make_shared<GroundMap>();
   map->materials.push_back(groundMaterial(spec, spec.groundMaterial));
+  if (spec.groundVariability > 0) {
+    map->variability = spec.groundVariability;
+    map->variabilitySeed = spec.groundVariabilitySeed;
+    map->cells = terrain;
+  }
   if (spec.groundClassesPath.empty()) return map;
   Heightfield classes = loadDem(spec.groundClassesPath);
   shiftHeightfield(classes, Vec3(spec.terrainShift.x(), spec.terrainShift.y(), 0));
@@ -230,7 +244,7 @@ WorldDef sceneWorldDef(const SceneSpec& spec) {
   def.terrainEdge = spec.terrainEdge;
   def.rotation = spec.rotation;
   def.rest = spec.rest;
-  if (!spec.groundMaterial.empty()) def.ground = buildGroundMap(spec, def.terrain.get());
+  if (!spec.groundMaterial.empty()) def.ground = buildGroundMap(spec, def.terrain);
   def.contact = spec.contact;
   def.contactReduction = spec.contactReduction;
   def.sleep = spec.sleep;

@@ -384,6 +384,58 @@ void readContact(const Reader& r, const toml::table& t, ContactMaterial& c) {
 
 // --- [ground] -----------------------------------------------------------------------------
 
+// [ground.materials.NAME]: the keys of its law only, each checked; a slip material needs all
+// four of mu(s)'s coefficients (no published default fits every ground).
+GroundMaterialSpec readGroundMaterial(const Reader& r, const toml::table& m,
+                                      const std::string& name) {
+  const std::string label = "[ground.materials." + name + "]";
+  r.checkKeys(m, sceneKeysOf("ground.materials.NAME"), label);
+  GroundMaterialSpec g;
+  g.name = name;
+  g.where = r.where(m);
+  if (const auto* x = m.get("law")) {
+    const std::string law = r.string(*x, "law");
+    if (law == "slip")
+      g.law = GroundLawKind::kSlip;
+    else if (law != "stone")
+      r.fail(*x,
+             "'law' must be \"stone\" (STONE's bounce and rolling, the default) or \"slip\" "
+             "(slippage-dependent friction, Leine et al. 2014), got \"" +
+                 law + "\"");
+  }
+  const bool slip = g.law == GroundLawKind::kSlip;
+  const std::vector<std::string> stoneKeys{"friction", "rolling_resistance",
+                                           "tangential_restitution"},
+      slipKeys{"mu_min", "mu_max", "kappa", "beta"};
+  for (const std::string& key : slip ? stoneKeys : slipKeys)
+    if (const auto* x = m.get(key))
+      r.fail(*x, "'" + key + "' " +
+                     (slip ? "is not used by law = \"slip\" (its friction is mu(s) from mu_min, "
+                             "mu_max, kappa and beta)"
+                           : "belongs to law = \"slip\"; give law = \"slip\" in " + label));
+  if (const auto* x = m.get("restitution")) g.restitution = r.inRange(*x, "restitution", 0, 1);
+  if (const auto* x = m.get("friction"))
+    g.friction = r.nonNegative(*x, "friction", " (Coulomb coefficient)");
+  if (const auto* x = m.get("rolling_resistance"))
+    g.rollingResistance =
+        r.nonNegative(*x, "rolling_resistance", " (tan of the rolling friction angle)");
+  if (const auto* x = m.get("tangential_restitution"))
+    g.tangentialRestitution = r.inRange(*x, "tangential_restitution", 0, 1);
+  if (!slip) return g;
+  for (const std::string& key : slipKeys)
+    if (!m.get(key))
+      r.fail(m, label + " has law = \"slip\" and needs mu_min, mu_max, kappa and beta; '" + key +
+                    "' is missing (or use a preset: ramms_chant_sura, leine2014_demo)");
+  g.muMin = r.nonNegative(*m.get("mu_min"), "mu_min", " (Coulomb coefficient)");
+  g.muMax = r.nonNegative(*m.get("mu_max"), "mu_max", " (Coulomb coefficient)");
+  if (*g.muMax < *g.muMin)
+    r.fail(*m.get("mu_max"), "'mu_max' must be >= 'mu_min' (" + formatNumber(*g.muMin) +
+                                 "): friction grows with slippage, got " + formatNumber(*g.muMax));
+  g.kappa = r.nonNegative(*m.get("kappa"), "kappa", " 1/m (slippage hardening)");
+  g.beta = r.nonNegative(*m.get("beta"), "beta", " 1/s (slippage softening)");
+  return g;
+}
+
 void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                 SceneSpec& spec) {
   r.checkKeys(t, sceneKeysOf("ground"), "[ground]");
@@ -423,21 +475,8 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
     const toml::table& all = r.table(*n, "materials");
     for (auto&& [k, v] : all) {
       const std::string name(k.str());
-      const std::string label = "[ground.materials." + name + "]";
-      const toml::table& m = r.table(v, "ground.materials." + name);
-      r.checkKeys(m, sceneKeysOf("ground.materials.NAME"), label);
-      GroundMaterialSpec g;
-      g.name = name;
-      g.where = r.where(m);
-      if (const auto* x = m.get("restitution")) g.restitution = r.inRange(*x, "restitution", 0, 1);
-      if (const auto* x = m.get("friction"))
-        g.friction = r.nonNegative(*x, "friction", " (Coulomb coefficient)");
-      if (const auto* x = m.get("rolling_resistance"))
-        g.rollingResistance =
-            r.nonNegative(*x, "rolling_resistance", " (tan of the rolling friction angle)");
-      if (const auto* x = m.get("tangential_restitution"))
-        g.tangentialRestitution = r.inRange(*x, "tangential_restitution", 0, 1);
-      spec.groundMaterials.push_back(g);
+      spec.groundMaterials.push_back(
+          readGroundMaterial(r, r.table(v, "ground.materials." + name), name));
     }
   }
   // A material name must be a custom one or a preset.
@@ -482,6 +521,25 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
     }
   } else if (const auto* n = t.get("class_materials")) {
     r.fail(*n, "'class_materials' needs 'classes' (the class raster)");
+  }
+  if (const auto* n = t.get("variability")) {
+    const double v = r.number(*n, "variability");
+    if (v < 0 || v >= 1)
+      r.fail(*n,
+             "'variability' must be >= 0 and < 1 (0.1: each coefficient within +-10 % per "
+             "cell), got " +
+                 formatNumber(v));
+    if (v > 0 && spec.terrainPath.empty())
+      r.fail(*n, "'variability' perturbs the ground per DEM cell; give 'heightfield' too");
+    if (v > 0 && spec.groundMaterial.empty())
+      r.fail(*n, "'variability' perturbs the ground material's coefficients; give 'material' too");
+    spec.groundVariability = v;
+  }
+  if (const auto* n = t.get("variability_seed")) {
+    if (!t.get("variability"))
+      r.fail(*n, "'variability_seed' seeds 'variability'; give 'variability' too");
+    spec.groundVariabilitySeed = static_cast<std::uint64_t>(
+        r.integerInRange(*n, "variability_seed", 0, std::numeric_limits<std::int64_t>::max()));
   }
 }
 

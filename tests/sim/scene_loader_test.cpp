@@ -7,6 +7,7 @@
 // mesh-file point that is the centroid, transformed by hand), emitter releases, seeded jitter.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -559,6 +560,82 @@ TEST_F(SceneTest, GroundMaterialsByNameOrByClassRaster) {
                             "[ground]\nheightfield = \"dem.asc\"\nmaterial = \"bedrock\"\n"
                             "classes = \"small.asc\"\nclass_materials = { 1 = \"bedrock\" }\n");
   EXPECT_THROW(buildScene(loadScene(off)), InputError);
+}
+
+// The slip law's presets load with their published numbers (Lu et al. 2019 citing Bartelt et
+// al. 2016; Leine et al. 2014 section 5.1) and record their sources; a custom slip material
+// takes its four coefficients and eps_N 0 by default; mixing laws across classes works; the
+// per-cell variability keys reach the ground map.
+TEST_F(SceneTest, SlipLawPresetsCustomMaterialsAndVariability) {
+  const std::string head = "ncols 4\nnrows 3\nxllcenter 0\nyllcenter 0\ncellsize 10\n";
+  write("dem.asc", head + "0 0 0 0\n0 0 0 0\n0 0 0 0\n");
+  write("classes.asc", head + "1 1 2 2\n1 1 2 2\n1 1 2 2\n");
+  const std::string path = write(
+      "scene.toml", kShape +
+                        "[contact]\nrestitution = { body_ground = 0.4 }\n"
+                        "[ground]\nheightfield = \"dem.asc\"\nmaterial = \"ramms_chant_sura\"\n"
+                        "classes = \"classes.asc\"\n"
+                        "class_materials = { 1 = \"scar\", 2 = \"glacial_deposits\" }\n"
+                        "variability = 0.1\nvariability_seed = 42\n"
+                        "[ground.materials.scar]\nlaw = \"slip\"\nmu_min = 0.3\nmu_max = 0.9\n"
+                        "kappa = 2\nbeta = 50\n");
+  const BuiltScene built = buildScene(loadScene(path));
+  const GroundMap& g = *built.world->def().ground;
+  // A slip material's numbers (mu_min, mu_max, kappa, beta, eps_N) and a word of its source.
+  auto expectSlip = [](const GroundMaterial& m, std::array<double, 5> v, const std::string& word) {
+    EXPECT_EQ(m.law, GroundLawKind::kSlip) << m.name;
+    EXPECT_EQ((std::array<double, 5>{m.muMin, m.muMax, m.kappa, m.beta, m.restitution}), v)
+        << m.name;
+    EXPECT_NE(m.source.find(word), std::string::npos) << m.source;
+  };
+  expectSlip(g.materials[0], {0.55, 2.0, 3.0, 185.0, 0.0}, "Bartelt");
+  EXPECT_NE(g.materials[0].source.find("Lu"), std::string::npos) << g.materials[0].source;
+  expectSlip(*groundPreset("leine2014_demo", 0.8), {0.2, 1.3, 0.7, 20.0, 0.0}, "Leine");
+  // The custom slip class: its four numbers, eps_N 0 (not [contact]'s 0.4); the STONE class.
+  const GroundMaterial& scar = g.at(4, 4);
+  EXPECT_EQ(scar.name, "scar");
+  expectSlip(scar, {0.3, 0.9, 2.0, 50.0, 0.0}, "scene");
+  EXPECT_EQ(g.at(26, 4).name, "glacial_deposits");
+  EXPECT_EQ(g.at(26, 4).law, GroundLawKind::kStone);
+  EXPECT_TRUE(g.hasSlip());
+  EXPECT_EQ(g.variability, 0.1);
+  EXPECT_EQ(g.variabilitySeed, 42u);
+  EXPECT_EQ(g.cells, built.world->def().terrain);
+  // mu(s) at s = 0 and far along: mu_min and (nearly) mu_max.
+  EXPECT_EQ(slipFriction(scar, 0.0), 0.3);
+  EXPECT_NEAR(slipFriction(scar, 1e9), 0.9, 1e-9);
+  // STONE scenes: no slip material, variability off unless asked.
+  const std::string stone =
+      write("stone.toml", kShape + "[ground]\nplane = 0\nmaterial = \"bedrock\"\n");
+  const GroundMap& s = *buildScene(loadScene(stone)).world->def().ground;
+  EXPECT_FALSE(s.hasSlip());
+  EXPECT_EQ(s.variability, 0.0);
+}
+
+// Bad slip-law and variability input: one error naming the key, at its place in the file.
+TEST_F(SceneTest, SlipLawAndVariabilityErrorsNameTheKey) {
+  const std::string slip = "[ground.materials.scar]\nlaw = \"slip\"\n";
+  const std::string four = "mu_min = 0.3\nmu_max = 0.9\nkappa = 2\nbeta = 50\n";
+  expectError(kShape + "[ground.materials.scar]\nlaw = \"ramms\"\n", "\"ramms\"",
+              "'law' must be \"stone\" (STONE's bounce and rolling, the default) or \"slip\"");
+  expectError(kShape + slip + "mu_min = 0.3\nmu_max = 0.9\nkappa = -2\nbeta = 50\n", "-2",
+              "'kappa' must be >= 0 1/m (slippage hardening), got -2");
+  expectError(kShape + slip + "mu_min = 0.3\nmu_max = 0.9\nkappa = 2\nbeta = -5\n", "-5",
+              "'beta' must be >= 0 1/s (slippage softening), got -5");
+  expectError(kShape + slip + "mu_min = 0.3\nmu_max = 0.2\nkappa = 2\nbeta = 5\n", "0.2",
+              "'mu_max' must be >= 'mu_min' (0.3): friction grows with slippage, got 0.2");
+  expectError(kShape + slip + "mu_min = 0.3\nkappa = 2\nbeta = 5\n", "[ground.materials.scar]",
+              "has law = \"slip\" and needs mu_min, mu_max, kappa and beta; 'mu_max' is missing");
+  expectError(kShape + slip + four + "friction = 0.5\n", "0.5\n",
+              "'friction' is not used by law = \"slip\"");
+  expectError(kShape + "[ground.materials.scar]\nkappa = 2\n", "2",
+              "'kappa' belongs to law = \"slip\"; give law = \"slip\" in [ground.materials.scar]");
+  expectError(kShape + "[ground]\nplane = 0\nmaterial = \"bedrock\"\nvariability = 1.5\n", "1.5",
+              "'variability' must be >= 0 and < 1");
+  expectError(kShape + "[ground]\nplane = 0\nmaterial = \"bedrock\"\nvariability = 0.1\n", "0.1",
+              "'variability' perturbs the ground per DEM cell; give 'heightfield' too");
+  expectError(kShape + "[ground]\nplane = 0\nvariability_seed = 3\n", "3",
+              "'variability_seed' seeds 'variability'; give 'variability' too");
 }
 
 TEST_F(SceneTest, RockfallRunKeys) {
