@@ -607,7 +607,8 @@ TEST_F(SceneTest, SlipLawPresetsCustomMaterialsAndVariability) {
   // STONE scenes: no slip material, variability off unless asked.
   const std::string stone =
       write("stone.toml", kShape + "[ground]\nplane = 0\nmaterial = \"bedrock\"\n");
-  const GroundMap& s = *buildScene(loadScene(stone)).world->def().ground;
+  const BuiltScene stoneBuilt = buildScene(loadScene(stone));  // owns the ground map below
+  const GroundMap& s = *stoneBuilt.world->def().ground;
   EXPECT_FALSE(s.hasSlip());
   EXPECT_EQ(s.variability, 0.0);
 }
