@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <numbers>
 
+#include "render/terrain_camera.h"
+#include "render/terrain_solid.h"
 #include "sim/core/error.h"
 #include "sim/geometry/cell_grid.h"
 
@@ -28,15 +30,29 @@ constexpr double kShadowFitRatio = 0.25;
 // Trails are drawn this many pixels wide at every distance.
 constexpr double kTrailPixels = 2;
 
-// The sun stands 50 degrees high, 55 degrees counter-clockwise of the camera's azimuth:
-// shadows fall sideways and away from the viewer, where they show the bodies' contact with
-// the floor, and the faces towards the camera are lit unevenly, which shows facets.
-Vec3 sunFromCamera(const Vec3& cameraOffset) {
-  const double azimuth = std::atan2(cameraOffset.y(), cameraOffset.x()) + 55 * kDegrees;
-  const double elevation = 50 * kDegrees;
-  return Vec3(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
-              std::sin(elevation));
-}
+// The sides and base of a terrain's solid: a dry, dark earth, so a cut through the ground reads
+// as ground and not as the sky or the floor behind it.
+constexpr Color kTerrainSideColor{0.15f, 0.12f, 0.09f};
+
+// On a terrain, a chase camera without a given view frames its bodies with this many body
+// radii of context (three elsewhere): enough of the slope to read where the rock goes, with the
+// rock still about a sixteenth of the picture's height.
+constexpr double kTerrainChaseContext = 15;
+constexpr double kChaseContext = 3;
+
+// The ground under the first frame's bodies that sets the automatic view on a terrain: their
+// box grown by this many cells, so the fit sees the slope and not one bump.
+constexpr double kSlopeFitCells = 20;
+// A terrain chase looks across the slope under its target, fitted this many cells around it,
+// and turns towards a new slope direction with this time constant (s): the slope under a
+// rolling rock changes from cell to cell, and a camera swinging with every bump is unwatchable.
+constexpr double kChaseSlopeCells = 8;
+constexpr double kChaseTurnSeconds = 2;
+// ...and from 30 degrees down the slope from the across-slope view: along the contour a chase
+// camera grazes the ground wherever the slope turns.
+constexpr double kChaseUpSlopeDegrees = 30;
+// The automatic camera on a terrain keeps about this many body positions of the clip in sight.
+constexpr std::size_t kSightLines = 2000;
 
 // Bounding sphere of a mesh's vertices (box centre; good enough for framing and shadows).
 Sphere meshSphere(const TriMesh& mesh) {
@@ -49,27 +65,6 @@ Sphere meshSphere(const TriMesh& mesh) {
 }
 
 }  // namespace
-
-std::vector<Vec3> smoothVertexNormals(const TriMesh& mesh) {
-  // Each face normal weighted by the face's angle at the vertex: unlike area weights, the
-  // result does not depend on how a surface happens to be cut into triangles (a grid cell's
-  // diagonal would otherwise tilt the normals towards its side).
-  std::vector<Vec3> normals(mesh.vertices.size(), Vec3::Zero());
-  for (const auto& t : mesh.triangles) {
-    const Vec3 n = (mesh.vertices[t[1]] - mesh.vertices[t[0]])
-                       .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
-    if (!(n.norm() > 0)) continue;
-    for (int corner = 0; corner < 3; ++corner) {
-      const Vec3& p = mesh.vertices[t[corner]];
-      const Vec3 a = mesh.vertices[t[(corner + 1) % 3]] - p;
-      const Vec3 b = mesh.vertices[t[(corner + 2) % 3]] - p;
-      const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
-      normals[t[corner]] += n.normalized() * angle;
-    }
-  }
-  for (Vec3& n : normals) n = n.norm() > 0 ? Vec3(n.normalized()) : Vec3(Vec3::UnitZ());
-  return normals;
-}
 
 Mat4 bodyModelMatrix(const Vec3& x, const Quat& q) {
   Mat4 m = Mat4::Identity();
@@ -123,8 +118,11 @@ Sphere encloseAll(std::span<const Sphere> spheres) {
   return out;
 }
 
-AutoFraming::AutoFraming(double fovYDegrees, double aspect) : fovYDegrees_(fovYDegrees) {
-  const Vec3 horizontal = Vec3(-4, 6, 0).normalized();  // looking from (4, -6) towards the origin
+Vec3 defaultAutoView() { return Vec3(-4, 6, 0).normalized(); }
+
+AutoFraming::AutoFraming(double fovYDegrees, double aspect, const Vec3& view)
+    : fovYDegrees_(fovYDegrees) {
+  const Vec3 horizontal = Vec3(view.x(), view.y(), 0).normalized();
   forward_ = horizontal * std::cos(kAutoPitch) - Vec3::UnitZ() * std::sin(kAutoPitch);
   right_ = forward_.cross(Vec3::UnitZ()).normalized();
   up_ = right_.cross(forward_);
@@ -236,13 +234,38 @@ DrawListBuilder::DrawListBuilder(const CameraSpec& camera, std::optional<double>
       aspect_(static_cast<double>(width) / height),
       height_(height),
       fps_(fps),
-      framing_(camera.fovDegrees, aspect_) {}
+      framing_(camera.fovDegrees, aspect_),
+      light_(sceneLight(LightSpec{}, nullptr)),
+      autoView_(defaultAutoView()) {}
 
 DrawListBuilder::DrawListBuilder(const CameraSpec& camera, std::optional<double> groundHeight,
                                  double aspect)
     : DrawListBuilder(camera, groundHeight, static_cast<int>(std::lround(720 * aspect)), 720, 30) {
   aspect_ = aspect;
 }
+
+void DrawListBuilder::setTerrain(std::shared_ptr<const Heightfield> field,
+                                 std::shared_ptr<const DrapeImage> drape) {
+  field_ = std::move(field);
+  drape_ = std::move(drape);
+  if (!field_) {
+    setTerrain(std::shared_ptr<const TriMesh>());
+    setTerrainSides(nullptr);
+    return;
+  }
+  // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
+  auto surface = std::make_shared<const TriMesh>(field_->toMesh());
+  setTerrain(surface, std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*surface)));
+  setTerrainSides(
+      std::make_shared<const TriMesh>(terrainSides(*field_, terrainBase(*field_, ground_))));
+}
+
+void DrawListBuilder::setTerrainSides(std::shared_ptr<const TriMesh> sides) {
+  terrainSides_ = std::move(sides);
+  sidesSphere_ = terrainSides_ ? meshSphere(*terrainSides_) : Sphere{};
+}
+
+void DrawListBuilder::setLight(const SceneLight& light) { light_ = light; }
 
 void DrawListBuilder::setTerrain(std::shared_ptr<const TriMesh> mesh,
                                  std::shared_ptr<const std::vector<Vec3>> normals, Color color) {
@@ -364,7 +387,31 @@ std::optional<Vec3> DrawListBuilder::chaseTarget(std::span<const BodyView> bodie
   return Vec3(sum / count);
 }
 
+void DrawListBuilder::chooseAutoView(std::span<const BodyView> bodies) {
+  if (!field_) return;
+  // Every body placed, released or not: an emitter's bodies wait where they will be released.
+  std::vector<Vec3> placed;
+  for (const BodyView& b : bodies)
+    if (b.shape) placed.push_back(b.x);
+  if (const auto down = downhillNear(*field_, placed, kSlopeFitCells * field_->cell)) {
+    autoView_ = acrossSlope(*down);
+    framing_ = AutoFraming(spec_.fovDegrees, aspect_, autoView_);
+  }
+}
+
+DrawMesh DrawListBuilder::bodyMesh(const BodyView& b) {
+  if (!b.smoothDegrees) {
+    return DrawMesh{b.shape.get(), std::shared_ptr<const TriMesh>(b.shape, &b.shape->mesh), {}};
+  }
+  auto& creased = creased_[{b.shape.get(), *b.smoothDegrees}];
+  if (!creased)
+    creased = std::make_shared<const CreasedMesh>(creasedNormals(b.shape->mesh, *b.smoothDegrees));
+  return DrawMesh{creased.get(), std::shared_ptr<const TriMesh>(creased, &creased->mesh),
+                  std::shared_ptr<const std::vector<Vec3>>(creased, &creased->normals)};
+}
+
 void DrawListBuilder::observe(std::span<const BodyView> bodies) {
+  if (history_.empty()) chooseAutoView(bodies);
   // The terrain is left out: a large one would shrink the bodies to specks; the bodies (and the
   // floor under them) are where the action is.
   for (const Sphere& s : bodySpheres(bodies, true)) framing_.add(s);
@@ -386,6 +433,17 @@ void DrawListBuilder::observe(std::span<const BodyView> bodies) {
   } else {
     record.chase = target ? target : previous;
   }
+  record.chaseView = history_.empty() ? autoView_ : history_.back().chaseView;
+  if (terrainChase() && record.chase) {
+    const Vec3 at[] = {*record.chase};
+    if (const auto down = downhillNear(*field_, at, kChaseSlopeCells * field_->cell)) {
+      const bool first = history_.empty() || !history_.back().chase;  // the chase starts
+      const Vec3 turned = chaseStep(record.chaseView, acrossSlope(*down, kChaseUpSlopeDegrees),
+                                    1 / fps_, first ? 0.0 : kChaseTurnSeconds);
+      if (turned.head<2>().norm() > 1e-6)
+        record.chaseView = Vec3(turned.x(), turned.y(), 0).normalized();
+    }
+  }
   history_.push_back(std::move(record));
 }
 
@@ -394,10 +452,17 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies) {
   return build(bodies, observedFrames() - 1);
 }
 
+bool DrawListBuilder::terrainChase() const {
+  const bool follows = spec_.followBody || !spec_.followGroup.empty();
+  return follows && field_ && !spec_.offsetGiven;
+}
+
 CameraView DrawListBuilder::chooseCamera(std::span<const BodyView> bodies, int frame) {
   const std::optional<Vec3>& chase = history_[static_cast<std::size_t>(frame)].chase;
   if (!spec_.path.empty()) return interpolateCameraPath(spec_.path, frame / fps_, spec_.up);
-  if (spec_.given) {
+  // A chase on a terrain without a given offset is framed across the slope (below), and
+  // before its bodies are released the view is the automatic one.
+  if (spec_.given && !terrainChase()) {
     CameraView cam;
     cam.position = spec_.position;
     cam.lookAt = spec_.lookAt;
@@ -411,7 +476,8 @@ CameraView DrawListBuilder::chooseCamera(std::span<const BodyView> bodies, int f
     return cam;
   }
   if (chase) {
-    // The followed bodies with three body sizes of context, and the floor under them.
+    // The followed bodies with three body sizes of context (more on a terrain), and the floor
+    // under them.
     double r = 0;
     std::vector<int> ids = spec_.followGroup;
     if (spec_.followBody) ids.push_back(*spec_.followBody);
@@ -419,14 +485,52 @@ CameraView DrawListBuilder::chooseCamera(std::span<const BodyView> bodies, int f
       if (id < 0 || static_cast<std::size_t>(id) >= bodies.size()) continue;
       const BodyView& b = bodies[static_cast<std::size_t>(id)];
       if (!b.active || !b.shape) continue;
-      r = std::max(r, (b.x - *chase).norm() + 3 * shapeRadius(b.shape));
+      const double context = field_ ? kTerrainChaseContext : kChaseContext;
+      r = std::max(r, (b.x - *chase).norm() + context * shapeRadius(b.shape));
     }
-    AutoFraming own(spec_.fovDegrees, aspect_);
-    own.add(Sphere{*chase, r});
-    if (ground_) own.add(Sphere{Vec3(chase->x(), chase->y(), *ground_), 0.25 * r});
-    return own.camera();
+    auto framed = [&](const Vec3& view) {
+      AutoFraming own(spec_.fovDegrees, aspect_, view);
+      own.add(Sphere{*chase, r});
+      if (ground_) own.add(Sphere{Vec3(chase->x(), chase->y(), *ground_), 0.25 * r});
+      CameraView cam = own.camera();
+      if (field_) keepAboveTerrain(*field_, cam, *chase, 0.1 * r);
+      return cam;
+    };
+    const Vec3 view = field_ ? history_[static_cast<std::size_t>(frame)].chaseView : autoView_;
+    CameraView cam = framed(view);
+    // Off the terrain's data the camera would look at the solid's wall: from the other side
+    // of the slope instead, where that side has ground.
+    const auto offTerrain = [&](const CameraView& c) {
+      return std::isnan(field_->heightAt(c.position.x(), c.position.y()));
+    };
+    if (field_ && offTerrain(cam)) {
+      const CameraView other = framed(-view);
+      if (!offTerrain(other)) cam = other;
+    }
+    return cam;
   }
-  return framing_.camera();
+  return automaticCamera();
+}
+
+CameraView DrawListBuilder::automaticCamera() {
+  if (autoCamera_ && autoCamera_->first == observedFrames()) return autoCamera_->second;
+  CameraView cam = framing_.camera();
+  if (field_ && !framing_.empty()) {
+    // In sight of the bodies over the clip: lifted over the ground between the eye and them,
+    // checked for up to about kSightLines body positions spread evenly over the frames.
+    const double clearance = 0.05 * (cam.lookAt - cam.position).norm();
+    keepAboveTerrain(*field_, cam, framing_.region().centre, clearance);
+    std::size_t positions = 0;
+    for (const FrameRecord& f : history_) positions += f.centres.size();
+    const std::size_t stride = std::max<std::size_t>(1, positions / kSightLines);  // frames
+    for (std::size_t k = 0; k < history_.size(); k += stride) {
+      const FrameRecord& f = history_[k];
+      for (std::size_t id = 0; id < f.centres.size(); ++id)
+        if (f.active[id]) keepAboveTerrain(*field_, cam, f.centres[id], clearance);
+    }
+  }
+  autoCamera_ = std::make_pair(observedFrames(), cam);
+  return cam;
 }
 
 DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
@@ -446,11 +550,9 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
   for (std::size_t id = 0; id < bodies.size(); ++id) {
     const BodyView& b = bodies[id];
     if (!b.active || !b.shape) continue;
-    auto [it, added] = meshIndex.emplace(b.shape.get(), static_cast<int>(list.meshes.size()));
-    if (added) {
-      list.meshes.push_back(
-          DrawMesh{b.shape.get(), std::shared_ptr<const TriMesh>(b.shape, &b.shape->mesh), {}});
-    }
+    DrawMesh drawn = bodyMesh(b);
+    auto [it, added] = meshIndex.emplace(drawn.key, static_cast<int>(list.meshes.size()));
+    if (added) list.meshes.push_back(std::move(drawn));
     DrawInstance inst;
     inst.mesh = it->second;
     inst.model = bodyModelMatrix(b.x, b.q);
@@ -475,6 +577,15 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
     inst.surface = Surface::terrain;
     list.instances.push_back(inst);
   }
+  if (terrainSides_ && !terrainSides_->triangles.empty()) {
+    list.meshes.push_back(DrawMesh{terrainSides_.get(), terrainSides_, nullptr});
+    DrawInstance inst;
+    inst.mesh = static_cast<int>(list.meshes.size()) - 1;
+    inst.color = kTerrainSideColor;
+    inst.surface = Surface::body;
+    list.instances.push_back(inst);
+  }
+  list.drape = drape_;
 
   // Shadow casters: every body on the stage in every observed frame (one map for the whole
   // clip, so frames differ only where bodies moved: the renderer redraws just that part) and
@@ -484,6 +595,7 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
     casters.push_back(Sphere{casterBox_.center(), 0.5 * casterBox_.diagonal().norm()});
   }
   if (terrain_) casters.push_back(terrainSphere_);
+  if (terrainSides_ && !terrainSides_->vertices.empty()) casters.push_back(sidesSphere_);
   Sphere casterSphere = encloseAll(casters);
 
   // Depth range and floor fade from the distances involved: near as far out as the framed
@@ -514,7 +626,10 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
   list.casterCentre = casterSphere.centre;
   list.casterRadius = casterSphere.radius;
 
-  list.sunDirection = sunFromCamera(cam.position - cam.lookAt);
+  // Fixed in the world: the scene's sun, or the default for the automatic view (which the
+  // first observed frame fixed), whatever camera draws this frame.
+  list.sunDirection = light_.sunDirection.value_or(defaultSunDirection(autoView_));
+  list.light = light_.colors;
   return list;
 }
 

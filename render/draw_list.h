@@ -11,7 +11,11 @@
 #include <vector>
 
 #include "render/camera.h"
+#include "render/light.h"
+#include "render/smooth_normals.h"
 #include "sim/scene/scene.h"
+#include "sim/shape/drape_import.h"
+#include "sim/shape/heightfield.h"
 #include "sim/world.h"
 
 namespace vf {
@@ -48,6 +52,10 @@ struct DrawList {
   std::optional<double> groundHeight;  // z of the floor plane, m; none: no floor drawn
   CameraView camera;
   Vec3 sunDirection = Vec3(0.3, -0.4, 0.87).normalized();  // unit, towards the sun
+  LightColors light;  // sun, sky and ambient light (render/light.h)
+  // A picture draped on the instances with Surface::terrain (world x, y to texel by its
+  // rectangle); null: they are coloured by slope.
+  std::shared_ptr<const DrapeImage> drape;
   // Sphere around everything that casts a shadow: what the shadow map has to cover.
   Vec3 casterCentre = Vec3::Zero();
   double casterRadius = 1;
@@ -64,16 +72,13 @@ struct BodyView {
   Quat q = Quat::Identity();  // body -> world
   bool active = true;         // released (emitters); inactive bodies are not drawn
   Color color{0.8f, 0.8f, 0.8f};
+  // Crease angle in degrees for smooth shading (creasedNormals); none: every face flat.
+  std::optional<double> smoothDegrees;
 };
 
 // The bodies of a world with their colours; a body without a colour in `colors` gets
 // defaultBodyColor(id).
 std::vector<BodyView> bodyViews(const World& world, const std::vector<Color>& colors);
-
-// Per-vertex normals of a mesh with shared vertices: the mean of the normals of the triangles
-// around each vertex, weighted by their angles there (for smooth shading of terrain grids). A
-// vertex in no triangle gets +z.
-std::vector<Vec3> smoothVertexNormals(const TriMesh& mesh);
 
 // Model matrix of a body: rotation R(q) and translation x.
 Mat4 bodyModelMatrix(const Vec3& x, const Quat& q);
@@ -100,14 +105,18 @@ Sphere enclose(const Sphere& a, const Sphere& b);
 // order-independent). An empty list gives a unit sphere at the origin.
 Sphere encloseAll(std::span<const Sphere> spheres);
 
-// The automatic camera: a fixed orientation (looking 13 degrees down, from the azimuth of the
-// default CameraSpec position, so floor, shadows and the horizon show) and the position closest
-// to the scene from which every sphere added so far projects inside a view of the given
-// vertical field of view and aspect ratio, with a little air around. Exact per sphere, not via
-// one enclosing sphere, so a scene spread flat on the floor fills the picture.
+// The automatic camera's horizontal viewing direction without a terrain: from the azimuth of
+// the default CameraSpec position (4, -6) towards the origin.
+Vec3 defaultAutoView();
+
+// The automatic camera: a fixed orientation (looking 13 degrees down along the horizontal
+// direction `view`, so floor, shadows and the horizon show) and the position closest to the
+// scene from which every sphere added so far projects inside a view of the given vertical
+// field of view and aspect ratio, with a little air around. Exact per sphere, not via one
+// enclosing sphere, so a scene spread flat on the floor fills the picture.
 class AutoFraming {
  public:
-  AutoFraming(double fovYDegrees, double aspect);
+  AutoFraming(double fovYDegrees, double aspect, const Vec3& view = defaultAutoView());
   // Includes a sphere (the framing only ever grows).
   void add(const Sphere& s);
   bool empty() const { return empty_; }
@@ -149,6 +158,11 @@ class DrawListBuilder {
   // The same for an aspect ratio width / height, 720 pixels high, 30 frames per second.
   DrawListBuilder(const CameraSpec& camera, std::optional<double> groundHeight, double aspect);
 
+  // A terrain as the solid it is: its surface with smooth normals, its sides and base
+  // (terrain_solid.h), the picture draped on it (none: slope colours) and its heights, which
+  // turn the automatic and chase cameras across its slope (terrain_camera.h).
+  void setTerrain(std::shared_ptr<const Heightfield> field,
+                  std::shared_ptr<const DrapeImage> drape = nullptr);
   // A static terrain mesh in world coordinates, drawn with slope shading and casting shadows.
   // It is not part of the automatic framing (see observe()). A large one is drawn as tiles,
   // one instance each (kTerrainTileTriangles), so that a partial redraw draws only the tiles
@@ -156,6 +170,18 @@ class DrawListBuilder {
   void setTerrain(std::shared_ptr<const TriMesh> mesh,
                   std::shared_ptr<const std::vector<Vec3>> normals = nullptr,
                   Color color = Color{0.16f, 0.22f, 0.09f});
+
+  // The terrain's surface as drawn (world coordinates); null without a terrain.
+  const std::shared_ptr<const TriMesh>& terrainSurface() const { return terrain_; }
+  // The sides and base of the terrain's solid (terrainSides), drawn lit in an earth colour and
+  // casting shadows.
+  void setTerrainSides(std::shared_ptr<const TriMesh> sides);
+  // The scene's light (sceneLight). Without a sun direction, the default one for the automatic
+  // camera's view (defaultSunDirection): fixed once the first frame is observed.
+  void setLight(const SceneLight& light);
+  // The automatic camera's horizontal viewing direction: defaultAutoView(), or across the
+  // terrain's slope under the first observed frame's bodies.
+  const Vec3& autoView() const { return autoView_; }
 
   // Folds the next frame's active bodies into the automatic framing and records the frame's
   // body centres and chase target. Frames are observed in order, starting at frame 0.
@@ -176,6 +202,14 @@ class DrawListBuilder {
   double shapeRadius(const std::shared_ptr<const Shape>& shape);
 
  private:
+  // Turns the automatic view across the terrain's slope under these bodies (the first frame).
+  void chooseAutoView(std::span<const BodyView> bodies);
+  // A chase on a terrain without a given offset, which frames across the slope.
+  bool terrainChase() const;
+  // The automatic camera for the frames observed so far (worked out once for them).
+  CameraView automaticCamera();
+  // What a body is drawn with: its shape's mesh, or that mesh split for smooth shading.
+  DrawMesh bodyMesh(const BodyView& body);
   std::vector<Sphere> bodySpheres(std::span<const BodyView> bodies, bool withGround);
   // The chase camera's target this frame: the followed body or the group's centroid (active
   // bodies only); none when nothing is followed or all followed bodies are inactive.
@@ -192,6 +226,9 @@ class DrawListBuilder {
     std::vector<Vec3> centres;  // per body id
     std::vector<bool> active;
     std::optional<Vec3> chase;  // smoothed chase target
+    // A chase on a terrain: its horizontal viewing direction, across the slope under the
+    // target, turning smoothly (kChaseTurnSeconds in draw_list.cpp).
+    Vec3 chaseView = Vec3::Zero();
   };
 
   CameraSpec spec_;
@@ -215,6 +252,15 @@ class DrawListBuilder {
   Color terrainColor_{};
   Sphere terrainSphere_;
   Eigen::AlignedBox3d terrainBox_;
+  std::shared_ptr<const Heightfield> field_;
+  std::shared_ptr<const TriMesh> terrainSides_;
+  Sphere sidesSphere_;
+  std::optional<std::pair<int, CameraView>> autoCamera_;  // for this many observed frames
+  std::shared_ptr<const DrapeImage> drape_;
+  SceneLight light_;
+  Vec3 autoView_;
+  // Smooth-shaded meshes per shape and crease angle, made once.
+  std::map<std::pair<const Shape*, double>, std::shared_ptr<const CreasedMesh>> creased_;
 };
 
 }  // namespace vf

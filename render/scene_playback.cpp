@@ -55,6 +55,8 @@ struct ScenePlayback::Impl {
         drawing(spec.camera, spec.groundPlane, width, height, spec.fps),
         bodies(bodyViews(*built->world, built->colors)) {
     recorder.emplace(*built->world, spec.fps, spec.duration);
+    for (std::size_t id = 0; id < bodies.size(); ++id)
+      bodies[id].smoothDegrees = smoothOf(built->shapeOf[id]);
     addTerrain(built->world->def().terrain);
   }
 
@@ -67,17 +69,27 @@ struct ScenePlayback::Impl {
       BodyView v;
       v.shape = shapes[static_cast<std::size_t>(body.shape)];
       v.color = body.color;
+      v.smoothDegrees = spec.shapes[static_cast<std::size_t>(body.shape)].smoothDegrees;
       bodies.push_back(v);
     }
     addTerrain(loadSceneTerrain(spec));
   }
 
+  std::optional<double> smoothOf(const std::string& shape) const {
+    for (const ShapeSpec& s : spec.shapes)
+      if (s.name == shape) return s.smoothDegrees;
+    return std::nullopt;
+  }
+
+  // The terrain as a solid with its drape, and the light, which may need the terrain's place.
   void addTerrain(const std::shared_ptr<const Heightfield>& terrain) {
+    drawing.setLight(sceneLight(spec.light, terrain.get()));
     if (!terrain) return;
-    // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
-    terrainMesh = std::make_shared<const TriMesh>(terrain->toMesh());
-    drawing.setTerrain(
-        terrainMesh, std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*terrainMesh)));
+    std::shared_ptr<const DrapeImage> drape;
+    if (!spec.terrainTexturePath.empty())
+      drape = std::make_shared<const DrapeImage>(loadDrape(spec.terrainTexturePath, *terrain));
+    drawing.setTerrain(terrain, drape);
+    terrainMesh = drawing.terrainSurface();
   }
 
   int frameCount() const { return Recorder::frameCountFor(spec.fps, spec.duration); }

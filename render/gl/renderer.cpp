@@ -87,6 +87,11 @@ struct Renderer::Impl {
   unsigned sceneFbo = 0, sceneColor = 0, sceneDepth = 0;
   unsigned presentFbo = 0, presentColor = 0;
 
+  // The drape's texture (sRGB with coverage, mipmapped), made for one DrapeImage and kept
+  // while draw lists bring the same one.
+  std::shared_ptr<const DrapeImage> drape;
+  unsigned drapeTexture = 0;
+
   struct MeshEntry {
     std::shared_ptr<const TriMesh> pin;  // keeps the key's owner alive: keys are never reused
     std::unique_ptr<GpuMesh> mesh;
@@ -110,6 +115,8 @@ struct Renderer::Impl {
   ~Impl();
   void createTargets();
   const GpuMesh& mesh(const DrawMesh& m);
+  // Binds the list's drape to texture unit 1, uploading it when it is new.
+  void bindDrape(const DrawList& list);
   // `texels`: the parts of the map to redraw (the rest holds the last frame's casters, which
   // is exact: see RedrawTracker::shadowMapRegion); null: decide by comparing all casters.
   void shadowPass(const DrawList& list, const ShadowProjection& shadow,
@@ -134,6 +141,7 @@ Renderer::Impl::~Impl() {
   gl.DeleteFramebuffers(1, &presentFbo);
   gl.DeleteRenderbuffers(1, &presentColor);
   gl.DeleteVertexArrays(1, &emptyVao);
+  if (drapeTexture) gl.DeleteTextures(1, &drapeTexture);
 }
 
 void Renderer::Impl::createTargets() {
@@ -218,6 +226,29 @@ const GpuMesh& Renderer::Impl::mesh(const DrawMesh& m) {
     it = meshes.emplace(m.key, std::move(entry)).first;
   }
   return *it->second.mesh;
+}
+
+void Renderer::Impl::bindDrape(const DrawList& list) {
+  gl.ActiveTexture(GL_TEXTURE1);
+  if (list.drape && list.drape != drape) {
+    if (!drapeTexture) gl.GenTextures(1, &drapeTexture);
+    gl.BindTexture(GL_TEXTURE_2D, drapeTexture);
+    gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    // sRGB: the sampler returns linear albedo, filtered in linear light.
+    gl.TexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, list.drape->width, list.drape->height, 0,
+                  GL_RGBA, GL_UNSIGNED_BYTE, list.drape->rgba.data());
+    gl.GenerateMipmap(GL_TEXTURE_2D);
+    // Closer than a texel to a pixel, each texel is drawn as the square it is (as GIS viewers
+    // show rasters): no detail is made up between them, and the picture's cells stay where the
+    // data put them. Further away, mipmaps average them.
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    drape = list.drape;
+  }
+  gl.BindTexture(GL_TEXTURE_2D, list.drape ? drapeTexture : 0);
+  gl.ActiveTexture(GL_TEXTURE0);
 }
 
 void Renderer::Impl::shadowPass(const DrawList& list, const ShadowProjection& shadow,
@@ -307,6 +338,9 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
     setVec3(gl, p.uniform("uCameraPos"), list.camera.position);
     setVec3(gl, p.uniform("uSunDir"), sun);
     setVec3(gl, p.uniform("uFillDir"), fill);
+    setVec3(gl, p.uniform("uSunLight"), list.light.sun);
+    setVec3(gl, p.uniform("uSkyLight"), list.light.sky);
+    setVec3(gl, p.uniform("uAmbientLight"), list.light.ambient);
     gl.Uniform1f(p.uniform("uFadeStart"), static_cast<float>(list.groundFadeStart));
     gl.Uniform1f(p.uniform("uFadeEnd"), static_cast<float>(list.groundFadeEnd));
     gl.Uniform1i(p.uniform("uShadowMap"), 0);
@@ -321,6 +355,15 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
 
   // Bodies and terrain first: the floor and the sky then only shade what is still visible.
   setCommon(*sceneProgram);
+  bindDrape(list);
+  gl.Uniform1i(sceneProgram->uniform("uDrape"), 1);
+  gl.Uniform1i(sceneProgram->uniform("uDraped"), list.drape ? 1 : 0);
+  if (list.drape) {
+    const DrapeImage& d = *list.drape;
+    gl.Uniform4f(sceneProgram->uniform("uDrapeRect"), static_cast<float>(d.x0),
+                 static_cast<float>(d.y0), static_cast<float>(d.x1 - d.x0),
+                 static_cast<float>(d.y1 - d.y0));
+  }
   for (std::size_t i = 0; i < list.instances.size(); ++i) {
     const DrawInstance& inst = list.instances[i];
     // Wholly outside the scissor, or, drawing the whole frame, out of view.
