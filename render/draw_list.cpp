@@ -16,12 +16,6 @@ namespace {
 
 constexpr double kDegrees = std::numbers::pi / 180.0;
 
-// The automatic camera looks down 13 degrees from the azimuth of the default CameraSpec
-// position (4, -6, 3): floor, shadows and three sides of a box are visible, and the horizon
-// with its sky gradient sits in the top fifth of the picture (tan 13 / tan 20 of the
-// half-height above the middle for the default 40 degree field of view).
-constexpr double kAutoPitch = 13 * kDegrees;
-
 // The shadow map is fitted to the view instead of the casters when the view's slice is under
 // a quarter of the casters' sphere: only at terrain scale, so scenes whose casters all lie in
 // view keep the fit they had (and their pixels).
@@ -36,8 +30,9 @@ constexpr Color kTerrainSideColor{0.15f, 0.12f, 0.09f};
 
 // On a terrain, a chase camera without a given view frames its bodies with this many body
 // radii of context (three elsewhere): enough of the slope to read where the rock goes, with the
-// rock still about a sixteenth of the picture's height.
-constexpr double kTerrainChaseContext = 15;
+// rock still a few percent of the picture's height (at 1280x720, twenty-odd pixels for the
+// Tyrol scene's 1 m rocks).
+constexpr double kTerrainChaseContext = 10;
 constexpr double kChaseContext = 3;
 
 // The ground under the first frame's bodies that sets the automatic view on a terrain: their
@@ -48,11 +43,18 @@ constexpr double kSlopeFitCells = 20;
 // rolling rock changes from cell to cell, and a camera swinging with every bump is unwatchable.
 constexpr double kChaseSlopeCells = 8;
 constexpr double kChaseTurnSeconds = 2;
-// ...and from 30 degrees down the slope from the across-slope view: along the contour a chase
-// camera grazes the ground wherever the slope turns.
+// ...from 30 degrees down the slope from the across-slope view, and looking 25 degrees down
+// (the automatic camera's 13 on a floor): along the contour and nearly level, a chase camera
+// grazes the ground between it and the rock, which fills the picture as a dark smear, wherever
+// the slope turns.
 constexpr double kChaseUpSlopeDegrees = 30;
-// The automatic camera on a terrain keeps about this many body positions of the clip in sight.
+constexpr double kTerrainChasePitch = 25;
+// The automatic camera on a terrain keeps about this many body positions of the clip in sight,
+// checked again after each of at most this many moves.
 constexpr std::size_t kSightLines = 2000;
+constexpr int kSightRounds = 4;
+// ...rising by at most this share of its distance from what it looks at.
+constexpr double kMostLift = 0.25;
 
 // Bounding sphere of a mesh's vertices (box centre; good enough for framing and shadows).
 Sphere meshSphere(const TriMesh& mesh) {
@@ -120,10 +122,11 @@ Sphere encloseAll(std::span<const Sphere> spheres) {
 
 Vec3 defaultAutoView() { return Vec3(-4, 6, 0).normalized(); }
 
-AutoFraming::AutoFraming(double fovYDegrees, double aspect, const Vec3& view)
+AutoFraming::AutoFraming(double fovYDegrees, double aspect, const Vec3& view, double pitchDegrees)
     : fovYDegrees_(fovYDegrees) {
   const Vec3 horizontal = Vec3(view.x(), view.y(), 0).normalized();
-  forward_ = horizontal * std::cos(kAutoPitch) - Vec3::UnitZ() * std::sin(kAutoPitch);
+  const double pitch = pitchDegrees * kDegrees;
+  forward_ = horizontal * std::cos(pitch) - Vec3::UnitZ() * std::sin(pitch);
   right_ = forward_.cross(Vec3::UnitZ()).normalized();
   up_ = right_.cross(forward_);
   halfY_ = fovYDegrees * kDegrees / 2;
@@ -147,7 +150,7 @@ void AutoFraming::add(const Sphere& s) {
   empty_ = false;
 }
 
-CameraView AutoFraming::camera() const {
+CameraView AutoFraming::camera(double lowestEye) const {
   const Sphere region = empty_ ? Sphere{Vec3::Zero(), 1} : region_;
   std::array<double, 4> h = limits_;
   if (empty_) {
@@ -161,6 +164,16 @@ CameraView AutoFraming::camera() const {
   const double z =
       std::min((h[0] + h[1]) / (2 * std::sin(halfX_)), (h[2] + h[3]) / (2 * std::sin(halfY_)));
   Vec3 position = x * right_ + y * up_ + z * forward_;
+  if (position.z() < lowestEye) {
+    // Up along the picture's up to that height, then back (which eases every side plane's
+    // constraint, n_j . forward > 0) until everything is in view again: the view keeps its
+    // pitch, and with it the horizon.
+    position += up_ * ((lowestEye - position.z()) / up_.z());
+    double back = 0;
+    for (std::size_t j = 0; j < 4; ++j)
+      back = std::max(back, (normals_[j].dot(position) - h[j]) / normals_[j].dot(forward_));
+    position -= forward_ * back;
+  }
   // A little air around the outermost bodies: step back by a tenth of the distance.
   const double distance = std::max(forward_.dot(region.centre - position), 1e-3);
   position -= forward_ * (0.1 * distance);
@@ -489,7 +502,7 @@ CameraView DrawListBuilder::chooseCamera(std::span<const BodyView> bodies, int f
       r = std::max(r, (b.x - *chase).norm() + context * shapeRadius(b.shape));
     }
     auto framed = [&](const Vec3& view) {
-      AutoFraming own(spec_.fovDegrees, aspect_, view);
+      AutoFraming own(spec_.fovDegrees, aspect_, view, field_ ? kTerrainChasePitch : 13);
       own.add(Sphere{*chase, r});
       if (ground_) own.add(Sphere{Vec3(chase->x(), chase->y(), *ground_), 0.25 * r});
       CameraView cam = own.camera();
@@ -516,17 +529,27 @@ CameraView DrawListBuilder::automaticCamera() {
   if (autoCamera_ && autoCamera_->first == observedFrames()) return autoCamera_->second;
   CameraView cam = framing_.camera();
   if (field_ && !framing_.empty()) {
-    // In sight of the bodies over the clip: lifted over the ground between the eye and them,
-    // checked for up to about kSightLines body positions spread evenly over the frames.
-    const double clearance = 0.05 * (cam.lookAt - cam.position).norm();
-    keepAboveTerrain(*field_, cam, framing_.region().centre, clearance);
+    // In sight of the bodies over the clip: the eye as high as the ground between it and them
+    // asks (checked for up to about kSightLines body positions spread evenly over the frames),
+    // reached by rising and stepping back with the same pitch. Stepping back can bring other
+    // ground into the way, so a few rounds.
     std::size_t positions = 0;
     for (const FrameRecord& f : history_) positions += f.centres.size();
     const std::size_t stride = std::max<std::size_t>(1, positions / kSightLines);  // frames
-    for (std::size_t k = 0; k < history_.size(); k += stride) {
-      const FrameRecord& f = history_[k];
-      for (std::size_t id = 0; id < f.centres.size(); ++id)
-        if (f.active[id]) keepAboveTerrain(*field_, cam, f.centres[id], clearance);
+    // Not above this, however much ground is in the way: a view from far above shows a map.
+    const double highest = cam.position.z() + kMostLift * (cam.lookAt - cam.position).norm() / 1.1;
+    for (int round = 0; round < kSightRounds; ++round) {
+      CameraView lifted = cam;
+      const double clearance = 0.05 * (cam.lookAt - cam.position).norm();
+      keepAboveTerrain(*field_, lifted, framing_.region().centre, clearance);
+      for (std::size_t k = 0; k < history_.size(); k += stride) {
+        const FrameRecord& f = history_[k];
+        for (std::size_t id = 0; id < f.centres.size(); ++id)
+          if (f.active[id]) keepAboveTerrain(*field_, lifted, f.centres[id], clearance);
+      }
+      if (lifted.position.z() <= cam.position.z()) break;
+      cam = framing_.camera(std::min(lifted.position.z(), highest));
+      if (lifted.position.z() >= highest) break;
     }
   }
   autoCamera_ = std::make_pair(observedFrames(), cam);

@@ -109,21 +109,26 @@ Sphere encloseAll(std::span<const Sphere> spheres);
 // the default CameraSpec position (4, -6) towards the origin.
 Vec3 defaultAutoView();
 
-// The automatic camera: a fixed orientation (looking 13 degrees down along the horizontal
-// direction `view`, so floor, shadows and the horizon show) and the position closest to the
-// scene from which every sphere added so far projects inside a view of the given vertical
-// field of view and aspect ratio, with a little air around. Exact per sphere, not via one
+// The automatic camera: a fixed orientation (looking `pitchDegrees` down along the horizontal
+// direction `view`; 13 by default, so that floor, shadows and three sides of a box show, and
+// the horizon with its sky gradient sits in the top fifth of the picture: tan 13 / tan 20 of
+// the half-height above the middle for the default 40 degree field of view) and the position
+// closest to the scene from which every sphere added so far projects inside a view of the given
+// vertical field of view and aspect ratio, with a little air around. Exact per sphere, not via one
 // enclosing sphere, so a scene spread flat on the floor fills the picture.
 class AutoFraming {
  public:
-  AutoFraming(double fovYDegrees, double aspect, const Vec3& view = defaultAutoView());
+  AutoFraming(double fovYDegrees, double aspect, const Vec3& view = defaultAutoView(),
+              double pitchDegrees = 13);
   // Includes a sphere (the framing only ever grows).
   void add(const Sphere& s);
   bool empty() const { return empty_; }
   // A sphere around everything added (for depth range and fade distances).
   const Sphere& region() const { return region_; }
-  // The camera; with nothing added, one that frames a unit sphere at the origin.
-  CameraView camera() const;
+  // The camera; with nothing added, one that frames a unit sphere at the origin. With its eye
+  // at least at height `lowestEye` (m): raised along the picture's up and moved back until
+  // everything is in view again, the orientation unchanged.
+  CameraView camera(double lowestEye = -INFINITY) const;
 
  private:
   static constexpr double kMargin = 1.05;  // radii grow 5%: rounding never clips a body
