@@ -111,7 +111,7 @@ TEST_F(LookRender, AnOrbitingCameraLeavesTheShadowWhereItIsInTheWorld) {
         // 0.1 m from the shadow's edge either way: the filtered penumbra is a few texels of
         // about 5 mm.
         bool near = false, in = rayHitsBox(p, sun, lo, hi);
-        for (const Vec3 d : {Vec3(0.1, 0, 0), Vec3(-0.1, 0, 0), Vec3(0, 0.1, 0), Vec3(0, -0.1, 0)})
+        for (const Vec3& d : {Vec3(0.1, 0, 0), Vec3(-0.1, 0, 0), Vec3(0, 0.1, 0), Vec3(0, -0.1, 0)})
           near = near || rayHitsBox(p + d, sun, lo, hi) != in;
         if (near) continue;
         const Vec3 eye = cameras[f]->position;
@@ -258,8 +258,12 @@ void expectRedOn(gl::Context& context, const Heightfield& h,
           g.x() > x0 + pixel && g.x() < x1 - pixel && g.y() > y0 + pixel && g.y() < y1 - pixel;
       const bool outside =
           g.x() < x0 - pixel || g.x() > x1 + pixel || g.y() < y0 - pixel || g.y() > y1 + pixel;
-      if (inside) EXPECT_TRUE(isRed) << "pixel " << x << ", " << y << " at " << g.transpose();
-      if (outside) EXPECT_FALSE(isRed) << "pixel " << x << ", " << y << " at " << g.transpose();
+      if (inside) {
+        EXPECT_TRUE(isRed) << "pixel " << x << ", " << y << " at " << g.transpose();
+      }
+      if (outside) {
+        EXPECT_FALSE(isRed) << "pixel " << x << ", " << y << " at " << g.transpose();
+      }
       red += isRed;
     }
   }
