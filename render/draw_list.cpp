@@ -318,8 +318,8 @@ DrawMesh DrawListBuilder::bodyMesh(const BodyView& b) {
                   std::shared_ptr<const std::vector<Vec3>>(creased, &creased->normals)};
 }
 
-void DrawListBuilder::observe(std::span<const BodyView> bodies) {
-  if (history_.empty()) chooseAutoView(bodies);
+void DrawListBuilder::include(std::span<const BodyView> bodies) {
+  if (included_++ == 0) chooseAutoView(bodies);
   // The terrain is left out: a large one would shrink the bodies to specks; the bodies (and the
   // floor under them) are where the action is.
   for (const Sphere& s : bodySpheres(bodies, true)) framing_.add(s);
@@ -327,6 +327,9 @@ void DrawListBuilder::observe(std::span<const BodyView> bodies) {
     casterBox_.extend(s.centre - Vec3::Constant(s.radius));
     casterBox_.extend(s.centre + Vec3::Constant(s.radius));
   }
+}
+
+void DrawListBuilder::addDrawnFrame(std::span<const BodyView> bodies) {
   FrameRecord record;
   record.centres.reserve(bodies.size());
   for (const BodyView& b : bodies) {
@@ -421,7 +424,8 @@ CameraView DrawListBuilder::chooseCamera(std::span<const BodyView> bodies, int f
 }
 
 CameraView DrawListBuilder::automaticCamera() {
-  if (autoCamera_ && autoCamera_->first == observedFrames()) return autoCamera_->second;
+  const std::pair<int, int> seen{included_, observedFrames()};
+  if (autoCamera_ && autoCamera_->first == seen) return autoCamera_->second;
   CameraView cam = framing_.camera();
   if (field_ && !framing_.empty()) {
     // In sight of the bodies over the clip: the eye as high as the ground between it and them
@@ -447,7 +451,7 @@ CameraView DrawListBuilder::automaticCamera() {
       if (lifted.position.z() >= highest) break;
     }
   }
-  autoCamera_ = std::make_pair(observedFrames(), cam);
+  autoCamera_ = std::make_pair(seen, cam);
   return cam;
 }
 

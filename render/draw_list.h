@@ -109,7 +109,8 @@ constexpr std::size_t kTerrainTileTriangles = 8192;
 // bodies as the next frame and draws that.
 class DrawListBuilder {
  public:
-  // For frames of width x height pixels at `fps` frames per second (frame k at t = k / fps).
+  // For frames of width x height pixels, `fps` drawn frames per simulated second (frame k at
+  // t = k / fps; at [output] speed X, the output's fps / X).
   DrawListBuilder(const CameraSpec& camera, std::optional<double> groundHeight, int width,
                   int height, double fps);
   // The same for an aspect ratio width / height, 720 pixels high, 30 frames per second.
@@ -130,19 +131,32 @@ class DrawListBuilder {
 
   // The terrain's surface as drawn (world coordinates); null without a terrain.
   const std::shared_ptr<const TriMesh>& terrainSurface() const { return terrain_; }
+  // Its vertex normals (smooth), one per vertex of terrainSurface(); null without them.
+  const std::shared_ptr<const std::vector<Vec3>>& terrainSurfaceNormals() const {
+    return terrainNormals_;
+  }
   // The sides and base of the terrain's solid (terrainSides), drawn lit in an earth colour and
   // casting shadows.
   void setTerrainSides(std::shared_ptr<const TriMesh> sides);
   // The scene's light (sceneLight). Without a sun direction, the default one for the automatic
-  // camera's view (defaultSunDirection): fixed once the first frame is observed.
+  // camera's view (defaultSunDirection): fixed once the first frame is included.
   void setLight(const SceneLight& light);
   // The automatic camera's horizontal viewing direction: defaultAutoView(), or across the
-  // terrain's slope under the first observed frame's bodies.
+  // terrain's slope under the first included frame's bodies.
   const Vec3& autoView() const { return autoView_; }
 
   // Folds the next frame's active bodies into the automatic framing and records the frame's
   // body centres and chase target. Frames are observed in order, starting at frame 0.
-  void observe(std::span<const BodyView> bodies);
+  void observe(std::span<const BodyView> bodies) {
+    include(bodies);
+    addDrawnFrame(bodies);
+  }
+  // The two halves of observe(), for playbacks whose drawn frames are not the frames that set
+  // the framing (time remapping: the scene's own frames frame the shot whatever the speed).
+  // include(): folds active bodies into the automatic framing and the shadow map's region.
+  void include(std::span<const BodyView> bodies);
+  // addDrawnFrame(): records the next drawn frame's body centres (trails) and chase target.
+  void addDrawnFrame(std::span<const BodyView> bodies);
   // The draw list of observed frame `frame` drawn with these bodies (its poses).
   DrawList build(std::span<const BodyView> bodies, int frame);
   // Observes the bodies as the next frame and draws it.
@@ -212,7 +226,9 @@ class DrawListBuilder {
   std::shared_ptr<const Heightfield> field_;
   std::shared_ptr<const TriMesh> terrainSides_;
   Sphere sidesSphere_;
-  std::optional<std::pair<int, CameraView>> autoCamera_;  // for this many observed frames
+  int included_ = 0;  // frames folded into the framing so far
+  // The automatic camera, for this many included and observed frames.
+  std::optional<std::pair<std::pair<int, int>, CameraView>> autoCamera_;
   std::shared_ptr<const DrapeImage> drape_;
   SceneLight light_;
   Vec3 autoView_;

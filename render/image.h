@@ -1,5 +1,7 @@
 // A rendered frame in memory: 8-bit sRGB-encoded RGB, rows top to bottom (the order of PNG
-// and of video frames, the opposite of glReadPixels).
+// and of video frames, the opposite of glReadPixels), and optionally an 8-bit alpha plane
+// (straight, not premultiplied: 0 transparent, 255 opaque) for PNGs with a transparent
+// background.
 #pragma once
 
 #include <cstddef>
@@ -11,7 +13,8 @@ namespace vf {
 struct Image {
   int width = 0;
   int height = 0;
-  std::vector<std::uint8_t> rgb;  // width * height * 3 bytes, top row first
+  std::vector<std::uint8_t> rgb;    // width * height * 3 bytes, top row first
+  std::vector<std::uint8_t> alpha;  // width * height bytes, top row first; empty: opaque
 
   Image() = default;
   Image(int w, int h) : width(w), height(h), rgb(static_cast<std::size_t>(w) * h * 3, 0) {}

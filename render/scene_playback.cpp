@@ -14,6 +14,7 @@
 
 #include "render/gl/gl_context.h"
 #include "render/gl/renderer.h"
+#include "render/overlay.h"
 #include "render/progress.h"
 #include "sim/core/error.h"
 
@@ -52,8 +53,9 @@ struct ScenePlayback::Impl {
   Impl(const SceneSpec& s, int width, int height)
       : spec(s),
         built(buildScene(spec)),
-        drawing(spec.camera, spec.groundPlane, width, height, spec.fps),
-        bodies(bodyViews(*built->world, built->colors)) {
+        drawing(spec.camera, spec.groundPlane, width, height, spec.fps / spec.output.speed),
+        bodies(bodyViews(*built->world, built->colors)),
+        names(built->shapeOf) {
     recorder.emplace(*built->world, spec.fps, spec.duration);
     for (std::size_t id = 0; id < bodies.size(); ++id)
       bodies[id].smoothDegrees = smoothOf(built->shapeOf[id]);
@@ -63,7 +65,7 @@ struct ScenePlayback::Impl {
   Impl(std::shared_ptr<const Bake> b, int width, int height)
       : spec(b->scene),
         bake(std::move(b)),
-        drawing(spec.camera, spec.groundPlane, width, height, spec.fps) {
+        drawing(spec.camera, spec.groundPlane, width, height, spec.fps / spec.output.speed) {
     const auto shapes = bakeShapes(*bake);
     for (const BakeBody& body : bake->bodies) {
       BodyView v;
@@ -71,6 +73,7 @@ struct ScenePlayback::Impl {
       v.color = body.color;
       v.smoothDegrees = spec.shapes[static_cast<std::size_t>(body.shape)].smoothDegrees;
       bodies.push_back(v);
+      names.push_back(spec.shapes[static_cast<std::size_t>(body.shape)].name);
     }
     addTerrain(loadSceneTerrain(spec));
   }
@@ -82,31 +85,53 @@ struct ScenePlayback::Impl {
   }
 
   // The terrain as a solid with its drape, and the light, which may need the terrain's place.
-  void addTerrain(const std::shared_ptr<const Heightfield>& terrain) {
-    drawing.setLight(sceneLight(spec.light, terrain.get()));
-    if (!terrain) return;
+  void addTerrain(const std::shared_ptr<const Heightfield>& field) {
+    drawing.setLight(sceneLight(spec.light, field.get()));
+    if (!field) return;
+    terrain = field;
     std::shared_ptr<const DrapeImage> drape;
     if (!spec.terrainTexturePath.empty())
-      drape = std::make_shared<const DrapeImage>(loadDrape(spec.terrainTexturePath, *terrain));
-    drawing.setTerrain(terrain, drape);
+      drape = std::make_shared<const DrapeImage>(loadDrape(spec.terrainTexturePath, *field));
+    drawing.setTerrain(field, drape);
     terrainMesh = drawing.terrainSurface();
+    terrainNormals = drawing.terrainSurfaceNormals();
   }
 
-  int frameCount() const { return Recorder::frameCountFor(spec.fps, spec.duration); }
+  // Drawn frames (at [output] speed) and the scene's own frames (t = j / fps), which the
+  // recorder measures and which frame the shot.
+  int frameCount() const {
+    return Recorder::frameCountFor(spec.fps, spec.duration, spec.output.speed);
+  }
+  int sceneFrameCount() const { return Recorder::frameCountFor(spec.fps, spec.duration); }
+  double frameTime(int k) const { return Recorder::frameTimeFor(k, spec.fps, spec.output.speed); }
 
-  // Frame k's poses, simulating up to it (scene) or reading them (bake).
-  std::vector<BodyPose> posesOf(int k) {
-    if (bake) {
-      std::vector<char> active;
-      const std::vector<BodyState> states =
-          bake->statesAt(static_cast<double>(k) / spec.fps, active);
-      std::vector<BodyPose> out;
-      for (std::size_t i = 0; i < states.size(); ++i)
-        out.push_back(BodyPose{states[i].x, states[i].q, active[i] != 0});
-      return out;
-    }
-    recorder->advanceToFrame(k);
+  // The scene's frame j, simulating up to it (scene) or reading it (bake).
+  std::vector<BodyPose> sceneFramePoses(int j) {
+    if (bake) return bakePoses(Recorder::frameTimeFor(j, spec.fps));
+    recorder->advanceToFrame(j);
     return capturePoses(*built->world, recorder->frameStates());
+  }
+  // The poses at a time between the scene's frames: the world's own steps up to t, then free
+  // motion to t, as the recorder takes a frame (World::statesAt), so the steps do not change.
+  std::vector<BodyPose> posesAt(double t) {
+    if (bake) return bakePoses(t);
+    World& world = recorder->world();
+    world.advanceTo(t);
+    return capturePoses(world, world.statesAt(t));
+  }
+  std::vector<BodyPose> bakePoses(double t) const {
+    std::vector<char> active;
+    const std::vector<BodyState> states = bake->statesAt(t, active);
+    std::vector<BodyPose> out;
+    for (std::size_t i = 0; i < states.size(); ++i)
+      out.push_back(BodyPose{states[i].x, states[i].q, active[i] != 0});
+    return out;
+  }
+  // Drawn frame k's poses, kept, and its trails and chase target.
+  void keepDrawnFrame(int k, std::vector<BodyPose> at) {
+    poses[static_cast<std::size_t>(k)] = std::move(at);
+    applyPoses(poses[static_cast<std::size_t>(k)], bodies);
+    drawing.addDrawnFrame(bodies);
   }
 
   SceneSpec spec;
@@ -115,8 +140,11 @@ struct ScenePlayback::Impl {
   std::shared_ptr<const Bake> bake;  // bake: the recorded steps
   DrawListBuilder drawing;
   std::vector<BodyView> bodies;              // shapes and colours; poses set per frame
-  std::vector<std::vector<BodyPose>> poses;  // per simulated frame
+  std::vector<std::string> names;            // per body id: its shape's name
+  std::vector<std::vector<BodyPose>> poses;  // per drawn frame
+  std::shared_ptr<const Heightfield> terrain;
   std::shared_ptr<const TriMesh> terrainMesh;
+  std::shared_ptr<const std::vector<Vec3>> terrainNormals;
 };
 
 ScenePlayback::ScenePlayback(const SceneSpec& spec, int width, int height)
@@ -140,25 +168,54 @@ std::uint64_t ScenePlayback::stepsSimulated() const {
 
 bool ScenePlayback::simulate(bool progress, const std::function<bool()>& stop) {
   Impl& p = *impl_;
-  const int count = p.frameCount();
-  p.poses.assign(static_cast<std::size_t>(count), {});
-  Progress simulating(p.spec.name + (p.bake ? " (reading the bake)" : " (simulating)"), count,
+  const int drawn = p.frameCount(), scene = p.sceneFrameCount();
+  p.poses.assign(static_cast<std::size_t>(drawn), {});
+  Progress simulating(p.spec.name + (p.bake ? " (reading the bake)" : " (simulating)"), scene,
                       progress);
-  for (int k = 0; k < count; ++k) {
+  // The scene's frames j and the drawn frames k in time order. Scene frames frame the shot and
+  // carry the run's diagnostics whatever the speed, so a frame drawn at one speed is the frame
+  // at the same time drawn at another; a drawn frame at a scene frame's time reuses its poses.
+  // At speed 1 the two sequences coincide.
+  int k = 0;
+  for (int j = 0; j < scene; ++j) {
+    const double t = Recorder::frameTimeFor(j, p.spec.fps);
+    for (; k < drawn && p.frameTime(k) < t; ++k) {
+      if (stop && stop()) return false;
+      p.keepDrawnFrame(k, p.posesAt(p.frameTime(k)));
+    }
     if (stop && stop()) return false;
-    p.poses[static_cast<std::size_t>(k)] = p.posesOf(k);
-    applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
-    p.drawing.observe(p.bodies);
-    simulating.update(k + 1, static_cast<double>(k) / p.spec.fps);
+    std::vector<BodyPose> at = p.sceneFramePoses(j);
+    applyPoses(at, p.bodies);
+    p.drawing.include(p.bodies);
+    if (k < drawn && p.frameTime(k) == t) p.keepDrawnFrame(k++, std::move(at));
+    simulating.update(j + 1, t);
+  }
+  // Drawn frames past the last scene frame (duration * fps not a whole number).
+  for (; k < drawn; ++k) {
+    if (stop && stop()) return false;
+    p.keepDrawnFrame(k, p.posesAt(p.frameTime(k)));
   }
   return true;
 }
+
+double ScenePlayback::frameTime(int k) const { return impl_->frameTime(k); }
 
 DrawList ScenePlayback::drawList(int k) {
   Impl& p = *impl_;
   VF_ASSERT(k >= 0 && static_cast<std::size_t>(k) < p.poses.size());
   applyPoses(p.poses[static_cast<std::size_t>(k)], p.bodies);
   return p.drawing.build(p.bodies, k);
+}
+
+void ScenePlayback::draw(gl::Renderer& renderer, int k, Image& out,
+                         const std::function<void(DrawList&)>& adjust) {
+  DrawList list = drawList(k);
+  if (adjust) adjust(list);
+  renderer.render(list, out);
+  const OutputSpec& o = impl_->spec.output;
+  if (o.overlayTime || o.overlayScale)
+    drawOverlays(out, OverlaySettings{o.overlayTime, o.overlayScale}, list.camera, frameTime(k),
+                 o.speed);
 }
 
 std::vector<BodyView> ScenePlayback::bodiesAt(int k) {
@@ -169,6 +226,16 @@ std::vector<BodyView> ScenePlayback::bodiesAt(int k) {
 }
 
 std::shared_ptr<const TriMesh> ScenePlayback::terrainMesh() const { return impl_->terrainMesh; }
+
+std::shared_ptr<const std::vector<Vec3>> ScenePlayback::terrainNormals() const {
+  return impl_->terrainNormals;
+}
+
+std::shared_ptr<const Heightfield> ScenePlayback::terrain() const { return impl_->terrain; }
+
+const std::vector<std::string>& ScenePlayback::shapeNames() const { return impl_->names; }
+
+const OutputSpec& ScenePlayback::output() const { return impl_->spec.output; }
 
 namespace {
 
@@ -192,15 +259,12 @@ std::vector<Image> drawFrames(ScenePlayback& playback, const std::vector<int>& f
   settings.width = width;
   settings.height = height;
   settings.shaderDir = shaderDir;
+  settings.alpha = playback.output().alpha;
   gl::Renderer renderer(context, settings);
   playback.simulate(false);
-  std::vector<Image> images;
-  images.reserve(frames.size());
-  for (const int k : frames) {
-    DrawList list = playback.drawList(k);
-    if (adjust) adjust(list);
-    images.push_back(renderer.render(list));
-  }
+  std::vector<Image> images(frames.size());
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    playback.draw(renderer, frames[i], images[i], adjust);
   return images;
 }
 
@@ -211,7 +275,8 @@ RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& 
                                  const std::function<void(DrawList&)>& adjust) {
   const int width = spec.output.width, height = spec.output.height;
   // Checked before the expensive shape building, as `render` does.
-  checkFrames(spec.path, frames, Recorder::frameCountFor(spec.fps, spec.duration), "the scene's");
+  checkFrames(spec.path, frames,
+              Recorder::frameCountFor(spec.fps, spec.duration, spec.output.speed), "the scene's");
   ScenePlayback playback(spec, width, height);
   RenderedFrames out;
   out.images = drawFrames(playback, frames, width, height, context, shaderDir, adjust);
@@ -222,8 +287,10 @@ RenderedFrames renderSceneFrames(const SceneSpec& spec, const std::vector<int>& 
 std::vector<Image> renderBakeFrames(std::shared_ptr<const Bake> bake, const std::string& where,
                                     const std::vector<int>& frames, int width, int height,
                                     gl::Context& context, const std::string& shaderDir) {
-  checkFrames(where, frames, Recorder::frameCountFor(bake->scene.fps, bake->scene.duration),
-              "the bake's");
+  checkFrames(
+      where, frames,
+      Recorder::frameCountFor(bake->scene.fps, bake->scene.duration, bake->scene.output.speed),
+      "the bake's");
   ScenePlayback playback(std::move(bake), width, height);
   return drawFrames(playback, frames, width, height, context, shaderDir, {});
 }

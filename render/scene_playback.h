@@ -17,9 +17,12 @@
 
 namespace vf::gl {
 class Context;
-}
+class Renderer;
+}  // namespace vf::gl
 
 namespace vf {
+
+struct Heightfield;
 
 class ScenePlayback {
  public:
@@ -36,8 +39,10 @@ class ScenePlayback {
   // frame's poses and folding them into the automatic camera. `stop` is asked before each
   // frame; returns false when it said stop. `progress`: a progress line on stderr for long runs.
   bool simulate(bool progress, const std::function<bool()>& stop = {});
-  // Frames k = 0 .. floor(duration * fps).
+  // Drawn frames k = 0 .. floor(duration * fps / speed) ([output] speed; 1: the scene's frames).
   int frameCount() const;
+  // The simulated time of drawn frame k: k speed / fps, s (Recorder::frameTimeFor).
+  double frameTime(int k) const;
   // The run's numbers (checksum included), complete after simulate(); a bake's are the run's
   // that made it, and null for a bake without a run (an ensemble's subset, Bake::summary).
   const RunSummary* summary() const;
@@ -45,10 +50,22 @@ class ScenePlayback {
   std::uint64_t stepsSimulated() const;
   // Pass 2: what to draw for frame k (after simulate()).
   DrawList drawList(int k);
+  // Frame k drawn by `renderer` into `out`, with the overlays [output] asks for (overlay.h).
+  // `adjust`, when given, may change the draw list first (a test aid).
+  void draw(gl::Renderer& renderer, int k, Image& out,
+            const std::function<void(DrawList&)>& adjust = {});
   // Every body (shape, colour) posed at frame k (after simulate()), for export.
   std::vector<BodyView> bodiesAt(int k);
-  // The terrain in world coordinates, as drawn; null without one.
+  // The terrain in world coordinates, as drawn, and its smooth vertex normals; null without
+  // one.
   std::shared_ptr<const TriMesh> terrainMesh() const;
+  std::shared_ptr<const std::vector<Vec3>> terrainNormals() const;
+  // The terrain's heightfield (its CRS and the offset added to its coordinates); null without.
+  std::shared_ptr<const Heightfield> terrain() const;
+  // Per body id: the name of its [shapes] entry.
+  const std::vector<std::string>& shapeNames() const;
+  // The scene's [output] (size, speed, alpha, overlays), with command-line overrides.
+  const OutputSpec& output() const;
 
  private:
   struct Impl;

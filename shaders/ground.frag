@@ -26,10 +26,34 @@ float gridLines(vec2 p, float spacing, float width) {
   return max(line.x, line.y) * density;
 }
 
+#ifdef VF_ALPHA
+// The variant for frames with a transparent background (RenderSettings::alpha): the floor
+// keeps only its shadows, as black at the opacity that darkens what lies behind it as much as
+// the shadow darkens the floor: 1 - shaded / unshadowed, by Rec. 709 luminance, where
+// unshadowed gives back the sun's direct light that the shadow map took away. It fades out
+// with the floor's fade into the sky. Written as 2 + opacity: present.frag reads alpha from 2
+// up as the floor's (bodies write 1, and empty samples stay 0).
+float shadowOpacity(vec3 albedo, vec3 shaded) {
+  vec3 n = vec3(0.0, 0.0, 1.0);
+  float cosine = dot(n, uSunDir);
+  if (cosine <= 0.0) return 0.0;
+  float lost = 1.0 - sunVisibility(vWorldPos, n, cosine);
+  vec3 unshadowed = shaded + albedo * uSunLight * cosine * lost;
+  const vec3 kLuma = vec3(0.2126, 0.7152, 0.0722);
+  float opacity = 1.0 - dot(shaded, kLuma) / max(dot(unshadowed, kLuma), 1e-6);
+  float far = smoothstep(uFadeStart, uFadeEnd, length(vWorldPos - uCameraPos));
+  return clamp(opacity, 0.0, 1.0) * (1.0 - far);
+}
+#endif
+
 void main() {
   vec3 albedo = kFloor;
   albedo = mix(albedo, kMinorLine, gridLines(vWorldPos.xy, 0.1, 0.004));
   albedo = mix(albedo, kMajorLine, gridLines(vWorldPos.xy, 1.0, 0.012));
   vec3 color = shade(albedo, vWorldPos, vec3(0.0, 0.0, 1.0));
+#ifdef VF_ALPHA
+  fragColor = vec4(0.0, 0.0, 0.0, 2.0 + shadowOpacity(albedo, color));
+#else
   fragColor = vec4(fadeIntoSky(color, vWorldPos), 1.0);
+#endif
 }

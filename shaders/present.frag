@@ -56,6 +56,52 @@ vec3 skyAt(vec2 at) {
   return roundToHalf(skyColor(normalize(p.xyz / p.w)));
 }
 
+#ifdef VF_ALPHA
+// A transparent background (RenderSettings::alpha): no sky; alpha is the pixel's coverage,
+// each sample counting 1 for a body or the terrain, its shadow's opacity for the floor (written
+// as 2 + opacity, black) and 0 where nothing was drawn. The colour is straight, not
+// premultiplied: the coverage-weighted mean of the samples, so a pixel wholly on a body has
+// the colour the opaque frame gives it.
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  vec3 sum = vec3(0.0);
+  float cover = 0.0;
+  float count;
+  if (uSamples > 1) {
+    for (int i = 0; i < uSamples; ++i) {
+      vec4 c = texelFetch(uScene, pixel, i);
+      if (c.a >= 2.0) {
+        cover += c.a - 2.0;
+      } else if (c.a > 0.0) {
+        sum += c.rgb;
+        cover += 1.0;
+      }
+    }
+    count = float(uSamples);
+  } else {
+    for (int y = 0; y < uSupersample; ++y) {
+      for (int x = 0; x < uSupersample; ++x) {
+        vec4 c = texelFetch(uImage, pixel * uSupersample + ivec2(x, y), 0);
+        if (c.a >= 2.0) {
+          cover += c.a - 2.0;
+        } else if (c.a > 0.0) {
+          sum += c.rgb;
+          cover += 1.0;
+        }
+      }
+    }
+    count = float(uSupersample * uSupersample);
+  }
+  vec3 c = vec3(0.0);
+  if (cover > 0.0) {
+    // As the opaque path rounds: the MSAA mean through half precision, the supersampled not.
+    vec3 mean = uSamples > 1 ? roundToHalf(sum / cover) : sum / cover;
+    c = encodeSrgb(shoulder(mean));
+    if (uDither == 1) c += (bayer(pixel) - 0.5) / 255.0;
+  }
+  fragColor = vec4(c, cover / count);
+}
+#else
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   vec3 sum = vec3(0.0);
@@ -94,3 +140,4 @@ void main() {
   if (uDither == 1) c += (bayer(pixel) - 0.5) / 255.0;
   fragColor = vec4(c, 1.0);
 }
+#endif

@@ -20,7 +20,6 @@
 #include <utility>
 
 #include "sim/core/error.h"
-#include "sim/geometry/mesh_import.h"
 #include "sim/shape/sphere_tree.h"
 #include "sim/solve/integrate.h"
 
@@ -31,13 +30,24 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr char kSignature[] = "VOXFALL-BAKE 1\n";
-// 2: the header holds the scene's named cameras ([cameras.NAME]) as well; 3: the scene's
-// [light], the terrain's texture and each shape's `smooth`. 1 and 2 are still read.
-constexpr int kVersion = 3;
+// 2: the header holds the scene's named cameras ([cameras.NAME]) as well; 1 is still read.
+// 3: each shape holds its up axis, repair flag and generated rock; 1 and 2 are still read.
+// 4: the scene's [light], the terrain's texture, each shape's `smooth` and each camera's
+// `offset_given`; 1 to 3 are still read.
+constexpr int kVersion = 4;
 constexpr int kValuesPerBody = 14;  // active, x(3), q(w, x, y, z), P(3), L(3)
 static_assert(std::endian::native == std::endian::little, "bakes are little-endian float64");
 
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json rockJson(const std::optional<RockDef>& r) {
+  if (!r) return nullptr;
+  return {{"class", r->shapeClass},
+          {"seed", r->seed},
+          {"size", vec(r->extents)},
+          {"length", r->length},
+          {"volume", r->volume}};
+}
 
 json color(const std::optional<Color>& c) {
   if (!c) return nullptr;
@@ -106,6 +116,19 @@ std::optional<Color> readColor(const json& j) {
   return c;
 }
 
+std::optional<RockDef> readRock(const json& j) {
+  if (j.is_null()) return std::nullopt;
+  RockDef r;
+  r.shapeClass = j.at("class").get<std::string>();
+  if (!isRockClass(r.shapeClass))
+    throw std::domain_error("unknown rock class '" + r.shapeClass + "'");
+  r.seed = j.at("seed").get<std::uint64_t>();
+  r.extents = readVec(j.at("size"));
+  r.length = j.at("length").get<double>();
+  r.volume = j.at("volume").get<double>();
+  return r;
+}
+
 // A camera as the header stores it: every key of a [camera] or [cameras.NAME] table, resolved.
 json cameraJson(const CameraSpec& c) {
   json path = json::array();
@@ -169,7 +192,7 @@ LightSpec readLight(const json& j) {
 }
 
 // The inverse of cameraJson. `name` and `where` are absent in version 1 (its one camera was
-// the scene's [camera]); `offset_given` before version 3, when a given view kept its offset.
+// the scene's [camera]); `offset_given` before version 4, when a given view kept its offset.
 CameraSpec readCamera(const json& j) {
   CameraSpec c;
   c.name = j.value("name", c.name);
@@ -218,15 +241,16 @@ RunSummary readSummary(const json& j) {
 }  // namespace
 
 std::vector<std::shared_ptr<const Shape>> bakeShapes(const Bake& bake) {
-  std::map<std::string, TriMesh> meshes;  // by path
+  std::map<std::string, TriMesh> meshes;  // by shapeMeshKey
   std::vector<std::shared_ptr<const Shape>> shapes;
   for (const ShapeSpec& s : bake.scene.shapes) {
-    auto mesh = meshes.find(s.meshPath);
-    if (mesh == meshes.end()) mesh = meshes.emplace(s.meshPath, importMesh(s.meshPath)).first;
+    const std::string key = shapeMeshKey(s);
+    auto mesh = meshes.find(key);
+    if (mesh == meshes.end()) mesh = meshes.emplace(key, shapeSourceMesh(s)).first;
     auto shape = std::make_shared<Shape>();
     shape->name = s.name;
     // centredMesh() is bit-identical to the mesh makeShape() keeps (shape.h).
-    shape->mesh = centredMesh(mesh->second, s.scale);
+    shape->mesh = centredMesh(mesh->second, shapeScale(s));
     double farthest = 0;
     for (const Vec3& v : shape->mesh.vertices) farthest = std::max(farthest, v.norm());
     shape->diameter = 2 * farthest;
@@ -300,6 +324,9 @@ void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
          {"density", shape.density},
          {"level", shape.level.value_or(s.level)},
          {"color", color(shape.color)},
+         {"up", shape.yUp ? "y" : "z"},
+         {"repair", shape.repair},
+         {"rock", rockJson(shape.rock)},
          {"smooth", shape.smoothDegrees ? json(*shape.smoothDegrees) : json(nullptr)}});
   json bodies = json::array();
   for (const BakeBody& b : bake.bodies) {
@@ -314,28 +341,33 @@ void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
   }
   json cameras = json::array();
   for (const CameraSpec& c : s.cameras) cameras.push_back(cameraJson(c));
-  const json header = {
-      {"format", "voxfall-bake"},
-      {"version", kVersion},
-      {"scene",
-       {{"path", storedPath(s.path, bakePath)},
-        {"name", s.name},
-        {"duration", s.duration},
-        {"fps", s.fps},
-        {"gravity", vec(s.gravity)},
-        {"ground_plane", s.groundPlane ? json(*s.groundPlane) : json(nullptr)},
-        {"terrain", storedPath(s.terrainPath, bakePath)},
-        {"terrain_offset", vec(s.terrainShift)},
-        {"terrain_texture", storedPath(s.terrainTexturePath, bakePath)},
-        {"light", lightJson(s.light)},
-        {"camera", cameraJson(s.camera)},
-        {"cameras", cameras},
-        {"output",
-         {{"width", s.output.width}, {"height", s.output.height}, {"crf", s.output.crf}}}}},
-      {"shapes", shapes},
-      {"bodies", bodies},
-      {"summary", bake.summary ? summaryJson(*bake.summary) : json(nullptr)},
-      {"records", bake.records.size()}};
+  const json header = {{"format", "voxfall-bake"},
+                       {"version", kVersion},
+                       {"scene",
+                        {{"path", storedPath(s.path, bakePath)},
+                         {"name", s.name},
+                         {"duration", s.duration},
+                         {"fps", s.fps},
+                         {"gravity", vec(s.gravity)},
+                         {"ground_plane", s.groundPlane ? json(*s.groundPlane) : json(nullptr)},
+                         {"terrain", storedPath(s.terrainPath, bakePath)},
+                         {"terrain_offset", vec(s.terrainShift)},
+                         {"terrain_texture", storedPath(s.terrainTexturePath, bakePath)},
+                         {"light", lightJson(s.light)},
+                         {"camera", cameraJson(s.camera)},
+                         {"cameras", cameras},
+                         {"output",
+                          {{"width", s.output.width},
+                           {"height", s.output.height},
+                           {"crf", s.output.crf},
+                           {"speed", s.output.speed},
+                           {"alpha", s.output.alpha},
+                           {"overlay_time", s.output.overlayTime},
+                           {"overlay_scale", s.output.overlayScale}}}}},
+                       {"shapes", shapes},
+                       {"bodies", bodies},
+                       {"summary", bake.summary ? summaryJson(*bake.summary) : json(nullptr)},
+                       {"records", bake.records.size()}};
   std::fputs(kSignature, out);
   const std::string text = header.dump();
   std::fwrite(text.data(), 1, text.size(), out);
@@ -392,6 +424,10 @@ void checkHeader(const Bake& bake, const std::string& where) {
   positive("scene.fps", s.fps);
   if (s.duration * s.fps > kMaxSceneFrames)
     fail("scene.duration", "times fps must be at most 1e7 frames", s.duration);
+  positive("scene.output.speed", s.output.speed);
+  if (s.duration * s.fps / s.output.speed > kMaxSceneFrames)
+    fail("scene.output.speed", "makes more than 1e7 frames of duration * fps / speed",
+         s.output.speed);
   finiteAll("scene.gravity", s.gravity);
   finiteAll("scene.terrain_offset", s.terrainShift);
   if (s.groundPlane) finite("scene.ground_plane", *s.groundPlane);
@@ -446,7 +482,16 @@ void checkHeader(const Bake& bake, const std::string& where) {
     if (shape.smoothDegrees && !(*shape.smoothDegrees >= 0 && *shape.smoothDegrees <= 180))
       fail(key + "smooth", "must be 0..180 degrees", *shape.smoothDegrees);
     for (int i = 0; i < 3; ++i) positive(key + "scale", shape.scale[i]);
-    positive(key + "density", shape.density);
+    nonNegative(key + "density", shape.density);  // 0: the scene gave the shape's mass
+    if (const auto& r = shape.rock) {
+      // Exactly one size, as the scene loader leaves it; the generator asserts as much.
+      const int sizes = (r->extents != Vec3::Zero()) + (r->length != 0) + (r->volume != 0);
+      if (sizes != 1) fail(key + "rock", "must give one of size, length and volume", sizes);
+      if (r->extents != Vec3::Zero())
+        for (int k = 0; k < 3; ++k) positive(key + "rock.size", r->extents[k]);
+      if (r->length != 0) positive(key + "rock.length", r->length);
+      if (r->volume != 0) positive(key + "rock.volume", r->volume);
+    }
     const int level = shape.level.value_or(kMinLevel);
     if (level < kMinLevel || level > kMaxLevel)
       fail(key + "level", "must be " + std::to_string(kMinLevel) + ".." + std::to_string(kMaxLevel),
@@ -491,7 +536,7 @@ Bake readBake(const std::string& path) {
     if (!sc.at("ground_plane").is_null()) s.groundPlane = sc.at("ground_plane").get<double>();
     s.terrainPath = resolvedPath(sc.at("terrain").get<std::string>(), path);
     s.terrainShift = readVec(sc.at("terrain_offset"));
-    if (version >= 3) {
+    if (version >= 4) {
       s.terrainTexturePath = resolvedPath(sc.at("terrain_texture").get<std::string>(), path);
       s.light = readLight(sc.at("light"));
     }
@@ -503,6 +548,11 @@ Bake readBake(const std::string& path) {
     s.output.width = readInteger<int>(o.at("width"), "scene.output.width");
     s.output.height = readInteger<int>(o.at("height"), "scene.output.height");
     s.output.crf = readInteger<int>(o.at("crf"), "scene.output.crf");
+    // Bakes written before these keys existed draw as they did: speed 1, opaque, no overlay.
+    if (o.contains("speed")) s.output.speed = o.at("speed").get<double>();
+    if (o.contains("alpha")) s.output.alpha = o.at("alpha").get<bool>();
+    if (o.contains("overlay_time")) s.output.overlayTime = o.at("overlay_time").get<bool>();
+    if (o.contains("overlay_scale")) s.output.overlayScale = o.at("overlay_scale").get<bool>();
     for (const json& j : h.at("shapes")) {
       ShapeSpec shape;
       shape.name = j.at("name").get<std::string>();
@@ -511,7 +561,12 @@ Bake readBake(const std::string& path) {
       shape.density = j.at("density").get<double>();
       shape.level = readInteger<int>(j.at("level"), "shapes[].level");
       shape.color = readColor(j.at("color"));
-      if (version >= 3 && !j.at("smooth").is_null())
+      if (version >= 3) {  // 1 and 2 had z-up meshes as the files hold them, and no rocks
+        shape.yUp = j.at("up").get<std::string>() == "y";
+        shape.repair = j.at("repair").get<bool>();
+        shape.rock = readRock(j.at("rock"));
+      }
+      if (version >= 4 && !j.at("smooth").is_null())
         shape.smoothDegrees = j.at("smooth").get<double>();
       s.shapes.push_back(shape);
     }

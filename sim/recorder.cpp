@@ -17,8 +17,8 @@ std::string checksumHex(std::uint64_t checksum) {
 
 std::string RunSummary::checksumHex() const { return vf::checksumHex(checksum); }
 
-int Recorder::frameCountFor(double fps, double duration) {
-  return static_cast<int>(std::floor(duration * fps + 1e-9)) + 1;
+int Recorder::frameCountFor(double fps, double duration, double speed) {
+  return static_cast<int>(std::floor(duration * fps / speed + 1e-9)) + 1;
 }
 
 Recorder::Recorder(World& world, double fps, double duration)

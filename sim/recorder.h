@@ -37,9 +37,16 @@ class Recorder {
  public:
   Recorder(World& world, double fps, double duration);
 
-  // Frames k = 0 .. floor(duration * fps) (the 1e-9 absorbs duration * fps landing a hair
-  // below an integer); known before any world exists.
-  static int frameCountFor(double fps, double duration);
+  // Frames k = 0 .. floor(duration * fps / speed) (the 1e-9 absorbs the product landing a hair
+  // below an integer); known before any world exists. `speed`: simulated seconds per second of
+  // video ([output] speed; the renderer's frames), 1 for the simulation's own frames.
+  static int frameCountFor(double fps, double duration, double speed = 1);
+  // The time of frame k at `speed`: (k speed) / fps, s. k speed is exact for whole speeds and
+  // powers of two, so frame k at speed 2 is frame 2k at speed 1 to the bit; speed 1 gives
+  // frameTime(k).
+  static double frameTimeFor(int k, double fps, double speed = 1) {
+    return (static_cast<double>(k) * speed) / fps;
+  }
   int frameCount() const { return frameCount_; }
   double frameTime(int k) const { return static_cast<double>(k) / fps_; }
   // Advances the world through its steps up to frame k's time (k must not go backwards) and

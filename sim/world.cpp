@@ -6,6 +6,7 @@
 //   contact reduction         collide/contact_reduction.cpp (optional)
 //   impulses (eq. 15)         solve/impulse.cpp
 //   ground law (opt-in, rock fall: bounce, rolling)   solve/ground_law.cpp
+//   slippage (opt-in, rock fall: mu(s))   solve/slip_law.cpp
 //   explicit Euler, renormalise q   solve/integrate.cpp
 //   sleeping islands          solve/sleep.cpp (optional)
 //   releases (emitters)       solve/release.cpp (drop-height placement)
@@ -25,6 +26,7 @@
 #include "sim/solve/integrate.h"
 #include "sim/solve/release.h"
 #include "sim/solve/sleep.h"
+#include "sim/solve/slip_law.h"
 #include "sim/solve/time_step.h"
 
 namespace vf {
@@ -229,7 +231,12 @@ void World::stepToward(double target) {
   solver.normalImpulses = def_.ground ? &normalImpulses_ : nullptr;
   int passes = 0;
   solver.passes = &passes;
+  const bool slip = def_.ground && def_.ground->hasSlip();
   if (def_.ground) groundLaw_.beforeSolve(bodies_, states_);
+  if (slip) {
+    slipLaw_.resize(bodies_.size());
+    solver.slippage = &slipLaw_.slippage();
+  }
   solveContacts(contacts_, bodies_, states_, solver, contactCache_);
   s.solverPasses = static_cast<std::uint64_t>(passes);
   if (def_.ground) {
@@ -238,6 +245,7 @@ void World::stepToward(double target) {
                               def_.gravity, s.dt, def_.terrain.get(), def_.groundHeight);
     for (int id : law.bounced) monitor_.countBounce(id);
   }
+  if (slip) slipLaw_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground, s.dt);
   s.secondsSolve = clock.lap();
 
   // Runaway check (run_guard.cpp) on the momenta of this step, before anything moves.
@@ -294,6 +302,11 @@ double World::nextReleaseAfter(double t) const {
   for (const BodyInfo& b : bodies_)
     if (!b.active && b.releaseTime > t + kTimeTolerance) next = std::min(next, b.releaseTime);
   return next;
+}
+
+double World::slippage(int id) const {
+  const std::vector<double>& s = slipLaw_.slippage();
+  return static_cast<std::size_t>(id) < s.size() ? s[static_cast<std::size_t>(id)] : 0.0;
 }
 
 Vec3 World::velocity(int id) const { return velocity(id, states_[id]); }

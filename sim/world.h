@@ -24,6 +24,7 @@
 #include "sim/solve/ground_law.h"
 #include "sim/solve/rotation_update.h"
 #include "sim/solve/sleep.h"
+#include "sim/solve/slip_law.h"
 #include "sim/solve/time_step.h"
 
 namespace vf {
@@ -72,8 +73,8 @@ struct WorldDef {
   // Temporal coherence in the narrow phase (narrow_phase.h, PairCandidates): exact, the same
   // contacts; off only to test that.
   bool coherence = true;
-  // Rock fall (opt-in): ground materials with rolling resistance (sim/ground/). Null: the
-  // paper's model, [contact] body_ground for every ground contact.
+  // Rock fall (opt-in): ground materials with STONE's law or the slip law (sim/ground/). Null:
+  // the paper's model, [contact] body_ground for every ground contact.
   std::shared_ptr<const GroundMap> ground;
   // Rock fall on terrain (sim/ground/rock_monitor.h): what lies beyond the grid and in NODATA
   // cells, and when a rock counts as at rest. Used only when there is terrain.
@@ -175,6 +176,8 @@ class World {
   bool isActive(int id) const { return bodies_[id].active; }
   // Asleep (WorldDef::sleep): at rest, not stepped until something touches it.
   bool isSleeping(int id) const { return bodies_[id].sleeping; }
+  // The slip law's slippage s of body id (m; solve/slip_law.h): 0 without slip materials.
+  double slippage(int id) const;
   Vec3 velocity(int id) const;         // m/s
   Vec3 angularVelocity(int id) const;  // rad/s, world frame
   // The same for body id in state y (e.g. one of statesAt(t)).
@@ -240,6 +243,7 @@ class World {
   std::uint64_t stepsHash_;             // see stepsHash()
   std::vector<double> normalImpulses_;  // scratch: per contact, for the ground law
   GroundLaw groundLaw_;                 // rock fall: flight, bounce, rolling (per body)
+  SlipLaw slipLaw_;                     // rock fall: slippage s of the slip law (per body)
   RockMonitor monitor_;                 // terrain edges, push-out, rest, outcomes
   RunGuard guard_;                      // runaway checks (run_guard.h)
   std::optional<Runaway> runaway_;      // see runaway()

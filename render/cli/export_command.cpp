@@ -14,6 +14,7 @@
 #include "render/export/gltf_export.h"
 #include "render/scene_playback.h"
 #include "sim/core/error.h"
+#include "sim/shape/heightfield.h"
 #include "sim/shape/sphere_tree.h"
 
 namespace vf::cli {
@@ -23,7 +24,8 @@ struct ExportOptions {
   std::string input;
   std::string output;
   std::optional<double> fps;
-  SceneOverrides overrides;  // --level, --step, --collider, run limits, --repair
+  std::optional<double> speed;  // --speed X
+  SceneOverrides overrides;     // --level, --step, --collider, run limits, --repair
   bool quiet = false;
   bool overwrite = false;       // -y
   bool neverOverwrite = false;  // -n
@@ -32,7 +34,7 @@ struct ExportOptions {
 int runExport(const ExportOptions& o) {
   RunInput input = loadRunInput(o.input, o.overrides);
   SceneSpec& spec = input.spec;
-  applyFpsOverride(spec, o.fps);
+  applyFrameRateOverrides(spec, o.fps, o.speed);
   const std::string path = o.output.empty() ? "out/" + spec.name + ".glb" : o.output;
   if (std::filesystem::path(path).extension() != ".glb")
     throw InputError(path, "the glTF export writes binary glTF: give a .glb file name");
@@ -54,7 +56,11 @@ int runExport(const ExportOptions& o) {
   AnimationExport animation;
   animation.name = spec.name;
   animation.fps = spec.fps;
+  animation.shapeNames = played->shapeNames();
   animation.terrain = played->terrainMesh();
+  animation.terrainNormals = played->terrainNormals();
+  if (const auto terrain = played->terrain())
+    animation.georeference = DemGeoreference{terrain->crsName, terrain->crsWkt, terrain->shift};
   for (int k = 0; k < played->frameCount(); ++k) animation.frames.push_back(played->bodiesAt(k));
   writeGltfAnimation(path, animation, rules);
   std::printf("%s: %d frames at %g fps, %zu bodies -> %s\n", spec.name.c_str(),
@@ -76,6 +82,7 @@ void addExportCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--fps", o->fps, "key frames per second (overrides [simulation] fps)")
       ->check(finiteNumberIn(0.001, 1000.0))
       ->type_name("N");
+  addSpeedOption(*sub, o->speed);
   addPhysicsOptions(*sub, o->overrides, " (scenes only)");
   addThreadsOption(*sub, o->overrides, " (scenes only)");
   sub->add_flag("--quiet,-q", o->quiet, "no progress line on stderr");

@@ -66,6 +66,9 @@ int runFilmstrip(const FilmstripOptions& o) {
                      "filmstrip draws a scene; render a bake's frames with voxfall render");
   SceneSpec& spec = input.spec;
   if (o.size) std::tie(spec.output.width, spec.output.height) = *o.size;
+  // A filmstrip picks its frames by time and labels them itself, on an opaque picture.
+  spec.output.speed = 1;
+  spec.output.alpha = spec.output.overlayTime = spec.output.overlayScale = false;
   const std::vector<double> times = parseTimes(o.times);
   const int last = Recorder::frameCountFor(spec.fps, spec.duration) - 1;
   std::vector<int> frames;

@@ -163,4 +163,46 @@ void addSizeOption(CLI::App& command, std::optional<std::pair<int, int>>& size) 
       ->type_name("WxH");
 }
 
+void addSpeedOption(CLI::App& command, std::optional<double>& speed) {
+  command
+      .add_option("--speed", speed,
+                  "simulated seconds per second of video: 0.25 is slow motion, 10 a time-lapse "
+                  "(overrides [output] speed; frame k shows t = k speed / fps)")
+      ->check(finiteNumberIn(1e-3, 1e6))
+      ->type_name("X");
+}
+
+std::optional<OverlayChoice> parseOverlay(const std::string& text) {
+  OverlayChoice choice;
+  if (text == "none") return choice;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? comma : comma - start);
+    bool& flag = item == "time" ? choice.time : choice.scale;
+    if ((item != "time" && item != "scale") || flag) return std::nullopt;
+    flag = true;
+    if (comma == std::string::npos) return choice;
+    start = comma + 1;
+  }
+}
+
+void addFrameLookOptions(CLI::App& command, bool& alpha, std::optional<OverlayChoice>& overlay) {
+  command.add_flag("--alpha", alpha,
+                   "transparent background (PNG only): sky and floor clear, bodies, terrain and "
+                   "the shadows on the floor kept (overrides [output] alpha)");
+  command
+      .add_option_function<std::string>(
+          "--overlay",
+          [&overlay](const std::string& text) {
+            overlay = parseOverlay(text);
+            if (!overlay)
+              throw CLI::ValidationError(
+                  "--overlay", "'" + text + "' is not a list of time and scale, e.g. time,scale");
+          },
+          "draw the simulated time and/or a scale bar on the frames: time, scale, time,scale "
+          "or none (overrides [output] overlay)")
+      ->type_name("LIST");
+}
+
 }  // namespace vf::cli

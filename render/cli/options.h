@@ -48,4 +48,19 @@ std::optional<std::pair<std::int64_t, std::int64_t>> parseSize(const std::string
 // the MP4 encoder's check alone.
 void addSizeOption(CLI::App& command, std::optional<std::pair<int, int>>& size);
 
+// --speed X: simulated seconds per second of video, overriding [output] speed (0.25: four
+// times slower, 10: a time-lapse).
+void addSpeedOption(CLI::App& command, std::optional<double>& speed);
+
+// What --overlay asks for: the overlays by name, each at most once ("none": no overlay).
+struct OverlayChoice {
+  bool time = false;
+  bool scale = false;
+};
+// "time", "scale", "time,scale" (any order) or "none"; nothing for anything else.
+std::optional<OverlayChoice> parseOverlay(const std::string& text);
+// --alpha (a transparent background, PNG only) and --overlay LIST, overriding [output] alpha
+// and overlay; a malformed list is a usage error.
+void addFrameLookOptions(CLI::App& command, bool& alpha, std::optional<OverlayChoice>& overlay);
+
 }  // namespace vf::cli

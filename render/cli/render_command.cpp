@@ -50,7 +50,10 @@ struct RenderOptions {
   std::string frames;                       // "A:B", "A:", ":B" or "N"
   std::optional<std::pair<int, int>> size;  // --size WxH
   std::optional<double> fps;
-  SceneOverrides overrides;  // --level, --step, --collider, run limits, --repair
+  std::optional<double> speed;           // --speed X
+  bool alpha = false;                    // --alpha
+  std::optional<OverlayChoice> overlay;  // --overlay LIST
+  SceneOverrides overrides;              // --level, --step, --collider, run limits, --repair
   std::optional<int> crf;
   std::string gl = "osmesa";
   std::string shaders;
@@ -110,9 +113,14 @@ int runRender(const RenderOptions& o) {
   RunInput input = loadRunInput(o.scene, o.overrides);
   SceneSpec& spec = input.spec;
   std::optional<Bake>& bake = input.bake;
-  applyFpsOverride(spec, o.fps);
+  applyFrameRateOverrides(spec, o.fps, o.speed);
   if (o.size) std::tie(spec.output.width, spec.output.height) = *o.size;
   if (o.crf) spec.output.crf = *o.crf;
+  if (o.alpha) spec.output.alpha = true;
+  if (o.overlay) {
+    spec.output.overlayTime = o.overlay->time;
+    spec.output.overlayScale = o.overlay->scale;
+  }
   if (!o.camera.empty()) {
     try {
       selectCamera(spec, o.camera);
@@ -123,7 +131,7 @@ int runRender(const RenderOptions& o) {
     }
   }
   const int width = spec.output.width, height = spec.output.height;
-  const int frameCount = Recorder::frameCountFor(spec.fps, spec.duration);
+  const int frameCount = Recorder::frameCountFor(spec.fps, spec.duration, spec.output.speed);
   const FrameRange range = parseFrames(o.frames, frameCount);
 
   // 2. The output: path and kind, checked against the run's rules (-y, -n, inputs) now.
@@ -131,7 +139,12 @@ int runRender(const RenderOptions& o) {
   // run again (as the README's first command is); a path the user names needs -y.
   const bool defaultOutput = o.output.empty();
   const std::string path = defaultOutput ? "out/" + spec.name + ".mp4" : o.output;
-  outputKind(path);  // an unknown kind fails now
+  // An unknown kind fails now, and so does a transparent background asked of an MP4.
+  if (outputKind(path) == OutputKind::mp4 && spec.output.alpha)
+    throw InputError(o.alpha ? "--alpha" : o.scene,
+                     "an MP4 (H.264) has no alpha channel: write a PNG sequence for a "
+                     "transparent background, e.g. -o out/" +
+                         spec.name + "/frame_####.png");
   const bool replaceDefault = defaultOutput && !o.neverOverwrite;
   const OutputRules rules =
       runOutputRules(spec, o.scene, o.overwrite || replaceDefault, o.neverOverwrite);
@@ -156,6 +169,7 @@ int runRender(const RenderOptions& o) {
   settings.width = width;
   settings.height = height;
   settings.shaderDir = gl::findShaderDir(o.shaders);
+  settings.alpha = spec.output.alpha;
   gl::Renderer renderer(*context, settings);
 
   // 4. The world, simulated through every frame.
@@ -199,7 +213,7 @@ int runRender(const RenderOptions& o) {
   try {
     for (int k = range.first; k <= range.last && !stopSignal(); ++k) {
       const auto start = std::chrono::steady_clock::now();
-      renderer.render(playback.drawList(k), image);
+      playback.draw(renderer, k, image);
       redrawn += renderer.redrawnFraction();
       sink->write(k, image);
       renderSeconds +=
@@ -288,6 +302,8 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--fps", o->fps, "frames per second (overrides [simulation] fps)")
       ->check(finiteNumberIn(0.001, 1000.0))
       ->type_name("N");
+  addSpeedOption(*sub, o->speed);
+  addFrameLookOptions(*sub, o->alpha, o->overlay);
   addPhysicsOptions(*sub, o->overrides, " (scenes only)");
   addThreadsOption(*sub, o->overrides, " (scenes only)");
   sub->add_option("--crf", o->crf, "H.264 quality, 0..51, lower is better (default: 18)")

@@ -32,17 +32,23 @@ RunInput loadRunInput(const std::string& path, const SceneOverrides& overrides) 
   return in;
 }
 
-void applyFpsOverride(SceneSpec& spec, std::optional<double> fps) {
-  if (!fps) return;
-  if (spec.duration * *fps > kMaxSceneFrames) {
-    char what[200];
+void applyFrameRateOverrides(SceneSpec& spec, std::optional<double> fps,
+                             std::optional<double> speed) {
+  if (!fps && !speed) return;
+  const double rate = fps.value_or(spec.fps), x = speed.value_or(spec.output.speed);
+  const double frames = spec.duration * rate / x;
+  if (frames > kMaxSceneFrames) {
+    char atSpeed[64] = "";
+    if (x != 1) std::snprintf(atSpeed, sizeof atSpeed, " at speed %g", x);
+    char what[240];
     std::snprintf(what, sizeof what,
-                  "%g frames per second over the scene's %g s make %g frames; at most %g are "
+                  "%g frames per second%s over the scene's %g s make %g frames; at most %g are "
                   "supported",
-                  *fps, spec.duration, spec.duration * *fps, kMaxSceneFrames);
-    throw InputError("--fps", what);
+                  rate, atSpeed, spec.duration, frames, kMaxSceneFrames);
+    throw InputError(fps && speed ? "--fps and --speed" : fps ? "--fps" : "--speed", what);
   }
-  spec.fps = *fps;
+  spec.fps = rate;
+  spec.output.speed = x;
 }
 
 // --- Output rules ---------------------------------------------------------------------------
@@ -55,7 +61,8 @@ OutputRules runOutputRules(const SceneSpec& spec, const std::string& inputFile, 
                                    : Overwrite::refuse;
   rules.inputs.push_back(inputFile);
   if (!spec.path.empty()) rules.inputs.push_back(spec.path);
-  for (const ShapeSpec& s : spec.shapes) rules.inputs.push_back(s.meshPath);
+  for (const ShapeSpec& s : spec.shapes)
+    if (!s.meshPath.empty()) rules.inputs.push_back(s.meshPath);  // "" for a generated rock
   if (!spec.terrainPath.empty()) rules.inputs.push_back(spec.terrainPath);
   return rules;
 }

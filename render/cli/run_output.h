@@ -50,9 +50,11 @@ struct RunInput {
 };
 RunInput loadRunInput(const std::string& path, const SceneOverrides& overrides);
 
-// `--fps N` of render and export: the frame rate of the output, checked as the scene's own is
-// (duration * fps at most kMaxSceneFrames frames); InputError naming the option otherwise.
-void applyFpsOverride(SceneSpec& spec, std::optional<double> fps);
+// `--fps N` and `--speed X` of render and export: the frame rate of the output and [output]
+// speed, checked as the scene's own are (duration * fps / speed at most kMaxSceneFrames drawn
+// frames); InputError naming the options given otherwise.
+void applyFrameRateOverrides(SceneSpec& spec, std::optional<double> fps,
+                             std::optional<double> speed = std::nullopt);
 
 // The output rules of a run (-y, -n) protecting every file it reads: the scene (or bake),
 // each shape's mesh, and the terrain.

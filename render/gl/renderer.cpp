@@ -70,6 +70,9 @@ struct Renderer::Impl {
   std::unique_ptr<ShaderProgram> sceneProgram, groundProgram, shadowProgram, presentProgram;
   std::unique_ptr<ShaderProgram> litGroundProgram;     // the floor without shadow lookups
   std::unique_ptr<ShaderProgram> floorPresentProgram;  // present where no sample shows sky
+  // With RenderSettings::alpha these are the VF_ALPHA variants: the floor writes its shadow's
+  // opacity instead of its colour, and present writes coverage into alpha (no sky, and no
+  // floorPresentProgram: the floor is no longer opaque).
   unsigned emptyVao = 0;  // core profile needs a bound VAO even for attribute-less draws
   unsigned shadowFbo = 0, shadowTexture = 0;
   // What the shadow map holds: the light's matrix and every caster (mesh, model matrix). A
@@ -423,7 +426,7 @@ void Renderer::Impl::presentPass(const DrawList& list, const std::optional<Pixel
   gl.Disable(GL_DEPTH_TEST);
   // Where the floor covers every sample, the program that does not work out the sky.
   const PixelRect drawn = region.value_or(wholeFrame());
-  const bool covered = settings.skipHiddenWork && list.groundHeight &&
+  const bool covered = settings.skipHiddenWork && floorPresentProgram && list.groundHeight &&
                        floorCovers(list.camera, settings.width, settings.height, *list.groundHeight,
                                    list.camera.position.head<2>(), groundHalfSide(list), drawn);
   ShaderProgram& presentProgram = covered ? *floorPresentProgram : *this->presentProgram;
@@ -458,14 +461,23 @@ Renderer::Renderer(Context& context, const RenderSettings& settings)
   }
   Impl& r = *impl_;
   const std::string& dir = settings.shaderDir;
+  // The VF_ALPHA variants of the floor and present programs for a transparent background.
+  auto defines = [&](std::vector<std::string> names) {
+    if (settings.alpha) names.push_back("VF_ALPHA");
+    return names;
+  };
   r.sceneProgram = std::make_unique<ShaderProgram>(r.gl, dir, "scene.vert", "scene.frag");
-  r.groundProgram = std::make_unique<ShaderProgram>(r.gl, dir, "ground.vert", "ground.frag");
+  r.groundProgram =
+      std::make_unique<ShaderProgram>(r.gl, dir, "ground.vert", "ground.frag", defines({}));
   r.litGroundProgram = std::make_unique<ShaderProgram>(r.gl, dir, "ground.vert", "ground.frag",
-                                                       std::vector<std::string>{"VF_UNSHADOWED"});
+                                                       defines({"VF_UNSHADOWED"}));
   r.shadowProgram = std::make_unique<ShaderProgram>(r.gl, dir, "shadow.vert", "shadow.frag");
-  r.presentProgram = std::make_unique<ShaderProgram>(r.gl, dir, "fullscreen.vert", "present.frag");
-  r.floorPresentProgram = std::make_unique<ShaderProgram>(
-      r.gl, dir, "fullscreen.vert", "present.frag", std::vector<std::string>{"VF_NO_SKY"});
+  r.presentProgram =
+      std::make_unique<ShaderProgram>(r.gl, dir, "fullscreen.vert", "present.frag", defines({}));
+  if (!settings.alpha) {
+    r.floorPresentProgram = std::make_unique<ShaderProgram>(
+        r.gl, dir, "fullscreen.vert", "present.frag", std::vector<std::string>{"VF_NO_SKY"});
+  }
   r.createTargets();
   const GLenum error = r.gl.GetError();
   if (error != GL_NO_ERROR) {
@@ -534,6 +546,7 @@ void Renderer::render(const DrawList& list, Image& out) {
   r.targetsValid = true;
   // GL's rows run bottom to top; images run top to bottom.
   if (out.width != w || out.height != h) out = Image(w, h);
+  out.alpha.resize(r.settings.alpha ? static_cast<std::size_t>(w) * h : 0);
   for (int y = 0; y < h; ++y) {
     const std::uint8_t* src = r.readback.data() + static_cast<std::size_t>(h - 1 - y) * w * 4;
     std::uint8_t* dst = out.pixel(0, y);
@@ -541,6 +554,10 @@ void Renderer::render(const DrawList& list, Image& out) {
       dst[3 * x + 0] = src[4 * x + 0];
       dst[3 * x + 1] = src[4 * x + 1];
       dst[3 * x + 2] = src[4 * x + 2];
+    }
+    if (r.settings.alpha) {
+      std::uint8_t* a = out.alpha.data() + static_cast<std::size_t>(y) * w;
+      for (int x = 0; x < w; ++x) a[x] = src[4 * x + 3];
     }
   }
 }

@@ -37,6 +37,11 @@ struct RenderSettings {
   // shadow can reach it (RedrawTracker::floorShadows), and the sky where the floor covers
   // every sample (floorCovers). false: do it everywhere (the same bytes; for tests).
   bool skipHiddenWork = true;
+  // A transparent background for compositing: the sky and the floor have alpha 0, except the
+  // floor's shadows, kept as black at the opacity that darkens what lies behind as much as the
+  // shadow darkens the floor (a shadow catcher); bodies and terrain are opaque, and
+  // anti-aliased edges partly so. The frame then has an alpha plane (Image::alpha).
+  bool alpha = false;
   std::string shaderDir;  // from findShaderDir()
 };
 
@@ -49,7 +54,8 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Draws one frame into `out` (resized to width x height): RGB8, sRGB, top row first.
+  // Draws one frame into `out` (resized to width x height): RGB8, sRGB, top row first, with
+  // an alpha plane when RenderSettings::alpha is set (none otherwise).
   void render(const DrawList& list, Image& out);
   Image render(const DrawList& list);
 

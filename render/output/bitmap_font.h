@@ -1,6 +1,6 @@
 // Text drawn into an Image with a small built-in 5 x 7 bitmap font, so that labels in pictures
 // (filmstrip times, the regression compare picture) look the same on every machine and need no
-// font library. Digits, capital letters, 't', 's', 'x' and " .:=-%()/_".
+// font library. Digits, capital letters, 't', 's', 'x', 'm', 'k' and " .:=-%()/_".
 #pragma once
 
 #include <array>

@@ -224,6 +224,7 @@ std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex) 
   for (int k = 0; k < 3; ++k) uv[k] = rng.uniform();
   for (int k = 0; k < 3; ++k) uw[k] = rng.uniform();
   const double uRestitution = rng.uniform(), uFriction = rng.uniform(), uRolling = rng.uniform();
+  const std::uint64_t groundSeed = rng.next();  // the per-cell variability's ([ground])
 
   double totalWeight = 0;
   for (double w : e.weights) totalWeight += w;
@@ -244,14 +245,18 @@ std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex) 
   };
   if (e.restitution) def.contact.restitutionBodyGround = lerp(*e.restitution, uRestitution);
   if (e.friction) def.contact.frictionBodyGround = lerp(*e.friction, uFriction);
-  if (def.ground && (e.restitution || e.friction || e.rollingResistance)) {
-    // Every ground material takes the realisation's values (the class raster is shared).
+  const bool drawn = e.restitution || e.friction || e.rollingResistance;
+  const bool perCell = def.ground && def.ground->variability > 0;
+  if (def.ground && (drawn || perCell)) {
+    // Every ground material takes the realisation's values (the class raster is shared), and
+    // the per-cell factors the realisation's own seed.
     auto ground = std::make_shared<GroundMap>(*def.ground);
     for (GroundMaterial& m : ground->materials) {
       if (e.restitution) m.restitution = def.contact.restitutionBodyGround;
       if (e.friction) m.friction = def.contact.frictionBodyGround;
       if (e.rollingResistance) m.rollingResistance = lerp(*e.rollingResistance, uRolling);
     }
+    if (perCell) ground->variabilitySeed = groundSeed;
     def.ground = std::move(ground);
   }
 

@@ -148,7 +148,9 @@ JournalHeader makeJournalHeader(const SceneSpec& spec, const std::string& sceneF
   h.scenePath = fs::absolute(sceneFile).lexically_normal().string();
   h.sceneGiven = sceneFile;
   std::vector<std::string> files{sceneFile};
-  for (const ShapeSpec& s : spec.shapes) files.push_back(s.meshPath);
+  // A generated rock reads no file: the scene file holds all of it.
+  for (const ShapeSpec& s : spec.shapes)
+    if (!s.meshPath.empty()) files.push_back(s.meshPath);
   if (!spec.terrainPath.empty()) files.push_back(spec.terrainPath);
   if (!spec.groundClassesPath.empty()) files.push_back(spec.groundClassesPath);
   if (spec.ensemble && !spec.ensemble->cellsPath.empty()) files.push_back(spec.ensemble->cellsPath);

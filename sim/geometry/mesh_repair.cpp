@@ -1,6 +1,6 @@
-// Mesh repair with CGAL's polygon mesh processing (the only file in voxfall that includes CGAL;
-// it is built as its own small library so that CGAL's compile options, -frounding-math among
-// them, never reach the simulation's code).
+// Mesh repair with CGAL's polygon mesh processing (one of the two files in voxfall that include
+// CGAL, with convex_hull.cpp; they are built as their own small library so that CGAL's compile
+// options, -frounding-math among them, never reach the simulation's code).
 //
 // Order of the steps, each one what CGAL documents for its input:
 //   1. polygon soup: duplicate triangles (same three vertices, either winding) are merged and

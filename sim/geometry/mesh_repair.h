@@ -1,6 +1,6 @@
 // Repair of meshes that are almost closed (a scan with small holes, a CAD export with a missing
-// or flipped triangle), asked for with `repair = true` on a shape or `--repair`. The only file
-// in voxfall that includes CGAL is mesh_repair.cpp.
+// or flipped triangle), asked for with `repair = true` on a shape or `--repair`. CGAL is seen
+// only in mesh_repair.cpp (and convex_hull.cpp).
 #pragma once
 
 #include <cstddef>

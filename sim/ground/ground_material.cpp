@@ -16,9 +16,16 @@
 // STONE is a lumped-mass model: its rolling friction decelerates a point at mu g cos(theta);
 // here it is a torque on a rigid body (Azzoni et al. 1995's form), which for a sphere gives
 // 5/7 of that deceleration and the same critical slope atan(mu_r).
+//
+// The slip-law presets are the two published parameter sets of the RAMMS-type law
+// (shared/rockfall-models.md sections 1 and 9.3); docs/rockfall.md lists what each source
+// prints and what voxfall adds.
 #include "sim/ground/ground_material.h"
 
 #include <cmath>
+#include <numbers>
+
+#include "sim/ground/ground_variability.h"
 
 namespace vf {
 namespace {
@@ -52,7 +59,32 @@ constexpr Preset kPresets[] = {
     {"lakes_glaciers", 0.95, 0.10, 0.10, "Lakes, glaciers"},
 };
 
+struct SlipPreset {
+  const char* name;
+  double muMin, muMax, kappa, beta;  // kappa 1/m, beta 1/s
+  double restitution;                // eps_N
+  const char* source;
+};
+
+// The slip law's published sets. Neither Lu et al. nor Bartelt et al. (as Lu quotes them)
+// print eps_N for Chant Sura: 0 is Leine et al. 2014's value for their demonstrations (eps_N
+// "typically very small"), chosen here. Lu et al. 2019 print no units for kappa and beta; those
+// of Leine et al. 2014 (1/m, 1/s) are assumed.
+constexpr SlipPreset kSlipPresets[] = {
+    {"ramms_chant_sura", 0.55, 2.0, 3.0, 185.0, 0.0,
+     "Lu, Caviezel, Christen, Buehler & Bartelt 2019, Landslides 16:2353-2367, rebound plane "
+     "at Chant Sura, citing Bartelt, Gerber, Christen & Buehler 2016 (Interpraevent); eps_N 0 "
+     "is voxfall's choice (not published for this set)"},
+    {"leine2014_demo", 0.2, 1.3, 0.7, 20.0, 0.0,
+     "Leine, Schweizer, Christen, Glover, Bartelt & Gerber 2014, Multibody Syst Dyn "
+     "32:241-271, section 5.1 (square block on a 45-degree plane); eps_N = eps_T = 0 as there"},
+};
+
 }  // namespace
+
+double slipFriction(const GroundCoefficients& c, double s) {
+  return c.muMin + 2.0 / std::numbers::pi * (c.muMax - c.muMin) * std::atan(c.kappa * s);
+}
 
 std::optional<GroundMaterial> groundPreset(const std::string& name, double friction) {
   for (const Preset& p : kPresets)
@@ -66,25 +98,59 @@ std::optional<GroundMaterial> groundPreset(const std::string& name, double frict
       m.source = std::string(kStone) + ", class \"" + p.stoneClass + "\"";
       return m;
     }
+  for (const SlipPreset& p : kSlipPresets)
+    if (name == p.name) {
+      GroundMaterial m;
+      m.name = name;
+      m.law = GroundLawKind::kSlip;
+      m.restitution = p.restitution;
+      m.muMin = p.muMin;
+      m.muMax = p.muMax;
+      m.kappa = p.kappa;
+      m.beta = p.beta;
+      m.source = p.source;
+      return m;
+    }
   return std::nullopt;
 }
 
 std::vector<std::string> groundPresetNames() {
   std::vector<std::string> names;
   for (const Preset& p : kPresets) names.push_back(p.name);
+  for (const SlipPreset& p : kSlipPresets) names.push_back(p.name);
   return names;
+}
+
+std::int64_t nearestSample(const Heightfield& grid, double x, double y) {
+  const long i = std::lround((x - grid.x0) / grid.cell), j = std::lround((y - grid.y0) / grid.cell);
+  if (i < 0 || j < 0 || i >= grid.nx || j >= grid.ny) return -1;
+  return static_cast<std::int64_t>(j) * grid.nx + i;
 }
 
 const GroundMaterial& GroundMap::at(double x, double y) const {
   if (!classes) return materials[0];
   const Heightfield& c = *classes;
-  const long i = std::lround((x - c.x0) / c.cell), j = std::lround((y - c.y0) / c.cell);
-  if (i < 0 || j < 0 || i >= c.nx || j >= c.ny) return materials[0];
-  const double v = c.at(static_cast<int>(i), static_cast<int>(j));
+  const std::int64_t k = nearestSample(c, x, y);
+  if (k < 0) return materials[0];
+  const double v = c.z[static_cast<std::size_t>(k)];
   if (std::isnan(v) || v < 0 || v >= static_cast<double>(materialOfClass.size()))
     return materials[0];
   const int m = materialOfClass[static_cast<std::size_t>(v)];
   return m < 0 ? materials[0] : materials[static_cast<std::size_t>(m)];
+}
+
+GroundCoefficients GroundMap::coefficientsAt(double x, double y) const {
+  const GroundCoefficients& m = at(x, y);
+  if (!(variability > 0) || !cells) return m;
+  const std::int64_t cell = nearestSample(*cells, x, y);
+  if (cell < 0) return m;
+  return perturbedCoefficients(m, variability, variabilitySeed, cell);
+}
+
+bool GroundMap::hasSlip() const {
+  for (const GroundMaterial& m : materials)
+    if (m.law == GroundLawKind::kSlip) return true;
+  return false;
 }
 
 }  // namespace vf

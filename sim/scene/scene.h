@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sim/core/math.h"
+#include "sim/geometry/rock_mesh.h"
 #include "sim/world.h"
 
 namespace vf {
@@ -19,8 +20,12 @@ namespace vf {
 using Color = std::array<float, 3>;  // linear RGB in [0, 1]
 
 struct ShapeSpec {
-  std::string name;           // key of [shapes.NAME]
-  std::string meshPath;       // resolved against the scene file's folder
+  std::string name;             // key of [shapes.NAME]; NAME#k for variant k of a rock family
+  std::string meshPath;         // resolved against the scene file's folder; "" for a rock
+  std::optional<RockDef> rock;  // `rock = { ... }`: a generated rock instead of a mesh file
+  // `rock.seeds = N` makes N shapes NAME#0 .. NAME#(N-1), seeds seed .. seed + N - 1, each with
+  // `family` = NAME; "" for any other shape.
+  std::string family;
   Vec3 scale = Vec3::Ones();  // uniform number or [sx, sy, sz] in the file
   double density = 0;         // kg/m^3; 0 when `mass` is given instead
   double mass = 0;            // kg; 0 when `density` is given
@@ -104,11 +109,14 @@ struct CameraSpec {
   std::string where;              // "file:line:column" of the table
 };
 
-// [ground.materials.NAME]: a custom ground material; unset values fall back to [contact]'s
-// body_ground restitution and friction, and no rolling resistance.
+// [ground.materials.NAME]: a custom ground material. Stone law: unset values fall back to
+// [contact]'s body_ground restitution and friction, and no rolling resistance. Slip law: mu_min,
+// mu_max, kappa and beta are required, restitution defaults to 0.
 struct GroundMaterialSpec {
   std::string name;
+  GroundLawKind law = GroundLawKind::kStone;  // `law = "stone" | "slip"`
   std::optional<double> restitution, friction, rollingResistance, tangentialRestitution;
+  std::optional<double> muMin, muMax, kappa, beta;  // slip law
   std::string where;
 };
 
@@ -119,9 +127,11 @@ enum class ReleaseKind { kArea, kLine, kPoints, kCells };
 using Point2 = std::array<double, 2>;  // world x, y (m)
 
 struct EnsembleSpec {
-  std::uint64_t seed = 1;           // `seed`; --seed overrides it
-  std::vector<std::string> shapes;  // `shapes` (or `shape`): drawn with `weights`
-  std::vector<double> weights;      // one per shape, > 0; equal when not given
+  std::uint64_t seed = 1;  // `seed`; --seed overrides it
+  // `shapes` (or `shape`), drawn with `weights`; a rock family's entry is replaced by its
+  // variants (NAME#k), which share the entry's weight equally.
+  std::vector<std::string> shapes;
+  std::vector<double> weights;  // one per entry of `shapes`, > 0; equal when not given
   ReleaseKind release = ReleaseKind::kPoints;
   std::vector<Point2> releasePoints;           // area polygon, line vertices or points, world x, y
   std::vector<std::string> releasePointWhere;  // "file:line:column" of each point
@@ -168,6 +178,12 @@ struct OutputSpec {
   int width = 1280;
   int height = 720;
   int crf = 18;  // H.264 constant rate factor (0..51, lower is better)
+  // Simulated seconds per second of video: frame k shows t = k speed / fps (< 1 slow motion,
+  // > 1 time-lapse). Drawing only: the simulation and `simulate`'s frames do not change.
+  double speed = 1;
+  bool alpha = false;         // PNG frames with a transparent background (no MP4)
+  bool overlayTime = false;   // the simulated time (and the speed) drawn on the frame
+  bool overlayScale = false;  // a scale bar drawn on the frame
 };
 
 // How bodies find their contacts: the paper's voxel sphere trees, or the polygon method it
@@ -205,6 +221,8 @@ struct SceneSpec {
   std::vector<GroundMaterialSpec> groundMaterials;  // custom ones
   std::string groundClassesPath;  // class raster on the DEM's grid; empty: one material
   std::vector<std::pair<int, std::string>> classMaterials;  // class -> material name
+  double groundVariability = 0;             // per-cell +- bound (ground_variability.h); 0: off
+  std::uint64_t groundVariabilitySeed = 1;  // `variability_seed` (an ensemble draws its own)
   std::vector<ShapeSpec> shapes;
   std::vector<BodySpec> bodies;
   std::vector<EmitterSpec> emitters;
@@ -297,6 +315,15 @@ struct SceneShape {
   std::optional<Color> color;
 };
 std::map<std::string, SceneShape> buildSceneShapes(const SceneSpec& spec);
+// A shape's mesh before `scale`: its rock generated, or its mesh file imported, repaired when
+// asked, checked closed (InputError naming the file) and turned z-up. Bakes rebuild their
+// shapes' meshes with it too.
+TriMesh shapeSourceMesh(const ShapeSpec& s);
+// The shape's scale in the axes of shapeSourceMesh (a y-up mesh's y and z factors swap).
+Vec3 shapeScale(const ShapeSpec& s);
+// Equal for two shapes exactly when shapeSourceMesh gives them the same mesh (file, up axis and
+// repair, or the whole rock definition): the key of the caches of meshes and sphere trees.
+std::string shapeMeshKey(const ShapeSpec& s);
 // Centre of mass of a body of `shape` whose mesh-file origin is at `filePosition` with
 // orientation q (scenes place the file origin; the World places the centre of mass), m.
 Vec3 centreOfMass(const Shape& shape, const Vec3& filePosition, const Quat& q);
@@ -304,8 +331,9 @@ Vec3 centreOfMass(const Shape& shape, const Vec3& filePosition, const Quat& q);
 // [0, 1).
 Quat uniformRotation(double u1, double u2, double u3);
 
-// Loads meshes (each file once), validates them, builds each shape's sphere tree once per
-// (mesh, scale, level), and adds the bodies and the emitters' bodies (with release times).
+// Loads meshes (each file once) or generates rocks, validates them, builds each shape's sphere
+// tree once per (mesh, scale, level), and adds the bodies and the emitters' bodies (with release
+// times).
 BuiltScene buildScene(const SceneSpec& spec);
 
 }  // namespace vf

@@ -1,5 +1,5 @@
-// SceneSpec -> World. Meshes are imported once per file and sphere trees built once per
-// (mesh file, scale, level), the expensive parts; shapes are then cheap views sharing them.
+// SceneSpec -> World. Meshes are imported (or rocks generated) once each and sphere trees built
+// once per (mesh, scale, level), the expensive parts; shapes are then cheap views sharing them.
 // Body ids follow the spec: [[bodies]] in file order, then each emitter's releases in turn
 // (camera `follow` indices rely on this order).
 #include <cmath>
@@ -18,6 +18,7 @@
 #include "sim/geometry/mesh_checks.h"
 #include "sim/geometry/mesh_import.h"
 #include "sim/geometry/mesh_repair.h"
+#include "sim/geometry/rock_mesh.h"
 #include "sim/ground/ground_material.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/convex_polyhedron.h"
@@ -35,52 +36,71 @@ using TreeKey = std::tuple<std::string, double, double, double, int>;
 
 }  // namespace
 
+std::string shapeMeshKey(const ShapeSpec& s) {
+  if (s.rock) {
+    // Hexadecimal floats: two rocks share a mesh only when their sizes are the same bits.
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "\n(rock) %s seed %llu size %a %a %a length %a volume %a",
+                  s.rock->shapeClass.c_str(), static_cast<unsigned long long>(s.rock->seed),
+                  s.rock->extents.x(), s.rock->extents.y(), s.rock->extents.z(), s.rock->length,
+                  s.rock->volume);
+    return buf;
+  }
+  return s.meshPath + (s.yUp ? "#y-up" : "") + (s.repair ? "\n(repaired)" : "");
+}
+
+TriMesh shapeSourceMesh(const ShapeSpec& s) {
+  if (s.rock) return makeRockMesh(*s.rock);  // closed, convex and outward by construction
+  // Both throw InputError naming the mesh file.
+  TriMesh m = importMesh(s.meshPath);
+  if (s.repair) {
+    RepairReport report;
+    m = repairMesh(m, s.meshPath, report);
+    // What repair changed is the user's to know (and to fix in the file for good).
+    std::fprintf(stderr, "voxfall: %s: repaired: %s\n", s.meshPath.c_str(),
+                 report.summary().c_str());
+    validateClosedMesh(m, s.meshPath);
+  } else {
+    try {
+      validateClosedMesh(m, s.meshPath);
+    } catch (const InputError& e) {
+      // Only the faults repair can fix get the hint.
+      const std::string& text = e.message();
+      if (text.find("not closed") == std::string::npos &&
+          text.find("inconsistently oriented") == std::string::npos &&
+          text.find("degenerate") == std::string::npos &&
+          text.find("not manifold") == std::string::npos)
+        throw;
+      throw InputError(e.where(), e.message() + " (or set repair = true on [shapes." + s.name +
+                                      "], or pass --repair, to fill small holes and fix "
+                                      "duplicate, degenerate and flipped triangles)");
+    }
+  }
+  // +90 degrees about x takes the file's y (up) to z and its z to -y: a proper rotation,
+  // so windings (outward normals) are kept.
+  if (s.yUp)
+    for (Vec3& v : m.vertices) v = Vec3(v.x(), -v.z(), v.y());
+  return m;
+}
+
+Vec3 shapeScale(const ShapeSpec& s) {
+  // `scale` is given in the mesh file's axes: after the y-up rotation its y and z swap.
+  return s.yUp ? Vec3(s.scale.x(), s.scale.z(), s.scale.y()) : s.scale;
+}
+
 std::map<std::string, SceneShape> buildSceneShapes(const SceneSpec& spec) {
-  std::map<std::string, TriMesh> meshes;  // by resolved file path and up axis
+  std::map<std::string, TriMesh> meshes;  // by shapeMeshKey
   std::map<TreeKey, std::shared_ptr<const SphereTree>> trees;
   std::map<std::string, BuiltShape> shapes;
   for (std::size_t i = 0; i < spec.shapes.size(); ++i) {
     const ShapeSpec& s = spec.shapes[i];
-    // A y-up mesh is a different mesh once rotated, and a repaired mesh another mesh than the
-    // file's: each gets its own cache entry and tree.
-    const std::string meshKey =
-        s.meshPath + (s.yUp ? "#y-up" : "") + (s.repair ? "\n(repaired)" : "");
+    // A y-up mesh is a different mesh once rotated, a repaired mesh another mesh than the
+    // file's, and each rock its own: each gets its own cache entry and tree.
+    const std::string meshKey = shapeMeshKey(s);
     auto mesh = meshes.find(meshKey);
-    if (mesh == meshes.end()) {
-      // Both throw InputError naming the mesh file.
-      TriMesh m = importMesh(s.meshPath);
-      if (s.repair) {
-        RepairReport report;
-        m = repairMesh(m, s.meshPath, report);
-        // What repair changed is the user's to know (and to fix in the file for good).
-        std::fprintf(stderr, "voxfall: %s: repaired: %s\n", s.meshPath.c_str(),
-                     report.summary().c_str());
-        validateClosedMesh(m, s.meshPath);
-      } else {
-        try {
-          validateClosedMesh(m, s.meshPath);
-        } catch (const InputError& e) {
-          // Only the faults repair can fix get the hint.
-          const std::string& text = e.message();
-          if (text.find("not closed") == std::string::npos &&
-              text.find("inconsistently oriented") == std::string::npos &&
-              text.find("degenerate") == std::string::npos &&
-              text.find("not manifold") == std::string::npos)
-            throw;
-          throw InputError(e.where(), e.message() + " (or set repair = true on [shapes." + s.name +
-                                          "], or pass --repair, to fill small holes and fix "
-                                          "duplicate, degenerate and flipped triangles)");
-        }
-      }
-      // +90 degrees about x takes the file's y (up) to z and its z to -y: a proper rotation,
-      // so windings (outward normals) are kept.
-      if (s.yUp)
-        for (Vec3& v : m.vertices) v = Vec3(v.x(), -v.z(), v.y());
-      mesh = meshes.emplace(meshKey, std::move(m)).first;
-    }
+    if (mesh == meshes.end()) mesh = meshes.emplace(meshKey, shapeSourceMesh(s)).first;
     const int level = s.level.value_or(spec.level);
-    // `scale` is given in the mesh file's axes: after the y-up rotation its y and z swap.
-    const Vec3 scale = s.yUp ? Vec3(s.scale.x(), s.scale.z(), s.scale.y()) : s.scale;
+    const Vec3 scale = shapeScale(s);
     const TreeKey key{meshKey, scale.x(), scale.y(), scale.z(), level};
     auto tree = trees.find(key);
     if (tree == trees.end()) {
@@ -117,17 +137,24 @@ const BuiltShape& findShape(const std::map<std::string, BuiltShape>& shapes,
   return it->second;
 }
 
-// The ground material named `name`: a custom one (its unset values from [contact]), else a
-// preset with [contact]'s body_ground friction.
+// The ground material named `name`: a custom one (a stone material's unset values from
+// [contact]; a slip material's restitution 0, Leine et al. 2014's eps_N), else a preset with
+// [contact]'s body_ground friction.
 GroundMaterial groundMaterial(const SceneSpec& spec, const std::string& name) {
   for (const GroundMaterialSpec& g : spec.groundMaterials)
     if (g.name == name) {
       GroundMaterial m;
       m.name = name;
-      m.restitution = g.restitution.value_or(spec.contact.restitutionBodyGround);
+      m.law = g.law;
+      const bool slip = g.law == GroundLawKind::kSlip;
+      m.restitution = g.restitution.value_or(slip ? 0.0 : spec.contact.restitutionBodyGround);
       m.friction = g.friction.value_or(spec.contact.frictionBodyGround);
       m.rollingResistance = g.rollingResistance.value_or(0.0);
       m.tangentialRestitution = g.tangentialRestitution.value_or(1.0);
+      m.muMin = g.muMin.value_or(0.0);
+      m.muMax = g.muMax.value_or(0.0);
+      m.kappa = g.kappa.value_or(0.0);
+      m.beta = g.beta.value_or(0.0);
       m.source = "scene " + g.where;
       return m;
     }
@@ -135,9 +162,16 @@ GroundMaterial groundMaterial(const SceneSpec& spec, const std::string& name) {
   throw InputError(spec.path, "unknown ground material '" + name + "'");  // loadScene checks
 }
 
-std::shared_ptr<const GroundMap> buildGroundMap(const SceneSpec& spec, const Heightfield* dem) {
+std::shared_ptr<const GroundMap> buildGroundMap(const SceneSpec& spec,
+                                                std::shared_ptr<const Heightfield> terrain) {
+  const Heightfield* dem = terrain.get();
   auto map = std::make_shared<GroundMap>();
   map->materials.push_back(groundMaterial(spec, spec.groundMaterial));
+  if (spec.groundVariability > 0) {
+    map->variability = spec.groundVariability;
+    map->variabilitySeed = spec.groundVariabilitySeed;
+    map->cells = terrain;
+  }
   if (spec.groundClassesPath.empty()) return map;
   Heightfield classes = loadDem(spec.groundClassesPath);
   shiftHeightfield(classes, Vec3(spec.terrainShift.x(), spec.terrainShift.y(), 0));
@@ -210,7 +244,7 @@ WorldDef sceneWorldDef(const SceneSpec& spec) {
   def.terrainEdge = spec.terrainEdge;
   def.rotation = spec.rotation;
   def.rest = spec.rest;
-  if (!spec.groundMaterial.empty()) def.ground = buildGroundMap(spec, def.terrain.get());
+  if (!spec.groundMaterial.empty()) def.ground = buildGroundMap(spec, def.terrain);
   def.contact = spec.contact;
   def.contactReduction = spec.contactReduction;
   def.sleep = spec.sleep;

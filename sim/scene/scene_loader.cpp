@@ -298,8 +298,8 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
     const std::string v = r.string(*n, "rotation");
     if (v != "euler" && v != "midpoint")
       r.fail(*n,
-             "'rotation' must be \"euler\" (the paper's explicit Euler, the default) or "
-             "\"midpoint\" (keeps the energy of free tumbling), got \"" +
+             "'rotation' must be \"euler\" (the paper's explicit Euler) or \"midpoint\" (keeps "
+             "the energy of free tumbling; the default with ground materials), got \"" +
                  v + "\"");
     spec.rotation = v == "midpoint" ? RotationUpdate::kMidpoint : RotationUpdate::kExplicitEuler;
   }
@@ -398,6 +398,58 @@ std::string existingFile(const Reader& r, const toml::node& n, const std::string
   return resolved.string();
 }
 
+// [ground.materials.NAME]: the keys of its law only, each checked; a slip material needs all
+// four of mu(s)'s coefficients (no published default fits every ground).
+GroundMaterialSpec readGroundMaterial(const Reader& r, const toml::table& m,
+                                      const std::string& name) {
+  const std::string label = "[ground.materials." + name + "]";
+  r.checkKeys(m, sceneKeysOf("ground.materials.NAME"), label);
+  GroundMaterialSpec g;
+  g.name = name;
+  g.where = r.where(m);
+  if (const auto* x = m.get("law")) {
+    const std::string law = r.string(*x, "law");
+    if (law == "slip")
+      g.law = GroundLawKind::kSlip;
+    else if (law != "stone")
+      r.fail(*x,
+             "'law' must be \"stone\" (STONE's bounce and rolling, the default) or \"slip\" "
+             "(slippage-dependent friction, Leine et al. 2014), got \"" +
+                 law + "\"");
+  }
+  const bool slip = g.law == GroundLawKind::kSlip;
+  const std::vector<std::string> stoneKeys{"friction", "rolling_resistance",
+                                           "tangential_restitution"},
+      slipKeys{"mu_min", "mu_max", "kappa", "beta"};
+  for (const std::string& key : slip ? stoneKeys : slipKeys)
+    if (const auto* x = m.get(key))
+      r.fail(*x, "'" + key + "' " +
+                     (slip ? "is not used by law = \"slip\" (its friction is mu(s) from mu_min, "
+                             "mu_max, kappa and beta)"
+                           : "belongs to law = \"slip\"; give law = \"slip\" in " + label));
+  if (const auto* x = m.get("restitution")) g.restitution = r.inRange(*x, "restitution", 0, 1);
+  if (const auto* x = m.get("friction"))
+    g.friction = r.nonNegative(*x, "friction", " (Coulomb coefficient)");
+  if (const auto* x = m.get("rolling_resistance"))
+    g.rollingResistance =
+        r.nonNegative(*x, "rolling_resistance", " (tan of the rolling friction angle)");
+  if (const auto* x = m.get("tangential_restitution"))
+    g.tangentialRestitution = r.inRange(*x, "tangential_restitution", 0, 1);
+  if (!slip) return g;
+  for (const std::string& key : slipKeys)
+    if (!m.get(key))
+      r.fail(m, label + " has law = \"slip\" and needs mu_min, mu_max, kappa and beta; '" + key +
+                    "' is missing (or use a preset: ramms_chant_sura, leine2014_demo)");
+  g.muMin = r.nonNegative(*m.get("mu_min"), "mu_min", " (Coulomb coefficient)");
+  g.muMax = r.nonNegative(*m.get("mu_max"), "mu_max", " (Coulomb coefficient)");
+  if (*g.muMax < *g.muMin)
+    r.fail(*m.get("mu_max"), "'mu_max' must be >= 'mu_min' (" + formatNumber(*g.muMin) +
+                                 "): friction grows with slippage, got " + formatNumber(*g.muMax));
+  g.kappa = r.nonNegative(*m.get("kappa"), "kappa", " 1/m (slippage hardening)");
+  g.beta = r.nonNegative(*m.get("beta"), "beta", " 1/s (slippage softening)");
+  return g;
+}
+
 void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                 SceneSpec& spec) {
   r.checkKeys(t, sceneKeysOf("ground"), "[ground]");
@@ -438,21 +490,8 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
     const toml::table& all = r.table(*n, "materials");
     for (auto&& [k, v] : all) {
       const std::string name(k.str());
-      const std::string label = "[ground.materials." + name + "]";
-      const toml::table& m = r.table(v, "ground.materials." + name);
-      r.checkKeys(m, sceneKeysOf("ground.materials.NAME"), label);
-      GroundMaterialSpec g;
-      g.name = name;
-      g.where = r.where(m);
-      if (const auto* x = m.get("restitution")) g.restitution = r.inRange(*x, "restitution", 0, 1);
-      if (const auto* x = m.get("friction"))
-        g.friction = r.nonNegative(*x, "friction", " (Coulomb coefficient)");
-      if (const auto* x = m.get("rolling_resistance"))
-        g.rollingResistance =
-            r.nonNegative(*x, "rolling_resistance", " (tan of the rolling friction angle)");
-      if (const auto* x = m.get("tangential_restitution"))
-        g.tangentialRestitution = r.inRange(*x, "tangential_restitution", 0, 1);
-      spec.groundMaterials.push_back(g);
+      spec.groundMaterials.push_back(
+          readGroundMaterial(r, r.table(v, "ground.materials." + name), name));
     }
   }
   // A material name must be a custom one or a preset.
@@ -492,6 +531,25 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
   } else if (const auto* n = t.get("class_materials")) {
     r.fail(*n, "'class_materials' needs 'classes' (the class raster)");
   }
+  if (const auto* n = t.get("variability")) {
+    const double v = r.number(*n, "variability");
+    if (v < 0 || v >= 1)
+      r.fail(*n,
+             "'variability' must be >= 0 and < 1 (0.1: each coefficient within +-10 % per "
+             "cell), got " +
+                 formatNumber(v));
+    if (v > 0 && spec.terrainPath.empty())
+      r.fail(*n, "'variability' perturbs the ground per DEM cell; give 'heightfield' too");
+    if (v > 0 && spec.groundMaterial.empty())
+      r.fail(*n, "'variability' perturbs the ground material's coefficients; give 'material' too");
+    spec.groundVariability = v;
+  }
+  if (const auto* n = t.get("variability_seed")) {
+    if (!t.get("variability"))
+      r.fail(*n, "'variability_seed' seeds 'variability'; give 'variability' too");
+    spec.groundVariabilitySeed = static_cast<std::uint64_t>(
+        r.integerInRange(*n, "variability_seed", 0, std::numeric_limits<std::int64_t>::max()));
+  }
 }
 
 // --- [shapes.NAME] ------------------------------------------------------------------------
@@ -516,17 +574,57 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
   r.fail(n, message);
 }
 
-ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table& t,
-                    const fs::path& sceneFolder) {
-  const std::string label = "[shapes." + name + "]";
-  r.checkKeys(t, sceneKeysOf("shapes.NAME"), label);
-  ShapeSpec s;
-  s.name = name;
-  s.where = r.where(t);
+// Guards the load: each variant of a rock family is built (voxelised) when the scene is.
+constexpr std::int64_t kMaxRockSeeds = 1000;
 
-  if (const auto* n = t.get("repair")) s.repair = r.boolean(*n, "repair");
+// `rock = { class, seed, seeds, size, volume }`; `seeds` (a family's size, 0 without) is
+// returned apart, since it makes several shapes of one table.
+RockDef readRock(const Reader& r, const toml::node& n, const std::string& label,
+                 std::int64_t& seeds) {
+  const std::string rockLabel = label + " rock";
+  const toml::table& t = r.table(n, "rock");
+  r.checkKeys(t, sceneKeysOf("shapes.NAME.rock"), rockLabel);
+  RockDef d;
+  const toml::node& c = r.require(t, "class", rockLabel);
+  d.shapeClass = r.string(c, "rock.class");
+  if (!isRockClass(d.shapeClass)) {
+    std::string message = "unknown rock class '" + d.shapeClass + "'";
+    if (auto guess = nearestName(d.shapeClass, rockClassNames()))
+      message += "; did you mean '" + *guess + "'?";
+    r.fail(c, message + " (classes: " + joinNames(rockClassNames()) + ")");
+  }
+  if (const auto* x = t.get("seed")) {
+    const std::int64_t seed = r.integer(*x, "rock.seed");
+    if (seed < 0) r.fail(*x, "'rock.seed' must be an integer >= 0, got " + std::to_string(seed));
+    d.seed = static_cast<std::uint64_t>(seed);
+  }
+  seeds = 0;
+  if (const auto* x = t.get("seeds")) seeds = r.integerInRange(*x, "rock.seeds", 1, kMaxRockSeeds);
+  const toml::node* size = t.get("size");
+  const toml::node* volume = t.get("volume");
+  if (size != nullptr && volume != nullptr)
+    r.fail(*volume, "give either 'rock.size' or 'rock.volume' in " + label + ", not both");
+  if (size != nullptr && size->is_number()) {
+    d.length = r.positive(*size, "rock.size", " m (the longest extent)");
+  } else if (size != nullptr) {
+    if (!size->is_array())
+      r.fail(*size,
+             "'rock.size' must be a number (the longest extent) or an array of 3 numbers "
+             "[x, y, z] (the extents), got " +
+                 typeName(*size));
+    d.extents = r.vec3(*size, "rock.size");
+    for (int i = 0; i < 3; ++i)
+      if (!(d.extents[i] > 0))
+        r.fail(*size, "'rock.size' extents must be > 0 m, got " + formatNumber(d.extents[i]));
+    const std::string problem = rockExtentsProblem(d.shapeClass, d.extents);
+    if (!problem.empty()) r.fail(*size, "'rock.size': " + problem);
+  }
+  if (volume != nullptr) d.volume = r.positive(*volume, "rock.volume", " m^3");
+  return d;
+}
 
-  const toml::node& meshNode = r.require(t, "mesh", label);
+// `mesh`: the resolved path of an existing file.
+std::string readMeshPath(const Reader& r, const toml::node& meshNode, const fs::path& sceneFolder) {
   const std::string given = r.string(meshNode, "mesh");
   if (given.empty()) r.fail(meshNode, "'mesh' must name a mesh file, got an empty string");
   fs::path resolved(given);
@@ -534,7 +632,66 @@ ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table&
   resolved = resolved.lexically_normal();
   std::error_code ec;
   if (!fs::is_regular_file(resolved, ec)) failMissingMesh(r, meshNode, resolved, given);
-  s.meshPath = resolved.string();
+  return resolved.string();
+}
+
+// `density` or `mass`, and for a rock given neither `rock.size` nor `rock.volume`, both: its
+// volume is mass / density.
+void readMass(const Reader& r, const toml::table& t, const std::string& label, ShapeSpec& s) {
+  const toml::node* density = t.get("density");
+  const toml::node* mass = t.get("mass");
+  const bool rockSized =
+      s.rock && (s.rock->extents != Vec3::Zero() || s.rock->length > 0 || s.rock->volume > 0);
+  if (s.rock && !rockSized) {
+    if (density == nullptr || mass == nullptr)
+      r.fail(t,
+             "a rock needs a size: give 'rock.size' or 'rock.volume', or both 'mass' and "
+             "'density' (its volume is then mass / density) in " +
+                 label);
+    s.density = r.positive(*density, "density", " kg/m^3");
+    s.rock->volume = r.positive(*mass, "mass", " kg") / s.density;
+    return;
+  }
+  if (density != nullptr && mass != nullptr)
+    r.fail(*mass, "give either 'density' or 'mass' in " + label + ", not both");
+  if (mass != nullptr)
+    s.mass = r.positive(*mass, "mass", " kg");
+  else
+    s.density = r.positive(r.require(t, "density", label), "density", " kg/m^3");
+}
+
+// One [shapes.NAME] table: one shape, or a rock family's variants (rock.seeds).
+std::vector<ShapeSpec> readShape(const Reader& r, const std::string& name, const toml::table& t,
+                                 const fs::path& sceneFolder) {
+  const std::string label = "[shapes." + name + "]";
+  r.checkKeys(t, sceneKeysOf("shapes.NAME"), label);
+  ShapeSpec s;
+  s.name = name;
+  s.where = r.where(t);
+
+  const toml::node* meshNode = t.get("mesh");
+  const toml::node* rockNode = t.get("rock");
+  if (meshNode != nullptr && rockNode != nullptr)
+    r.fail(*rockNode, "give either 'mesh' (a mesh file) or 'rock' (a generated rock) in " + label +
+                          ", not both");
+  if (meshNode == nullptr && rockNode == nullptr)
+    r.fail(t,
+           "missing required key 'mesh' (a mesh file) or 'rock' (a generated rock, e.g. "
+           "rock = { class = \"compact\", volume = 0.5 }) in " +
+               label);
+  std::int64_t seeds = 0;
+  if (rockNode != nullptr) {
+    for (const char* key : {"scale", "up", "repair"})
+      if (const auto* n = t.get(key))
+        r.fail(*n, "'" + std::string(key) +
+                       "' applies to a mesh file; a rock is sized by "
+                       "'rock.size' or 'rock.volume' in " +
+                       label);
+    s.rock = readRock(r, *rockNode, label, seeds);
+  } else {
+    if (const auto* n = t.get("repair")) s.repair = r.boolean(*n, "repair");
+    s.meshPath = readMeshPath(r, *meshNode, sceneFolder);
+  }
 
   if (const auto* n = t.get("scale")) {
     if (n->is_number()) {
@@ -552,14 +709,7 @@ ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table&
              "'scale' must be a number or an array of 3 numbers [sx, sy, sz], got " + typeName(*n));
     }
   }
-  const toml::node* density = t.get("density");
-  const toml::node* mass = t.get("mass");
-  if (density != nullptr && mass != nullptr)
-    r.fail(*mass, "give either 'density' or 'mass' in " + label + ", not both");
-  if (mass != nullptr)
-    s.mass = r.positive(*mass, "mass", " kg");
-  else
-    s.density = r.positive(r.require(t, "density", label), "density", " kg/m^3");
+  readMass(r, t, label, s);
   if (const auto* n = t.get("up")) {
     const std::string up = r.string(*n, "up");
     if (up != "z" && up != "y")
@@ -573,7 +723,16 @@ ShapeSpec readShape(const Reader& r, const std::string& name, const toml::table&
     s.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
   if (const auto* n = t.get("color")) s.color = r.color(*n, "color");
   if (const auto* n = t.get("smooth")) s.smoothDegrees = r.inRange(*n, "smooth", 0, 180);
-  return s;
+  if (seeds == 0) return {s};
+  std::vector<ShapeSpec> variants;
+  for (std::int64_t k = 0; k < seeds; ++k) {
+    ShapeSpec v = s;
+    v.name = name + "#" + std::to_string(k);
+    v.family = name;
+    v.rock->seed = s.rock->seed + static_cast<std::uint64_t>(k);
+    variants.push_back(std::move(v));
+  }
+  return variants;
 }
 
 void readShapes(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
@@ -589,22 +748,52 @@ void readShapes(const Reader& r, const toml::table& t, const fs::path& sceneFold
     if (!v->is_table())
       r.fail(*v, "'shapes." + name + "' must be a table ([shapes." + name +
                      "] with mesh, scale, density), got " + typeName(*v));
-    spec.shapes.push_back(readShape(r, name, *v->as_table(), sceneFolder));
+    for (ShapeSpec& s : readShape(r, name, *v->as_table(), sceneFolder)) {
+      // A family's NAME#k could meet a table quoted as [shapes."NAME#k"].
+      for (const ShapeSpec& other : spec.shapes)
+        if (other.name == s.name)
+          r.fail(*v, "shape '" + s.name + "' is defined twice (a rock family names its rocks " +
+                         "NAME#0, NAME#1, ...)");
+      spec.shapes.push_back(std::move(s));
+    }
   }
 }
 
+// The names a scene's shapes go by in messages: each [shapes.NAME], a rock family once.
 std::vector<std::string> shapeNames(const SceneSpec& spec) {
   std::vector<std::string> names;
-  for (const auto& s : spec.shapes) names.push_back(s.name);
+  for (const auto& s : spec.shapes)
+    if (s.family.empty())
+      names.push_back(s.name);
+    else if (names.empty() || names.back() != s.family)
+      names.push_back(s.family);
   return names;
+}
+
+// The variants of rock family `name`, in seed order; empty when `name` is not a family.
+std::vector<std::string> familyMembers(const SceneSpec& spec, const std::string& name) {
+  std::vector<std::string> members;
+  for (const auto& s : spec.shapes)
+    if (s.family == name) members.push_back(s.name);
+  return members;
+}
+
+bool isShapeName(const SceneSpec& spec, const std::string& name) {
+  for (const auto& s : spec.shapes)
+    if (s.name == name) return true;
+  return false;
 }
 
 std::string readShapeReference(const Reader& r, const toml::table& t, const std::string& label,
                                const SceneSpec& spec) {
   const toml::node& n = r.require(t, "shape", label);
   const std::string name = r.string(n, "shape");
+  if (isShapeName(spec, name)) return name;
+  if (const auto members = familyMembers(spec, name); !members.empty())
+    r.fail(n, "'" + name + "' is a family of " + std::to_string(members.size()) +
+                  " rocks (rock.seeds); name one of them, '" + members.front() + "' to '" +
+                  members.back() + "', or draw among them with [ensemble] shapes");
   const auto names = shapeNames(spec);
-  if (std::find(names.begin(), names.end(), name) != names.end()) return name;
   std::string message = "unknown shape '" + name + "'";
   if (names.empty()) {
     message += "; no shapes are defined (add a [shapes." + (name.empty() ? "NAME" : name) +
@@ -821,6 +1010,27 @@ void readCameras(const Reader& r, const toml::table& t, SceneSpec& spec) {
   }
 }
 
+// `overlay = ["time", "scale"]`: which overlays are drawn on the frames (any order, none).
+void readOverlay(const Reader& r, const toml::node& n, OutputSpec& out) {
+  const toml::array* a = n.as_array();
+  if (a == nullptr)
+    r.fail(n, "'overlay' must be an array of \"time\" and \"scale\", got " + typeName(n));
+  const std::vector<std::string> names{"time", "scale"};
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    const toml::node& item = *a->get(i);
+    const std::string name = r.string(item, "overlay[" + std::to_string(i) + "]");
+    if (name == "time") {
+      out.overlayTime = true;
+    } else if (name == "scale") {
+      out.overlayScale = true;
+    } else {
+      std::string message = "unknown overlay '" + name + "'";
+      if (auto guess = nearestName(name, names)) message += "; did you mean '" + *guess + "'?";
+      r.fail(item, message + " (overlays: time, scale)");
+    }
+  }
+}
+
 void readOutput(const Reader& r, const toml::table& t, SceneSpec& spec) {
   r.checkKeys(t, sceneKeysOf("output"), "[output]");
   // The size limit is frameSideProblem's; evenness is the MP4 encoder's, so a scene with an odd
@@ -837,6 +1047,10 @@ void readOutput(const Reader& r, const toml::table& t, SceneSpec& spec) {
   side("height", spec.output.height);
   if (const auto* n = t.get("crf"))
     spec.output.crf = static_cast<int>(r.integerInRange(*n, "crf", 0, 51));
+  if (const auto* n = t.get("speed"))
+    spec.output.speed = r.positive(*n, "speed", " (simulated seconds per second of video)");
+  if (const auto* n = t.get("alpha")) spec.output.alpha = r.boolean(*n, "alpha");
+  if (const auto* n = t.get("overlay")) readOverlay(r, *n, spec.output);
 }
 
 // --- [light] ------------------------------------------------------------------------------
@@ -1001,9 +1215,11 @@ void readEnsemble(const Reader& r, const toml::table& t, const fs::path& sceneFo
   if (one != nullptr && many != nullptr)
     r.fail(*many, "give either 'shape' or 'shapes' in [ensemble], not both");
   const auto names = shapeNames(spec);
-  auto shapeName = [&](const toml::node& n, const std::string& key) {
+  // An entry names a shape, or a rock family: all its variants, equally likely.
+  auto shapeEntry = [&](const toml::node& n, const std::string& key) {
     const std::string name = r.string(n, key);
-    if (std::find(names.begin(), names.end(), name) != names.end()) return name;
+    if (isShapeName(spec, name)) return std::vector<std::string>{name};
+    if (auto members = familyMembers(spec, name); !members.empty()) return members;
     std::string message = "unknown shape '" + name + "'";
     if (auto guess = nearestName(name, names))
       message += "; did you mean '" + *guess + "'?";
@@ -1011,28 +1227,34 @@ void readEnsemble(const Reader& r, const toml::table& t, const fs::path& sceneFo
       message += "; defined shapes: " + (names.empty() ? std::string("none") : joinNames(names));
     r.fail(n, message);
   };
+  std::vector<std::vector<std::string>> entries;
   if (one != nullptr) {
-    e.shapes.push_back(shapeName(*one, "shape"));
+    entries.push_back(shapeEntry(*one, "shape"));
   } else if (many != nullptr) {
     const toml::array* a = many->as_array();
     if (a == nullptr || a->empty())
       r.fail(*many, "'shapes' must be a non-empty array of shape names, got " +
                         (a == nullptr ? typeName(*many) : std::string("an empty array")));
     for (std::size_t i = 0; i < a->size(); ++i)
-      e.shapes.push_back(shapeName(*a->get(i), "shapes[" + std::to_string(i) + "]"));
+      entries.push_back(shapeEntry(*a->get(i), "shapes[" + std::to_string(i) + "]"));
   } else {
     r.fail(t, "missing required key 'shape' (or 'shapes', drawn with 'weights') in [ensemble]");
   }
+  std::vector<double> entryWeights(entries.size(), 1.0);
   if (const auto* n = t.get("weights")) {
     const toml::array* a = n->as_array();
-    if (a == nullptr || a->size() != e.shapes.size())
-      r.fail(*n, "'weights' must be an array of " + std::to_string(e.shapes.size()) +
+    if (a == nullptr || a->size() != entries.size())
+      r.fail(*n, "'weights' must be an array of " + std::to_string(entries.size()) +
                      " numbers, one per entry of 'shapes'");
     for (std::size_t i = 0; i < a->size(); ++i)
-      e.weights.push_back(r.positive(*a->get(i), "weights[" + std::to_string(i) + "]", ""));
-  } else {
-    e.weights.assign(e.shapes.size(), 1.0);
+      entryWeights[i] = r.positive(*a->get(i), "weights[" + std::to_string(i) + "]", "");
   }
+  // A family's weight is shared equally by its variants.
+  for (std::size_t i = 0; i < entries.size(); ++i)
+    for (const std::string& name : entries[i]) {
+      e.shapes.push_back(name);
+      e.weights.push_back(entryWeights[i] / static_cast<double>(entries[i].size()));
+    }
   readRelease(r, r.table(r.require(t, "release", "[ensemble]"), "release"), sceneFolder, e);
   if (const auto* n = t.get("drop_height"))
     e.dropHeight = r.nonNegative(*n, "drop_height", " m (lowest point above the surface)");
@@ -1091,6 +1313,11 @@ SceneSpec loadScene(const std::string& path) {
   if (const auto* n = root.get("contact")) readContact(r, r.table(*n, "contact"), spec.contact);
   if (const auto* n = root.get("ground")) readGround(r, r.table(*n, "ground"), sceneFolder, spec);
   if (const auto* n = root.get("light")) readLight(r, r.table(*n, "light"), spec);
+  // A rock-fall scene (one with ground materials) rotates by the midpoint rule unless it says
+  // otherwise: the paper's explicit Euler gains energy in free tumbling, and a rock's runout
+  // depends on the spin it keeps in flight. Scenes without materials keep the paper's update.
+  if (!spec.groundMaterial.empty() && root.at_path("simulation.rotation").node() == nullptr)
+    spec.rotation = RotationUpdate::kMidpoint;
   if (const auto* n = root.get("shapes")) readShapes(r, r.table(*n, "shapes"), sceneFolder, spec);
   if (const auto* n = root.get("bodies")) readBodies(r, arrayOfTables(r, *n, "bodies"), spec);
   if (const auto* n = root.get("emitters")) readEmitters(r, arrayOfTables(r, *n, "emitters"), spec);
@@ -1107,6 +1334,14 @@ SceneSpec loadScene(const std::string& path) {
     throw InputError(n != nullptr ? r.where(*n) : path,
                      "duration * fps = " + formatNumber(spec.duration * spec.fps) +
                          " frames; at most " + formatNumber(kMaxSceneFrames) + " are supported");
+  }
+  // Drawn frames: duration * fps / speed (slow motion makes more).
+  if (spec.duration * spec.fps / spec.output.speed > kMaxSceneFrames) {
+    const toml::node* n = root.at_path("output.speed").node();
+    throw InputError(
+        n != nullptr ? r.where(*n) : path,
+        "duration * fps / speed = " + formatNumber(spec.duration * spec.fps / spec.output.speed) +
+            " frames; at most " + formatNumber(kMaxSceneFrames) + " are supported");
   }
   return spec;
 }

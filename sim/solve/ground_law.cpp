@@ -66,21 +66,29 @@ GroundLawStats GroundLaw::afterSolve(const std::vector<Contact>& contacts,
   if (modes_.size() < bodies.size()) modes_.resize(bodies.size());
   const std::size_t nb = bodies.size();
   // Per body, summed over its ground contacts in contact order (deterministic): the rolling
-  // limit sum mu_r,k h_k jn_k, the normal impulse, the impulse-weighted normal and Rt.
+  // limit sum mu_r,k h_k jn_k, the normal impulse (all ground contacts, and those on STONE
+  // materials), the impulse-weighted normal and Rt. A contact on a slip material (slip_law.cpp)
+  // keeps the body out of flight but takes no STONE bounce or brake: it counts with Rt = 1.
   limit_.assign(nb, 0.0);
   impulse_.assign(nb, 0.0);
+  stoneImpulse_.assign(nb, 0.0);
   rt_.assign(nb, 0.0);
   normal_.assign(nb, Vec3::Zero());
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const Contact& c = contacts[k];
     const double jn = normalImpulses[k];
     if (c.b != kGround || !(jn > 0)) continue;
-    const GroundMaterial& m = ground.at(c.point.x(), c.point.y());
+    const GroundCoefficients m = ground.coefficientsAt(c.point.x(), c.point.y());
+    impulse_[c.a] += jn;
+    normal_[c.a] += jn * c.normal;
+    if (m.law == GroundLawKind::kSlip) {
+      rt_[c.a] += jn;
+      continue;
+    }
     const double lever = -(c.point - states[c.a].x).dot(c.normal);
     if (m.rollingResistance > 0 && lever > 0) limit_[c.a] += m.rollingResistance * lever * jn;
-    impulse_[c.a] += jn;
+    stoneImpulse_[c.a] += jn;
     rt_[c.a] += m.tangentialRestitution * jn;
-    normal_[c.a] += jn * c.normal;
   }
   for (std::size_t i = 0; i < nb; ++i) {
     const BodyInfo& b = bodies[i];
@@ -96,6 +104,7 @@ GroundLawStats GroundLaw::afterSolve(const std::vector<Contact>& contacts,
     const Vec3 nHat = normal_[i].normalized();
     if (mode.airborne) {  // a landing
       mode.airborne = false;
+      if (!(stoneImpulse_[i] > 0)) continue;  // on slip ground only: the slip law's (no bounce)
       const bool shortAndSlow = (y.x - mode.lastBounce).norm() < kStoneShortBounce &&
                                 mode.incoming.norm() < kStoneRollSpeed;
       if (shortAndSlow) {

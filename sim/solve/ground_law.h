@@ -28,7 +28,8 @@ struct GroundLawStats {
 };
 
 // Per-body mode, kept across steps. Call beforeSolve() just before solveContacts and
-// afterSolve() just after, every step, with the same contacts.
+// afterSolve() just after, every step, with the same contacts. Contacts on slip-law materials
+// (slip_law.h) keep a body in contact but get no bounce and no rolling resistance.
 class GroundLaw {
  public:
   // Remembers each body's velocity before the contact solve (the bounce's incoming velocity).
@@ -58,7 +59,7 @@ class GroundLaw {
   };
   std::vector<Mode> modes_;
   // Per-step scratch, per body (kept to spare the step four allocations).
-  std::vector<double> limit_, impulse_, rt_;
+  std::vector<double> limit_, impulse_, stoneImpulse_, rt_;
   std::vector<Vec3> normal_;
 };
 

@@ -254,9 +254,13 @@ bool prepareRow(const std::vector<Contact>& contacts, int k, const std::vector<B
   double eps = ground ? mat.restitutionBodyGround : mat.restitutionBodyBody;
   r.mu = ground ? mat.frictionBodyGround : mat.frictionBodyBody;
   if (c.b == kGround && settings.ground) {  // rock fall: the material under the contact
-    const GroundMaterial& m = settings.ground->at(c.point.x(), c.point.y());
+    const GroundCoefficients m = settings.ground->coefficientsAt(c.point.x(), c.point.y());
     eps = m.restitution;
     r.mu = m.friction;
+    if (m.law == GroundLawKind::kSlip) {  // mu(s) of the body's slippage (slip_law.cpp)
+      const std::vector<double>* s = settings.slippage;
+      r.mu = slipFriction(m, s && static_cast<std::size_t>(c.a) < s->size() ? (*s)[c.a] : 0.0);
+    }
   }
   r.patch = false;
   r.jn = r.jt1 = r.jt2 = 0;

@@ -44,6 +44,9 @@ struct SolverSettings {
   // Rock fall (opt-in): ground contacts take restitution and friction from the ground
   // material under the contact point instead of `material`; null: the paper's model.
   const GroundMap* ground = nullptr;
+  // Per body, the slippage s (m) of the slip law (slip_law.h): a contact on a slip material
+  // takes friction mu(s) of its body's s. Null or shorter than the bodies: s = 0.
+  const std::vector<double>* slippage = nullptr;
   // Threads solving the contact islands (each island on one thread; the result is the same
   // bits for any count); none: the calling thread alone.
   WorkerPool* pool = nullptr;

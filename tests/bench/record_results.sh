@@ -3,11 +3,16 @@
 # docs/results/MACHINE/, MACHINE being a short name for this CPU model and core count
 # (e.g. amd-epyc-2cpu). docs/performance.md says what each file and column means.
 #
-#   tests/bench/record_results.sh [--quick] [BUILD_DIR]
+#   tests/bench/record_results.sh [--quick] [--only GROUPS] [BUILD_DIR]
 #
 # BUILD_DIR (default: build/ in the repository) must hold a build with the benchmarks
-# (tests/bench/sim_bench, tests/bench/ensemble_bench, and tests/bench/bullet_compare where
-# libbullet-dev was found) and the voxfall binary.
+# (tests/bench/sim_bench, tests/bench/ensemble_bench, tests/bench/png_bench, and
+# tests/bench/bullet_compare where libbullet-dev was found) and the voxfall binary.
+#
+# --only GROUPS runs some groups, comma-separated, and writes only their files: sim
+# (sim_bench_*.csv), ensemble (ensemble_bench.csv), bullet (bullet_compare_*.csv), commands
+# (commands.csv) and outputs (png_bench.csv, render_outputs.csv: PNG compression of a frame,
+# and the cubes clip rendered to PNG frames and to an MP4 in one run). Default: all.
 #
 # --quick runs a reduced set in a few minutes: the sim_bench rows of every paper scene at
 # Lv 4 (paper's method and extensions) plus a few rows for levels, threads, the clearance step
@@ -35,9 +40,14 @@ usage() {
 
 quick=0
 build=""
+groups="sim,ensemble,bullet,commands,outputs"
+expect_groups=0
 for arg in "$@"; do
+  if ((expect_groups)); then groups=$arg; expect_groups=0; continue; fi
   case "$arg" in
     --quick) quick=1 ;;
+    --only) expect_groups=1 ;;
+    --only=*) groups=${arg#--only=} ;;
     -h | --help) usage; exit 0 ;;
     -*) echo "record_results.sh: unknown option $arg" >&2; exit 2 ;;
     *)
@@ -47,6 +57,15 @@ for arg in "$@"; do
   esac
 done
 
+if ((expect_groups)); then echo "record_results.sh: --only needs a list of groups" >&2; exit 2; fi
+for g in ${groups//,/ }; do
+  case "$g" in
+    sim | ensemble | bullet | commands | outputs) ;;
+    *) echo "record_results.sh: unknown group '$g' (sim, ensemble, bullet, commands, outputs)" >&2; exit 2 ;;
+  esac
+done
+want() { [[ ",$groups," == *",$1,"* ]]; }
+
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 build=$(cd "${build:-$root/build}" && pwd)
 bench=$build/tests/bench
@@ -54,7 +73,7 @@ voxfall=""
 for candidate in "$build/voxfall" "$build/render/voxfall"; do
   if [[ -x "$candidate" ]]; then voxfall=$candidate; break; fi
 done
-for program in "$bench/sim_bench" "$bench/ensemble_bench" "$voxfall"; do
+for program in "$bench/sim_bench" "$bench/ensemble_bench" "$bench/png_bench" "$voxfall"; do
   if [[ ! -x "$program" ]]; then
     echo "record_results.sh: ${program:-voxfall} not found in $build: build the benchmarks" \
       "(e.g. cmake --build build) or name the build folder" >&2
@@ -130,7 +149,9 @@ gbench() {
 
 # Google Benchmark: voxfall's simulation benchmark.
 sb=$bench/sim_bench
-if ((quick)); then
+if ! want sim; then
+  :
+elif ((quick)); then
   gbench sim_bench_scenes.csv "$sb" \
     '^Scene/[^/]+/4/[01]/1/|^Scene/crosses/[23]/[01]/1/|^Scene/crosses/4/[01]/2/|^SceneClearance/crosses/4/|^SceneFile/rockfall/' \
     "$reps"
@@ -147,11 +168,16 @@ else
 fi
 
 # Ensemble throughput (its repetitions are fixed in the benchmark: 3, medians kept).
-gbench ensemble_bench.csv "$bench/ensemble_bench" '.' 3
+if want ensemble; then gbench ensemble_bench.csv "$bench/ensemble_bench" '.' 3; fi
+
+# PNG compression of one rendered frame.
+if want outputs; then gbench png_bench.csv "$bench/png_bench" '.' "$reps"; fi
 
 # bullet_compare: four markdown tables on stdout, one CSV file each. A cell holding several
 # values ("15.7, 0.6") becomes several columns; a ratio loses its "x".
-if [[ -x "$bench/bullet_compare" ]]; then
+if ! want bullet; then
+  :
+elif [[ -x "$bench/bullet_compare" ]]; then
   if ((quick)); then rounds=1; else rounds=5; fi
   say "bullet_compare $rounds"
   "$bench/bullet_compare" "$rounds" >"$tmp/bullet.md"
@@ -212,79 +238,123 @@ else
   timer="bash time"
 fi
 median() { sort -g | awk '{ v[NR] = $1 } END { if (NR) print v[int((NR + 1) / 2)] }'; }
-echo "machine,version,name,command,runs,timer,wall_s_median,wall_s_min,wall_s_max,user_s_median,sys_s_median,max_rss_mb,frames,frames_per_s_drawn,pct_redrawn,realisations_per_s" \
-  >"$tmp/results/commands.csv"
+header="machine,version,name,command,runs,timer,wall_s_median,wall_s_min,wall_s_max,user_s_median,sys_s_median,max_rss_mb,frames,frames_per_s_drawn,pct_redrawn,realisations_per_s"
 
-# timed NAME COMMAND...: COMMAND is a voxfall command line (without the binary); @TMP@ in it
-# is the temporary folder, written so in the CSV.
+# once KEY COMMAND...: runs a voxfall command line once (@TMP@ in it is the temporary folder)
+# under $timer (not hyperfine), adding its times to $tmp/KEY.times and what it reports to
+# $tmp/KEY.reported.
+once() {
+  local key=$1; shift
+  local args=("${@//@TMP@/$tmp}")
+  if [[ "$timer" == /usr/bin/time ]]; then
+    /usr/bin/time -f '%e %U %S %M' -o "$tmp/time.txt" \
+      "$voxfall" "${args[@]}" >"$tmp/cmd.out" 2>"$tmp/cmd.err" ||
+      { cat "$tmp/cmd.err" >&2; return 1; }
+    tail -n 1 "$tmp/time.txt" >>"$tmp/$key.times"
+  else
+    local TIMEFORMAT='%R %U %S'
+    { time "$voxfall" "${args[@]}" >"$tmp/cmd.out" 2>"$tmp/cmd.err"; } 2>"$tmp/time.txt" ||
+      { cat "$tmp/cmd.err" >&2; return 1; }
+    echo "$(tail -n 1 "$tmp/time.txt") -" >>"$tmp/$key.times"
+  fi
+  # "  rendered frames 0..60 (1280x720, ...) in 1.23 s: 49.60 frames/s, 12% of the pixels
+  # redrawn" and "voxfall: 20 realisations in 1.20 s (16.67 realisations/s, 2 threads)"
+  cat "$tmp/cmd.out" "$tmp/cmd.err" | awk '
+    BEGIN { frames = fps = p = r = "-" }
+    /rendered .* frames\/s/ {
+      for (i = 1; i < NF; i++) {
+        if ($(i + 1) == "frames/s,") fps = $i
+        if ($(i + 1) == "of" && $(i + 3) == "pixels") { p = $i; sub(/%/, "", p) }
+      }
+      if ($2 == "frames") { split($3, ab, /\.\./); frames = ab[2] - ab[1] + 1 }
+      else if ($2 == "frame") frames = 1
+    }
+    /realisations\/s/ {
+      for (i = 1; i < NF; i++) if ($(i + 1) == "realisations/s,") { r = $i; sub(/^\(/, "", r) }
+    }
+    END { print frames, fps, p, r }' >>"$tmp/$key.reported"
+}
+
+# row FILE NAME KEY SHOWN: FILE's row for NAME (FILE created with the header at its first row)
+# from KEY's times and reports: medians, and the extremes of the wall time.
+row() {
+  local file=$1 name=$2 key=$3 shown=$4
+  [[ -f "$tmp/results/$file" ]] || echo "$header" >"$tmp/results/$file"
+  local wall wmin wmax user sys rss col line
+  wall=$(awk '{ print $1 }' "$tmp/$key.times" | median)
+  wmin=$(awk '{ print $1 }' "$tmp/$key.times" | sort -g | head -n 1)
+  wmax=$(awk '{ print $1 }' "$tmp/$key.times" | sort -g | tail -n 1)
+  user=$(awk '{ print $2 }' "$tmp/$key.times" | median)
+  sys=$(awk '{ print $3 }' "$tmp/$key.times" | median)
+  rss=$(awk '$4 != "-" { printf "%.1f\n", $4 / 1024 }' "$tmp/$key.times" | median)
+  line="$prefix,$(csvq "$name"),$(csvq "$shown"),$runs,$timer,$wall,$wmin,$wmax,$user,$sys,$rss"
+  for col in 1 2 3 4; do
+    line="$line,$(awk -v c=$col '$c != "-" { print $c }' "$tmp/$key.reported" | median)"
+  done
+  echo "$line" >>"$tmp/results/$file"
+}
+
+# timed FILE NAME COMMAND...: a row of FILE for a voxfall command line run `runs` times; @TMP@
+# in it is the temporary folder, written so in the CSV.
 timed() {
-  local name=$1; shift
-  local shown="voxfall $*" args=("${@//@TMP@/$tmp}")
+  local file=$1 name=$2; shift 2
+  local shown="voxfall $*" k
   say "$shown ($runs runs, $timer)"
-  : >"$tmp/times.txt"
-  : >"$tmp/reported.txt"
-  local k wmin wmax
+  : >"$tmp/$name.times"
+  : >"$tmp/$name.reported"
   if [[ "$timer" == hyperfine ]]; then
     hyperfine --style none --runs "$runs" --export-csv "$tmp/hf.csv" \
-      "$(printf '%q ' "$voxfall" "${args[@]}")" >/dev/null
-    # command,mean,stddev,median,user,system,min,max (the command's own report is not seen)
-    awk -F, 'NR == 2 { print $4, $5, $6, "-" }' "$tmp/hf.csv" >"$tmp/times.txt"
-    wmin=$(awk -F, 'NR == 2 { print $7 }' "$tmp/hf.csv")
-    wmax=$(awk -F, 'NR == 2 { print $8 }' "$tmp/hf.csv")
-    echo "- - - -" >"$tmp/reported.txt"
+      "$(printf '%q ' "$voxfall" "${@//@TMP@/$tmp}")" >/dev/null
+    # command,mean,stddev,median,user,system,min,max (the command's own report is not seen):
+    # three lines whose medians are hyperfine's medians and whose extremes are its min and max.
+    awk -F, 'NR == 2 { print $7, $5, $6, "-"; print $4, $5, $6, "-"; print $8, $5, $6, "-" }' \
+      "$tmp/hf.csv" >"$tmp/$name.times"
+    echo "- - - -" >"$tmp/$name.reported"
   else
-    for ((k = 0; k < runs; ++k)); do
-      if [[ "$timer" == /usr/bin/time ]]; then
-        /usr/bin/time -f '%e %U %S %M' -o "$tmp/time.txt" \
-          "$voxfall" "${args[@]}" >"$tmp/cmd.out" 2>"$tmp/cmd.err" ||
-          { cat "$tmp/cmd.err" >&2; return 1; }
-        tail -n 1 "$tmp/time.txt" >>"$tmp/times.txt"
-      else
-        local TIMEFORMAT='%R %U %S'
-        { time "$voxfall" "${args[@]}" >"$tmp/cmd.out" 2>"$tmp/cmd.err"; } 2>"$tmp/time.txt" ||
-          { cat "$tmp/cmd.err" >&2; return 1; }
-        echo "$(tail -n 1 "$tmp/time.txt") -" >>"$tmp/times.txt"
-      fi
-      # "  rendered frames 0..60 (1280x720, ...) in 1.23 s: 49.60 frames/s, 12% of the pixels
-      # redrawn" and "voxfall: 20 realisations in 1.20 s (16.67 realisations/s, 2 threads)"
-      cat "$tmp/cmd.out" "$tmp/cmd.err" | awk '
-        BEGIN { frames = fps = p = r = "-" }
-        /rendered .* frames\/s/ {
-          for (i = 1; i < NF; i++) {
-            if ($(i + 1) == "frames/s,") fps = $i
-            if ($(i + 1) == "of" && $(i + 3) == "pixels") { p = $i; sub(/%/, "", p) }
-          }
-          if ($2 == "frames") { split($3, ab, /\.\./); frames = ab[2] - ab[1] + 1 }
-          else if ($2 == "frame") frames = 1
-        }
-        /realisations\/s/ {
-          for (i = 1; i < NF; i++) if ($(i + 1) == "realisations/s,") { r = $i; sub(/^\(/, "", r) }
-        }
-        END { print frames, fps, p, r }' >>"$tmp/reported.txt"
-    done
-    wmin=$(awk '{ print $1 }' "$tmp/times.txt" | sort -g | head -n 1)
-    wmax=$(awk '{ print $1 }' "$tmp/times.txt" | sort -g | tail -n 1)
+    for ((k = 0; k < runs; ++k)); do once "$name" "$@"; done
   fi
-  local wall user sys rss col row
-  wall=$(awk '{ print $1 }' "$tmp/times.txt" | median)
-  user=$(awk '{ print $2 }' "$tmp/times.txt" | median)
-  sys=$(awk '{ print $3 }' "$tmp/times.txt" | median)
-  rss=$(awk '$4 != "-" { printf "%.1f\n", $4 / 1024 }' "$tmp/times.txt" | median)
-  row="$prefix,$(csvq "$name"),$(csvq "$shown"),$runs,$timer,$wall,$wmin,$wmax,$user,$sys,$rss"
-  for col in 1 2 3 4; do
-    row="$row,$(awk -v c=$col '$c != "-" { print $c }' "$tmp/reported.txt" | median)"
+  row "$file" "$name" "$name" "$shown"
+}
+
+# alternated FILE NAME_A NAME_B COMMAND_A... -- COMMAND_B...: two rows of FILE, the two command
+# lines run in turn, `runs` times each, so that both meet the same load of a shared machine.
+alternated() {
+  local file=$1 a=$2 b=$3; shift 3
+  local left=() k
+  while [[ $# -gt 0 && "$1" != "--" ]]; do left+=("$1"); shift; done
+  shift
+  if [[ "$timer" == hyperfine ]]; then
+    timed "$file" "$a" "${left[@]}"
+    timed "$file" "$b" "$@"
+    return
+  fi
+  say "voxfall ${left[*]} and voxfall $* in turn ($runs runs each, $timer)"
+  : >"$tmp/$a.times"; : >"$tmp/$a.reported"; : >"$tmp/$b.times"; : >"$tmp/$b.reported"
+  for ((k = 0; k < runs; ++k)); do
+    once "$a" "${left[@]}"
+    once "$b" "$@"
   done
-  echo "$row" >>"$tmp/results/commands.csv"
+  row "$file" "$a" "$a" "voxfall ${left[*]}"
+  row "$file" "$b" "$b" "voxfall $*"
 }
 
 cd "$root"
-timed simulate_rockfall simulate scenes/rockfall.toml -q
-timed render_cubes render scenes/cubes.toml -o @TMP@/cubes.mp4 -y -q
-if ((quick)); then
-  timed ensemble_20 ensemble scenes/rockfall_ensemble.toml --runs 20 -j "$nproc" -o @TMP@/ensemble -y -q
-else
-  timed render_crosses render scenes/crosses.toml -o @TMP@/crosses.mp4 -y -q
-  timed ensemble_1000 ensemble scenes/rockfall_ensemble.toml --runs 1000 -j "$nproc" -o @TMP@/ensemble -y -q
+if want commands; then
+  timed commands.csv simulate_rockfall simulate scenes/rockfall.toml -q
+  timed commands.csv render_cubes render scenes/cubes.toml -o @TMP@/cubes.mp4 -y -q
+  if ((quick)); then
+    timed commands.csv ensemble_20 ensemble scenes/rockfall_ensemble.toml --runs 20 -j "$nproc" -o @TMP@/ensemble -y -q
+  else
+    timed commands.csv render_crosses render scenes/crosses.toml -o @TMP@/crosses.mp4 -y -q
+    timed commands.csv ensemble_1000 ensemble scenes/rockfall_ensemble.toml --runs 1000 -j "$nproc" -o @TMP@/ensemble -y -q
+  fi
+fi
+# The same clip to an MP4 and to PNG frames, in turn in one run (compare these two rows with
+# each other, not with other runs).
+if want outputs; then
+  alternated render_outputs.csv render_cubes_mp4 render_cubes_png \
+    render scenes/cubes.toml -o @TMP@/cubes.mp4 -y -q -- \
+    render scenes/cubes.toml -o @TMP@/cubes_png/frame_####.png -y -q
 fi
 
 mkdir -p "$out"

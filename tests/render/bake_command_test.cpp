@@ -145,10 +145,10 @@ TEST_F(BakeCommand, ABakeKeepsTheScenesLightAndSmoothShapes) {
 }
 
 TEST_F(BakeCommand, AVersion1BakeStillRendersWithItsOneCamera) {
-  // Version 1 headers had `camera` only: rewrite this run's header as version 1 would have been
-  // written (no `cameras`, no camera `name` or `where`, nor what version 3 added: the light, the
-  // terrain's texture, the shapes' `smooth`, the cameras' `offset_given`) and check it draws
-  // the same frames.
+  // Version 1 headers had `camera` only, versions 1 and 2 no shape `repair`, `rock` or `up`, and
+  // versions 1 to 3 no light, terrain texture, shape `smooth` or camera `offset_given`: rewrite
+  // this run's header as version 1 would have been written (no `cameras`, no camera `name` or
+  // `where`, none of those keys) and check it draws the same frames.
   ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
   std::string bytes = readFile(dir_.path() / "run.bake");
   const std::size_t start = bytes.find('\n') + 1, end = bytes.find('\n', start);
@@ -161,25 +161,27 @@ TEST_F(BakeCommand, AVersion1BakeStillRendersWithItsOneCamera) {
   cut(std::regex(R"re(,?"cameras":\[[^\]]*\])re"));
   cut(std::regex(R"re("name":"camera",)re"));
   cut(std::regex(R"re(,"where":"[^"]*")re"));  // the header's keys are sorted: last
-  header = std::regex_replace(header, std::regex(R"re("version":3)re"), R"re("version":1)re");
-  for (const char* key :
-       {"\"cameras\"", "\"light\"", "\"terrain_texture\"", "\"smooth\"", "\"offset_given\""})
+  cut(std::regex(R"re("repair":false,"rock":null,)re"));
+  cut(std::regex(R"re(,"up":"z")re"));
+  header = std::regex_replace(header, std::regex(R"re("version":4)re"), R"re("version":1)re");
+  for (const char* key : {"\"cameras\"", "\"light\"", "\"terrain_texture\"", "\"smooth\"",
+                          "\"offset_given\"", "\"rock\"", "\"up\":\"z\""})
     ASSERT_EQ(header.find(key), std::string::npos) << key << " in " << header;
   ASSERT_NE(header.find(R"re("version":1)re"), std::string::npos) << header;
   std::ofstream(dir_.path() / "v1.bake", std::ios::binary)
       << bytes.substr(0, start) << header << bytes.substr(end);
-  ASSERT_EQ(run("render run.bake --size 96x64 --frames 0:3 -o v3/f_##.png"), 0) << err_;
+  ASSERT_EQ(run("render run.bake --size 96x64 --frames 0:3 -o v4/f_##.png"), 0) << err_;
   ASSERT_EQ(run("render v1.bake --size 96x64 --frames 0:3 -o v1/f_##.png"), 0) << err_;
-  expectSameFrames("v3", "v1", 4);
+  expectSameFrames("v4", "v1", 4);
   EXPECT_EQ(run("render v1.bake --camera chase -o x.mp4"), 1);
   EXPECT_NE(err_.find("v1.bake: no camera named 'chase'; the scene has: camera"), std::string::npos)
       << err_;
   // A version from the future is refused by number, not misread.
-  header = std::regex_replace(header, std::regex(R"re("version":1)re"), R"re("version":4)re");
-  std::ofstream(dir_.path() / "v4.bake", std::ios::binary)
+  header = std::regex_replace(header, std::regex(R"re("version":1)re"), R"re("version":5)re");
+  std::ofstream(dir_.path() / "v5.bake", std::ios::binary)
       << bytes.substr(0, start) << header << bytes.substr(end);
-  EXPECT_EQ(run("render v4.bake -o x.mp4"), 1);
-  EXPECT_NE(err_.find("bake version 4 is not one this voxfall reads (1..3)"), std::string::npos)
+  EXPECT_EQ(run("render v5.bake -o x.mp4"), 1);
+  EXPECT_NE(err_.find("bake version 5 is not one this voxfall reads (1..4)"), std::string::npos)
       << err_;
 }
 
@@ -251,6 +253,26 @@ TEST_F(BakeCommand, DamagedHeadersAndRecordsAreRefusedByName) {
   }
   // The undamaged bake reads.
   EXPECT_EQ(run("export run.bake -o out.glb"), 0) << err_;
+}
+
+TEST_F(BakeCommand, GeneratedRocksRenderTheSamePixelsFromTheSceneAndItsBake) {
+  // No mesh file: the bake regenerates the rocks (an EOTA block and a family's variant) from
+  // their definitions. A rock rebuilt differently would move or reshape pixels.
+  std::ofstream(dir_.path() / "rocks.toml")
+      << "[simulation]\nduration = 0.5\nlevel = 3\n[ground]\nplane = 0.0\n"
+         "[shapes.block]\nrock = { class = \"eota_221\", size = 1.0 }\ndensity = 2700\n"
+         "[shapes.stones]\nrock = { class = \"bladed\", seed = 9, seeds = 2, volume = 0.2 }\n"
+         "density = 2700\n"
+         "[[bodies]]\nshape = \"block\"\nposition = [0.0, 0.0, 0.6]\n"
+         "angular_velocity = [2.0, 1.0, 0.0]\n"
+         "[[bodies]]\nshape = \"stones#1\"\nposition = [1.2, 0.0, 0.6]\n";
+  ASSERT_EQ(run("simulate rocks.toml --bake rocks.bake"), 0) << err_;
+  const std::string simulated = checksum();
+  ASSERT_EQ(run("render rocks.toml --size 96x64 --frames 0:15 -o scene/f_##.png"), 0) << err_;
+  EXPECT_EQ(checksum(), simulated);
+  fs::remove(dir_.path() / "rocks.toml");
+  ASSERT_EQ(run("render rocks.bake --size 96x64 --frames 0:15 -o bake/f_##.png"), 0) << err_;
+  expectSameFrames("scene", "bake", 16);
 }
 
 }  // namespace

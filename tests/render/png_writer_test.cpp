@@ -8,9 +8,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "render_test_util.h"
 #include "sim/core/error.h"
+#include "tests/support/voxfall_command.h"
 
 namespace vf {
 namespace {
@@ -98,6 +101,79 @@ TEST(PngWriter, MissingFoldersAreCreatedAndAFileForAFolderIsAClearError) {
   }
   EXPECT_EQ(test::partialFiles(dir.path()), 0);
   EXPECT_EQ(test::partialFiles(dir.path() / "new/folder"), 0);
+}
+
+// The alpha plane, read back as RGBA by libpng.
+TEST(PngWriter, AnAlphaPlaneIsWrittenAsRgbaAndReadsBack) {
+  test::ScratchDir dir("png_alpha");
+  Image image = testPattern(23, 9);
+  image.alpha.resize(23 * 9);
+  for (std::size_t i = 0; i < image.alpha.size(); ++i)
+    image.alpha[i] = static_cast<std::uint8_t>(i * 37);
+  for (const PngCompression c : {PngCompression::small, PngCompression::fast}) {
+    const std::string path = dir.file(c == PngCompression::fast ? "fast.png" : "small.png");
+    writePng(path, image, replaceOutputs(), c);
+    png_image png;
+    std::memset(&png, 0, sizeof png);
+    png.version = PNG_IMAGE_VERSION;
+    ASSERT_TRUE(png_image_begin_read_from_file(&png, path.c_str())) << png.message;
+    EXPECT_NE(png.format & PNG_FORMAT_FLAG_ALPHA, 0u) << "no alpha channel in the file";
+    png.format = PNG_FORMAT_RGBA;
+    std::vector<std::uint8_t> rgba(PNG_IMAGE_SIZE(png));
+    ASSERT_TRUE(png_image_finish_read(&png, nullptr, rgba.data(), 0, nullptr)) << png.message;
+    ASSERT_EQ(rgba.size(), image.alpha.size() * 4);
+    for (std::size_t i = 0; i < image.alpha.size(); ++i) {
+      ASSERT_EQ(rgba[4 * i + 3], image.alpha[i]) << "pixel " << i;
+      for (int c3 = 0; c3 < 3; ++c3) ASSERT_EQ(rgba[4 * i + c3], image.rgb[3 * i + c3]) << i;
+    }
+  }
+}
+
+// Frames compressed on 1 and on 3 workers: the same files, byte for byte, each the bytes of
+// compressing that frame alone, all written by finish(); frames written in order.
+TEST(PngWriter, SequenceBytesDoNotDependOnTheWorkers) {
+  test::ScratchDir dir("png_workers");
+  std::vector<Image> frames;
+  for (int k = 0; k < 9; ++k) {
+    Image image = testPattern(64, 40);
+    image.pixel(k, k)[1] = 7;  // each frame its own
+    frames.push_back(image);
+  }
+  for (const int threads : {1, 3}) {
+    PngSequenceWriter writer(dir.file("t" + std::to_string(threads) + "/f_#.png"), replaceOutputs(),
+                             threads);
+    EXPECT_EQ(writer.threads(), threads);
+    for (int k = 0; k < 9; ++k) writer.write(k, frames[static_cast<std::size_t>(k)]);
+    writer.finish();
+    EXPECT_EQ(writer.framesWritten(), 9);
+  }
+  for (int k = 0; k < 9; ++k) {
+    const std::string one = test::readFile(dir.path() / ("t1/f_" + std::to_string(k) + ".png"));
+    const std::string three = test::readFile(dir.path() / ("t3/f_" + std::to_string(k) + ".png"));
+    ASSERT_FALSE(one.empty()) << k;
+    EXPECT_EQ(one, three) << "frame " << k;
+    const std::vector<std::uint8_t> alone =
+        encodePng(frames[static_cast<std::size_t>(k)], PngCompression::fast, "frame");
+    EXPECT_EQ(one, std::string(alone.begin(), alone.end())) << "frame " << k;
+    EXPECT_EQ(readPng(dir.file("t3/f_" + std::to_string(k) + ".png")).rgb,
+              frames[static_cast<std::size_t>(k)].rgb);
+  }
+}
+
+// A frame that cannot be written is reported, and nothing after it is written.
+TEST(PngWriter, ASequenceThatCannotBeWrittenFailsOnce) {
+  test::ScratchDir dir("png_fail");
+  std::ofstream(dir.file("plain_file")) << "x";
+  PngSequenceWriter writer(dir.file("plain_file/f_#.png"), replaceOutputs(), 2);
+  const Image image = testPattern(8, 8);
+  EXPECT_THROW(
+      {
+        for (int k = 0; k < 6; ++k) writer.write(k, image);
+        writer.finish();
+      },
+      InputError);
+  EXPECT_THROW(writer.finish(), InputError);  // the same failure, again
+  EXPECT_EQ(test::partialFiles(dir.path()), 0);
 }
 
 TEST(FrameSink, OutputKindFollowsThePath) {

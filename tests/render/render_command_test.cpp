@@ -214,7 +214,20 @@ TEST_F(RenderCommand, BadOptionsFailBeforeAnyOutput) {
   // Usage errors (CLI11 validators) exit with 2.
   EXPECT_EQ(run("render '" + kCubes + "' --size big -q"), 2);
   EXPECT_EQ(run("render '" + kCubes + "' --gl vulkan -q"), 2);
-  for (const char* name : {"odd.mp4", "late.mp4", "clip.avi", "out"}) {
+  // An MP4 has no alpha channel: a transparent background is refused, naming the option or
+  // the scene, before anything is simulated; an overlay list must name overlays.
+  EXPECT_EQ(run("render '" + kCubes + "' -o clear.mp4 --alpha -q"), 1);
+  EXPECT_EQ(err_.rfind("voxfall: error: --alpha: an MP4 (H.264) has no alpha channel", 0), 0u)
+      << err_;
+  std::string cubes = readFile(kCubes);
+  cubes.replace(cubes.find("meshes/"), 7, std::string(VOXFALL_SOURCE_DIR) + "/scenes/meshes/");
+  std::ofstream(dir_.path() / "clear.toml") << cubes << "\n[output]\nalpha = true\n";
+  EXPECT_EQ(run("render clear.toml -o clear.mp4 -q"), 1);
+  EXPECT_EQ(err_.rfind("voxfall: error: clear.toml: an MP4 (H.264) has no alpha channel", 0), 0u)
+      << err_;
+  EXPECT_EQ(run("render '" + kCubes + "' --overlay time,clock -q"), 2);
+  EXPECT_NE(err_.find("--overlay"), std::string::npos) << err_;
+  for (const char* name : {"odd.mp4", "late.mp4", "clip.avi", "clear.mp4", "out"}) {
     EXPECT_FALSE(fs::exists(dir_.path() / name)) << name;
   }
   EXPECT_EQ(vf::test::partialFiles(dir_.path()), 0);

@@ -6,80 +6,26 @@
 // Build tests check what buildScene hands the World: centre-of-mass placement (against the
 // mesh-file point that is the centroid, transformed by hand), emitter releases, seeded jitter.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <string>
 
 #include "sim/core/error.h"
 #include "sim/scene/scene.h"
+#include "tests/support/scene_file_test.h"
 
 namespace vf {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kCubeObj = std::string(VOXFALL_SOURCE_DIR) + "/scenes/meshes/cube.obj";
-
 // A shape every error scene can refer to; the mesh file sits next to the scene.
 const std::string kShape = "[shapes.cube]\nmesh = \"cube.obj\"\ndensity = 800\n";
 
-class SceneTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("voxfall_scene_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    fs::copy_file(kCubeObj, dir_ / "cube.obj");
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    fs::create_directories(p.parent_path());
-    std::ofstream(p) << text;
-    return p.string();
-  }
-
-  // 1-based line and column of the first occurrence of `needle` in `text`.
-  static std::pair<int, int> positionOf(const std::string& text, const std::string& needle) {
-    const auto at = text.find(needle);
-    EXPECT_NE(at, std::string::npos) << "test bug: '" << needle << "' not in the scene text";
-    int line = 1, column = 1;
-    for (std::size_t i = 0; i < at; ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
-    return {line, column};
-  }
-
-  // Loading `text` must fail at the first occurrence of `needle` with a message containing
-  // `message`.
-  void expectError(const std::string& text, const std::string& needle, const std::string& message) {
-    const std::string path = write("scene.toml", text);
-    const auto [line, column] = positionOf(text, needle);
-    try {
-      loadScene(path);
-      ADD_FAILURE() << "no error; expected '" << message << "' at '" << needle << "'";
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.where(), path + ":" + std::to_string(line) + ":" + std::to_string(column))
-          << e.what();
-      EXPECT_NE(e.message().find(message), std::string::npos)
-          << "message: " << e.message() << "\nexpected to contain: " << message;
-    }
-  }
-
-  fs::path dir_;
-};
+class SceneTest : public test::SceneFileTest {};
 
 // --- syntax and unknown keys ------------------------------------------------------------------
 
@@ -113,6 +59,20 @@ TEST_F(SceneTest, MissingSceneFile) {
     EXPECT_EQ(e.where(), path);
     EXPECT_NE(e.message().find("not found"), std::string::npos);
   }
+}
+
+TEST_F(SceneTest, OutputLookKeysAreRead) {
+  SceneSpec spec = loadScene(write("scene.toml", "[simulation]\nduration = 1.0\n"));
+  EXPECT_EQ(spec.output.speed, 1.0);  // the defaults: as drawn before these keys
+  EXPECT_FALSE(spec.output.alpha || spec.output.overlayTime || spec.output.overlayScale);
+  spec = loadScene(write(
+      "scene.toml", "[output]\nspeed = 0.25\nalpha = true\noverlay = [\"scale\", \"time\"]\n"));
+  EXPECT_EQ(spec.output.speed, 0.25);
+  EXPECT_TRUE(spec.output.alpha);
+  EXPECT_TRUE(spec.output.overlayTime);
+  EXPECT_TRUE(spec.output.overlayScale);
+  spec = loadScene(write("scene.toml", "[output]\noverlay = []\n"));
+  EXPECT_FALSE(spec.output.overlayTime || spec.output.overlayScale);
 }
 
 TEST_F(SceneTest, UnknownKeySuggestsNearest) {
@@ -258,6 +218,11 @@ TEST_F(SceneTest, ImpossibleValues) {
   expectError("[output]\nheight = 16385\n", "16385",
               "the frame height must be 1..16384 pixels, got 16385");
   expectError("[output]\ncrf = 52\n", "52", "'crf' must be an integer from 0 to 51, got 52");
+  expectError("[output]\nspeed = 0\n", "0", "'speed' must be > 0");
+  expectError("[output]\nalpha = 1\n", "1", "'alpha' must be true or false");
+  expectError("[output]\noverlay = \"time\"\n", "\"time\"", "'overlay' must be an array");
+  expectError("[output]\noverlay = [\"time\", \"scael\"]\n", "\"scael\"",
+              "unknown overlay 'scael'; did you mean 'scale'?");
   expectError("[camera]\nfov = 180\n", "180", "'fov' must be a vertical field of view");
 }
 
@@ -335,7 +300,7 @@ TEST_F(SceneTest, TerrainTextureAndSmoothShapes) {
 
 TEST_F(SceneTest, MissingRequiredKeys) {
   expectError("[shapes.cube]\ndensity = 800\n", "[shapes.cube]",
-              "missing required key 'mesh' in [shapes.cube]");
+              "missing required key 'mesh' (a mesh file) or 'rock' (a generated rock");
   expectError("[shapes.cube]\nmesh = \"cube.obj\"\n", "[shapes.cube]",
               "missing required key 'density' in [shapes.cube]");
   expectError(kShape + "[[bodies]]\nposition = [0, 0, 1]\n", "[[bodies]]",
@@ -447,7 +412,7 @@ TEST_F(SceneTest, DefaultsAndNormalisation) {
 
 TEST_F(SceneTest, RelativeMeshPathsResolveAgainstTheSceneFolder) {
   fs::create_directories(dir_ / "meshes");
-  fs::copy_file(kCubeObj, dir_ / "meshes" / "box.obj");
+  fs::copy_file(dir_ / "cube.obj", dir_ / "meshes" / "box.obj");
   const std::string path = write("sub/scene.toml",
                                  "[shapes.a]\nmesh = \"../meshes/box.obj\"\ndensity = 1\n"
                                  "[shapes.b]\nmesh = \"" +
@@ -669,6 +634,82 @@ TEST_F(SceneTest, GroundMaterialsByNameOrByClassRaster) {
   EXPECT_THROW(buildScene(loadScene(off)), InputError);
 }
 
+// The slip law's presets load with their published numbers (Lu et al. 2019 citing Bartelt et
+// al. 2016; Leine et al. 2014 section 5.1) and record their sources; a custom slip material
+// takes its four coefficients and eps_N 0 by default; mixing laws across classes works; the
+// per-cell variability keys reach the ground map.
+TEST_F(SceneTest, SlipLawPresetsCustomMaterialsAndVariability) {
+  const std::string head = "ncols 4\nnrows 3\nxllcenter 0\nyllcenter 0\ncellsize 10\n";
+  write("dem.asc", head + "0 0 0 0\n0 0 0 0\n0 0 0 0\n");
+  write("classes.asc", head + "1 1 2 2\n1 1 2 2\n1 1 2 2\n");
+  const std::string path = write(
+      "scene.toml", kShape +
+                        "[contact]\nrestitution = { body_ground = 0.4 }\n"
+                        "[ground]\nheightfield = \"dem.asc\"\nmaterial = \"ramms_chant_sura\"\n"
+                        "classes = \"classes.asc\"\n"
+                        "class_materials = { 1 = \"scar\", 2 = \"glacial_deposits\" }\n"
+                        "variability = 0.1\nvariability_seed = 42\n"
+                        "[ground.materials.scar]\nlaw = \"slip\"\nmu_min = 0.3\nmu_max = 0.9\n"
+                        "kappa = 2\nbeta = 50\n");
+  const BuiltScene built = buildScene(loadScene(path));
+  const GroundMap& g = *built.world->def().ground;
+  // A slip material's numbers (mu_min, mu_max, kappa, beta, eps_N) and a word of its source.
+  auto expectSlip = [](const GroundMaterial& m, std::array<double, 5> v, const std::string& word) {
+    EXPECT_EQ(m.law, GroundLawKind::kSlip) << m.name;
+    EXPECT_EQ((std::array<double, 5>{m.muMin, m.muMax, m.kappa, m.beta, m.restitution}), v)
+        << m.name;
+    EXPECT_NE(m.source.find(word), std::string::npos) << m.source;
+  };
+  expectSlip(g.materials[0], {0.55, 2.0, 3.0, 185.0, 0.0}, "Bartelt");
+  EXPECT_NE(g.materials[0].source.find("Lu"), std::string::npos) << g.materials[0].source;
+  expectSlip(*groundPreset("leine2014_demo", 0.8), {0.2, 1.3, 0.7, 20.0, 0.0}, "Leine");
+  // The custom slip class: its four numbers, eps_N 0 (not [contact]'s 0.4); the STONE class.
+  const GroundMaterial& scar = g.at(4, 4);
+  EXPECT_EQ(scar.name, "scar");
+  expectSlip(scar, {0.3, 0.9, 2.0, 50.0, 0.0}, "scene");
+  EXPECT_EQ(g.at(26, 4).name, "glacial_deposits");
+  EXPECT_EQ(g.at(26, 4).law, GroundLawKind::kStone);
+  EXPECT_TRUE(g.hasSlip());
+  EXPECT_EQ(g.variability, 0.1);
+  EXPECT_EQ(g.variabilitySeed, 42u);
+  EXPECT_EQ(g.cells, built.world->def().terrain);
+  // mu(s) at s = 0 and far along: mu_min and (nearly) mu_max.
+  EXPECT_EQ(slipFriction(scar, 0.0), 0.3);
+  EXPECT_NEAR(slipFriction(scar, 1e9), 0.9, 1e-9);
+  // STONE scenes: no slip material, variability off unless asked.
+  const std::string stone =
+      write("stone.toml", kShape + "[ground]\nplane = 0\nmaterial = \"bedrock\"\n");
+  const GroundMap& s = *buildScene(loadScene(stone)).world->def().ground;
+  EXPECT_FALSE(s.hasSlip());
+  EXPECT_EQ(s.variability, 0.0);
+}
+
+// Bad slip-law and variability input: one error naming the key, at its place in the file.
+TEST_F(SceneTest, SlipLawAndVariabilityErrorsNameTheKey) {
+  const std::string slip = "[ground.materials.scar]\nlaw = \"slip\"\n";
+  const std::string four = "mu_min = 0.3\nmu_max = 0.9\nkappa = 2\nbeta = 50\n";
+  expectError(kShape + "[ground.materials.scar]\nlaw = \"ramms\"\n", "\"ramms\"",
+              "'law' must be \"stone\" (STONE's bounce and rolling, the default) or \"slip\"");
+  expectError(kShape + slip + "mu_min = 0.3\nmu_max = 0.9\nkappa = -2\nbeta = 50\n", "-2",
+              "'kappa' must be >= 0 1/m (slippage hardening), got -2");
+  expectError(kShape + slip + "mu_min = 0.3\nmu_max = 0.9\nkappa = 2\nbeta = -5\n", "-5",
+              "'beta' must be >= 0 1/s (slippage softening), got -5");
+  expectError(kShape + slip + "mu_min = 0.3\nmu_max = 0.2\nkappa = 2\nbeta = 5\n", "0.2",
+              "'mu_max' must be >= 'mu_min' (0.3): friction grows with slippage, got 0.2");
+  expectError(kShape + slip + "mu_min = 0.3\nkappa = 2\nbeta = 5\n", "[ground.materials.scar]",
+              "has law = \"slip\" and needs mu_min, mu_max, kappa and beta; 'mu_max' is missing");
+  expectError(kShape + slip + four + "friction = 0.5\n", "0.5\n",
+              "'friction' is not used by law = \"slip\"");
+  expectError(kShape + "[ground.materials.scar]\nkappa = 2\n", "2",
+              "'kappa' belongs to law = \"slip\"; give law = \"slip\" in [ground.materials.scar]");
+  expectError(kShape + "[ground]\nplane = 0\nmaterial = \"bedrock\"\nvariability = 1.5\n", "1.5",
+              "'variability' must be >= 0 and < 1");
+  expectError(kShape + "[ground]\nplane = 0\nmaterial = \"bedrock\"\nvariability = 0.1\n", "0.1",
+              "'variability' perturbs the ground per DEM cell; give 'heightfield' too");
+  expectError(kShape + "[ground]\nplane = 0\nvariability_seed = 3\n", "3",
+              "'variability_seed' seeds 'variability'; give 'variability' too");
+}
+
 TEST_F(SceneTest, RockfallRunKeys) {
   write("flat.asc", "ncols 2\nnrows 2\nxllcenter 0\nyllcenter 0\ncellsize 1\n0 0\n0 0\n");
   const std::string path =
@@ -690,6 +731,11 @@ TEST_F(SceneTest, RockfallRunKeys) {
   EXPECT_EQ(plain.rotation, RotationUpdate::kExplicitEuler);
   EXPECT_FALSE(plain.stopWhenSettled);
   EXPECT_EQ(plain.terrainEdge, TerrainEdge::kAuto);
+  // With a ground material the default becomes the midpoint rule; an explicit key still wins.
+  const std::string rock = kShape + "[ground]\nplane = 0\nmaterial = \"bedrock\"\n";
+  EXPECT_EQ(loadScene(write("rock.toml", rock)).rotation, RotationUpdate::kMidpoint);
+  EXPECT_EQ(loadScene(write("euler.toml", "[simulation]\nrotation = \"euler\"\n" + rock)).rotation,
+            RotationUpdate::kExplicitEuler);
   expectError(kShape + "[simulation]\nstop = \"never\"\n", "\"never\"", "'stop' must be");
   expectError(kShape + "[simulation]\nrotation = \"rk4\"\n", "\"rk4\"", "'rotation' must be");
   expectError(kShape + "[ground]\nplane = 0\nedge = \"bounce\"\n", "\"bounce\"", "'edge' must be");

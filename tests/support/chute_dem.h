@@ -49,17 +49,17 @@ inline bool writeChuteDem(const std::filesystem::path& path, const ChuteDem& c =
   return ok;
 }
 
-// A scene on chute.tif in `dir` whose [ensemble] table is `ensemble` (TOML lines). World
-// coordinates are the DEM's minus (1000, 5000): the chute spans x 0 .. 120, y 0 .. 24.
+// A scene on chute.tif in `dir` whose [ensemble] table is `ensemble` (TOML lines), with
+// `ground` (TOML lines) added to its [ground] table. World coordinates are the DEM's minus
+// (1000, 5000): the chute spans x 0 .. 120, y 0 .. 24.
 inline void writeChuteScene(const std::filesystem::path& dir, const std::string& ensemble,
-                            double duration = 3.0) {
+                            double duration = 3.0, const std::string& ground = "") {
   std::ofstream f(dir / "scene.toml");
   f << "[simulation]\nduration = " << duration
     << "\nlevel = 2\nrotation = \"midpoint\"\n"
        "[ground]\nheightfield = \"chute.tif\"\noffset = [-1000.0, -5000.0, 0.0]\n"
        "material = \"glacial_deposits\"\n"
-       "[shapes.rock]\nmesh = \""
-    << VOXFALL_SOURCE_DIR
+    << ground << "[shapes.rock]\nmesh = \"" << VOXFALL_SOURCE_DIR
     << "/scenes/meshes/rock.obj\"\nscale = 1.0\ndensity = 2600\n"
        "[ensemble]\n"
     << ensemble;
