@@ -7,12 +7,13 @@ in vec3 vNormal;
 
 uniform vec3 uColor;  // linear RGB albedo
 uniform int uSurface;
-// A picture draped on the terrain (uSurface 1): sRGB texels read as linear albedo, mixed over
-// the slope colours by their coverage (alpha). uDrapeRect: world x, y of its south-west corner
-// and its width and height, m.
+#ifdef VF_DRAPED
+// The variant for terrain with a picture draped on it (uSurface 1): sRGB texels read as linear
+// albedo, mixed over the slope colours by their coverage (alpha). uDrapeRect: world x, y of its
+// south-west corner and its width and height, m.
 uniform sampler2D uDrape;
-uniform int uDraped;
 uniform vec4 uDrapeRect;
+#endif
 
 out vec4 fragColor;
 
@@ -72,10 +73,10 @@ void main() {
     albedo = mix(uColor, kDry, smoothstep(0.02, 0.09, steep));
     albedo = mix(albedo, kRock, smoothstep(0.15, 0.25, steep));
     albedo *= 1.0 + 0.35 * g;
-    if (uDraped == 1) {
-      vec4 texel = texture(uDrape, (vWorldPos.xy - uDrapeRect.xy) / uDrapeRect.zw);
-      albedo = mix(albedo, texel.rgb, texel.a);
-    }
+#ifdef VF_DRAPED
+    vec4 texel = texture(uDrape, (vWorldPos.xy - uDrapeRect.xy) / uDrapeRect.zw);
+    albedo = mix(albedo, texel.rgb, texel.a);
+#endif
   }
   fragColor = vec4(fadeIntoSky(shade(albedo, vWorldPos, n), vWorldPos), 1.0);
 }

@@ -68,6 +68,9 @@ struct Renderer::Impl {
   int sceneWidth = 0, sceneHeight = 0;
 
   std::unique_ptr<ShaderProgram> sceneProgram, groundProgram, shadowProgram, presentProgram;
+  // Terrain with a picture draped on it: a program of its own, since llvmpipe pays for a
+  // texture lookup behind a runtime test on every terrain fragment (4% of a cliff frame).
+  std::unique_ptr<ShaderProgram> drapedSceneProgram;
   std::unique_ptr<ShaderProgram> litGroundProgram;     // the floor without shadow lookups
   std::unique_ptr<ShaderProgram> floorPresentProgram;  // present where no sample shows sky
   // With RenderSettings::alpha these are the VF_ALPHA variants: the floor writes its shadow's
@@ -357,25 +360,33 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
   };
 
   // Bodies and terrain first: the floor and the sky then only shade what is still visible.
-  setCommon(*sceneProgram);
-  bindDrape(list);
-  gl.Uniform1i(sceneProgram->uniform("uDrape"), 1);
-  gl.Uniform1i(sceneProgram->uniform("uDraped"), list.drape ? 1 : 0);
   if (list.drape) {
+    bindDrape(list);
+    setCommon(*drapedSceneProgram);
     const DrapeImage& d = *list.drape;
-    gl.Uniform4f(sceneProgram->uniform("uDrapeRect"), static_cast<float>(d.x0),
+    gl.Uniform1i(drapedSceneProgram->uniform("uDrape"), 1);
+    gl.Uniform4f(drapedSceneProgram->uniform("uDrapeRect"), static_cast<float>(d.x0),
                  static_cast<float>(d.y0), static_cast<float>(d.x1 - d.x0),
                  static_cast<float>(d.y1 - d.y0));
   }
+  setCommon(*sceneProgram);
+  ShaderProgram* current = sceneProgram.get();
   for (std::size_t i = 0; i < list.instances.size(); ++i) {
     const DrawInstance& inst = list.instances[i];
     // Wholly outside the scissor, or, drawing the whole frame, out of view.
     if (region ? !tracker.mayCover(i, *region) : !tracker.maySee(i)) continue;
+    ShaderProgram* program = list.drape && inst.surface == Surface::terrain
+                                 ? drapedSceneProgram.get()
+                                 : sceneProgram.get();
+    if (program != current) {
+      program->use();
+      current = program;
+    }
     const GpuTransform transform = gpuTransform(inst.model);
-    setMatrix(gl, sceneProgram->uniform("uModel"), transform.model);
-    setMatrix3(gl, sceneProgram->uniform("uNormalMatrix"), transform.normal);
-    gl.Uniform3f(sceneProgram->uniform("uColor"), inst.color[0], inst.color[1], inst.color[2]);
-    gl.Uniform1i(sceneProgram->uniform("uSurface"), static_cast<int>(inst.surface));
+    setMatrix(gl, program->uniform("uModel"), transform.model);
+    setMatrix3(gl, program->uniform("uNormalMatrix"), transform.normal);
+    gl.Uniform3f(program->uniform("uColor"), inst.color[0], inst.color[1], inst.color[2]);
+    gl.Uniform1i(program->uniform("uSurface"), static_cast<int>(inst.surface));
     mesh(list.meshes[static_cast<std::size_t>(inst.mesh)]).draw();
   }
 
@@ -467,6 +478,8 @@ Renderer::Renderer(Context& context, const RenderSettings& settings)
     return names;
   };
   r.sceneProgram = std::make_unique<ShaderProgram>(r.gl, dir, "scene.vert", "scene.frag");
+  r.drapedSceneProgram = std::make_unique<ShaderProgram>(r.gl, dir, "scene.vert", "scene.frag",
+                                                         std::vector<std::string>{"VF_DRAPED"});
   r.groundProgram =
       std::make_unique<ShaderProgram>(r.gl, dir, "ground.vert", "ground.frag", defines({}));
   r.litGroundProgram = std::make_unique<ShaderProgram>(r.gl, dir, "ground.vert", "ground.frag",
