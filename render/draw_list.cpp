@@ -164,8 +164,9 @@ void DrawListBuilder::setTerrain(std::shared_ptr<const Heightfield> field,
   // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
   auto surface = std::make_shared<const TriMesh>(field_->toMesh());
   setTerrain(surface, std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*surface)));
-  setTerrainSides(
-      std::make_shared<const TriMesh>(terrainSides(*field_, terrainBase(*field_, ground_))));
+  const double base = terrainBase(*field_, ground_);
+  const bool onFloor = ground_ && *ground_ == base;
+  setTerrainSides(std::make_shared<const TriMesh>(terrainSides(*field_, base, !onFloor)));
 }
 
 void DrawListBuilder::setTerrainSides(std::shared_ptr<const TriMesh> sides) {

@@ -8,26 +8,28 @@ namespace {
 
 // Appends the quad from top edge p -> q down to `base`, wound to face `outward`.
 void addWall(TriMesh& m, Vec3 p, Vec3 q, double base, const Vec3& outward) {
+  if (p.z() <= base && q.z() <= base) return;  // no height: nothing to see or to cast
   Vec3 pb(p.x(), p.y(), base), qb(q.x(), q.y(), base);
-  // (qb - pb) x (q - pb) points to one side of the wall; swap the ends for the other.
-  if ((qb - pb).cross(q - pb).dot(outward) < 0) {
+  // The quad (pb, qb, q, p) faces along (qb - pb) x up; swap the ends to face the other way.
+  if ((qb - pb).cross(Vec3::UnitZ()).dot(outward) < 0) {
     std::swap(p, q);
     std::swap(pb, qb);
   }
   const auto first = static_cast<std::uint32_t>(m.vertices.size());
   m.vertices.insert(m.vertices.end(), {pb, qb, q, p});
-  m.triangles.push_back({first, first + 1, first + 2});
-  m.triangles.push_back({first, first + 2, first + 3});
+  // An end at the base makes one of the two triangles a line: left out.
+  if (q.z() > base) m.triangles.push_back({first, first + 1, first + 2});
+  if (p.z() > base) m.triangles.push_back({first, first + 2, first + 3});
 }
 
 }  // namespace
 
 double terrainBase(const Heightfield& h, std::optional<double> floor) {
-  const double base = h.zMin - std::max(h.cell, 0.05 * (h.zMax - h.zMin));
-  return floor && *floor < base ? *floor : base;
+  if (floor && *floor <= h.zMin) return *floor;
+  return h.zMin - std::max(h.cell, 0.05 * (h.zMax - h.zMin));
 }
 
-TriMesh terrainSides(const Heightfield& h, double base) {
+TriMesh terrainSides(const Heightfield& h, double base, bool closeBase) {
   TriMesh m;
   auto sample = [&](int i, int j) {
     return Vec3(h.x0 + i * h.cell, h.y0 + j * h.cell, h.at(i, j));
@@ -45,7 +47,7 @@ TriMesh terrainSides(const Heightfield& h, double base) {
     }
   }
   // The base: one quad per run of cells with data along each row, facing down.
-  for (int j = 0; j + 1 < h.ny; ++j) {
+  for (int j = 0; closeBase && j + 1 < h.ny; ++j) {
     for (int i = 0; i + 1 < h.nx;) {
       if (!h.hasCell(i, j)) {
         ++i;

@@ -74,11 +74,21 @@ TEST(TerrainSolid, SurfaceSidesAndBaseCloseTheSolidFacingOutwards) {
   EXPECT_EQ(unpaired, 0);
 }
 
-TEST(TerrainSolid, BaseReachesAFloorBelowItAndStaysAboveOne) {
+TEST(TerrainSolid, BaseStandsOnAFloorBelowTheTerrainAndIgnoresOneCuttingIt) {
   const Heightfield h = bumpyWithHoles();
   const double own = terrainBase(h, std::nullopt);
-  EXPECT_EQ(terrainBase(h, own - 3), own - 3);  // stands on the floor
-  EXPECT_EQ(terrainBase(h, own + 1), own);      // a floor cutting the terrain hides the rest
+  EXPECT_LT(own, h.zMin);
+  EXPECT_EQ(terrainBase(h, own - 3), own - 3);   // far below: stands on it
+  EXPECT_EQ(terrainBase(h, h.zMin), h.zMin);     // at the lowest sample (a valley floor)
+  EXPECT_EQ(terrainBase(h, h.zMin + 0.1), own);  // a floor cutting the terrain hides the rest
+  // Standing on a floor the solid is open below: walls and no base face.
+  const TriMesh open = terrainSides(h, h.zMin, false);
+  EXPECT_GT(open.triangles.size(), 0u);
+  for (const auto& t : open.triangles) {
+    EXPECT_FALSE(open.vertices[t[0]].z() == h.zMin && open.vertices[t[1]].z() == h.zMin &&
+                 open.vertices[t[2]].z() == h.zMin)
+        << "a face at the base";
+  }
 }
 
 }  // namespace
