@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <numbers>
 
+#include "render/terrain_camera.h"
+#include "render/terrain_solid.h"
 #include "sim/core/error.h"
 #include "sim/geometry/cell_grid.h"
 
@@ -13,12 +15,6 @@ namespace vf {
 namespace {
 
 constexpr double kDegrees = std::numbers::pi / 180.0;
-
-// The automatic camera looks down 13 degrees from the azimuth of the default CameraSpec
-// position (4, -6, 3): floor, shadows and three sides of a box are visible, and the horizon
-// with its sky gradient sits in the top fifth of the picture (tan 13 / tan 20 of the
-// half-height above the middle for the default 40 degree field of view).
-constexpr double kAutoPitch = 13 * kDegrees;
 
 // The shadow map is fitted to the view instead of the casters when the view's slice is under
 // a quarter of the casters' sphere: only at terrain scale, so scenes whose casters all lie in
@@ -28,15 +24,37 @@ constexpr double kShadowFitRatio = 0.25;
 // Trails are drawn this many pixels wide at every distance.
 constexpr double kTrailPixels = 2;
 
-// The sun stands 50 degrees high, 55 degrees counter-clockwise of the camera's azimuth:
-// shadows fall sideways and away from the viewer, where they show the bodies' contact with
-// the floor, and the faces towards the camera are lit unevenly, which shows facets.
-Vec3 sunFromCamera(const Vec3& cameraOffset) {
-  const double azimuth = std::atan2(cameraOffset.y(), cameraOffset.x()) + 55 * kDegrees;
-  const double elevation = 50 * kDegrees;
-  return Vec3(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
-              std::sin(elevation));
-}
+// The sides and base of a terrain's solid: a dry, dark earth, so a cut through the ground reads
+// as ground and not as the sky or the floor behind it.
+constexpr Color kTerrainSideColor{0.15f, 0.12f, 0.09f};
+
+// On a terrain, a chase camera without a given view frames its bodies with this many body
+// radii of context (three elsewhere): enough of the slope to read where the rock goes, with the
+// rock still a few percent of the picture's height (at 1280x720, twenty-odd pixels for the
+// Tyrol scene's 1 m rocks).
+constexpr double kTerrainChaseContext = 10;
+constexpr double kChaseContext = 3;
+
+// The ground under the first frame's bodies that sets the automatic view on a terrain: their
+// box grown by this many cells, so the fit sees the slope and not one bump.
+constexpr double kSlopeFitCells = 20;
+// A terrain chase looks across the slope under its target, fitted this many cells around it,
+// and turns towards a new slope direction with this time constant (s): the slope under a
+// rolling rock changes from cell to cell, and a camera swinging with every bump is unwatchable.
+constexpr double kChaseSlopeCells = 8;
+constexpr double kChaseTurnSeconds = 2;
+// ...from 30 degrees down the slope from the across-slope view, and looking 25 degrees down
+// (the automatic camera's 13 on a floor): along the contour and nearly level, a chase camera
+// grazes the ground between it and the rock, which fills the picture as a dark smear, wherever
+// the slope turns.
+constexpr double kChaseUpSlopeDegrees = 30;
+constexpr double kTerrainChasePitch = 25;
+// The automatic camera on a terrain keeps about this many body positions of the clip in sight,
+// checked again after each of at most this many moves.
+constexpr std::size_t kSightLines = 2000;
+constexpr int kSightRounds = 4;
+// ...rising by at most this share of its distance from what it looks at.
+constexpr double kMostLift = 0.25;
 
 // Bounding sphere of a mesh's vertices (box centre; good enough for framing and shadows).
 Sphere meshSphere(const TriMesh& mesh) {
@@ -49,27 +67,6 @@ Sphere meshSphere(const TriMesh& mesh) {
 }
 
 }  // namespace
-
-std::vector<Vec3> smoothVertexNormals(const TriMesh& mesh) {
-  // Each face normal weighted by the face's angle at the vertex: unlike area weights, the
-  // result does not depend on how a surface happens to be cut into triangles (a grid cell's
-  // diagonal would otherwise tilt the normals towards its side).
-  std::vector<Vec3> normals(mesh.vertices.size(), Vec3::Zero());
-  for (const auto& t : mesh.triangles) {
-    const Vec3 n = (mesh.vertices[t[1]] - mesh.vertices[t[0]])
-                       .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
-    if (!(n.norm() > 0)) continue;
-    for (int corner = 0; corner < 3; ++corner) {
-      const Vec3& p = mesh.vertices[t[corner]];
-      const Vec3 a = mesh.vertices[t[(corner + 1) % 3]] - p;
-      const Vec3 b = mesh.vertices[t[(corner + 2) % 3]] - p;
-      const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
-      normals[t[corner]] += n.normalized() * angle;
-    }
-  }
-  for (Vec3& n : normals) n = n.norm() > 0 ? Vec3(n.normalized()) : Vec3(Vec3::UnitZ());
-  return normals;
-}
 
 Mat4 bodyModelMatrix(const Vec3& x, const Quat& q) {
   Mat4 m = Mat4::Identity();
@@ -97,97 +94,6 @@ std::vector<BodyView> bodyViews(const World& world, const std::vector<Color>& co
                                                            : defaultBodyColor(id);
   }
   return views;
-}
-
-Sphere enclose(const Sphere& a, const Sphere& b) {
-  const Vec3 d = b.centre - a.centre;
-  const double dist = d.norm();
-  if (dist + b.radius <= a.radius) return a;
-  if (dist + a.radius <= b.radius) return b;
-  const double radius = (dist + a.radius + b.radius) / 2;
-  // dist > 0 here: equal centres are caught by one of the containment tests above.
-  return Sphere{a.centre + d * ((radius - a.radius) / dist), radius};
-}
-
-Sphere encloseAll(std::span<const Sphere> spheres) {
-  if (spheres.empty()) return Sphere{Vec3::Zero(), 1};
-  Eigen::AlignedBox3d box;
-  for (const Sphere& s : spheres) {
-    box.extend(s.centre - Vec3::Constant(s.radius));
-    box.extend(s.centre + Vec3::Constant(s.radius));
-  }
-  Sphere out{box.center(), 0};
-  for (const Sphere& s : spheres) {
-    out.radius = std::max(out.radius, (s.centre - out.centre).norm() + s.radius);
-  }
-  return out;
-}
-
-AutoFraming::AutoFraming(double fovYDegrees, double aspect) : fovYDegrees_(fovYDegrees) {
-  const Vec3 horizontal = Vec3(-4, 6, 0).normalized();  // looking from (4, -6) towards the origin
-  forward_ = horizontal * std::cos(kAutoPitch) - Vec3::UnitZ() * std::sin(kAutoPitch);
-  right_ = forward_.cross(Vec3::UnitZ()).normalized();
-  up_ = right_.cross(forward_);
-  halfY_ = fovYDegrees * kDegrees / 2;
-  halfX_ = std::atan(std::tan(halfY_) * aspect);
-  // Inward normals of the four side planes of a frustum with this orientation (any position).
-  const double ca = std::cos(halfX_), sa = std::sin(halfX_);
-  const double cb = std::cos(halfY_), sb = std::sin(halfY_);
-  normals_ = {-ca * right_ + sa * forward_, ca * right_ + sa * forward_, -cb * up_ + sb * forward_,
-              cb * up_ + sb * forward_};
-}
-
-void AutoFraming::add(const Sphere& s) {
-  // A sphere is inside side plane j of a camera at P when n_j . (s - P) >= r, i.e.
-  // n_j . P <= n_j . s - r: keep the tightest right-hand side per plane.
-  for (std::size_t j = 0; j < 4; ++j) {
-    const double h = normals_[j].dot(s.centre) - s.radius * kMargin;
-    limits_[j] = empty_ ? h : std::min(limits_[j], h);
-  }
-  const Sphere grown{s.centre, s.radius};
-  region_ = empty_ ? grown : enclose(region_, grown);
-  empty_ = false;
-}
-
-CameraView AutoFraming::camera() const {
-  const Sphere region = empty_ ? Sphere{Vec3::Zero(), 1} : region_;
-  std::array<double, 4> h = limits_;
-  if (empty_) {
-    for (std::size_t j = 0; j < 4; ++j) h[j] = normals_[j].dot(region.centre) - region.radius;
-  }
-  // Position P = x right + y up + z forward, as far forward as the four constraints
-  // n_j . P <= h_j allow. The right/left pair bounds z by (hR + hL) / (2 sin a) and fixes x
-  // midway, the top/bottom pair likewise; the tighter pair decides, the other is centred.
-  const double x = (h[1] - h[0]) / (2 * std::cos(halfX_));
-  const double y = (h[3] - h[2]) / (2 * std::cos(halfY_));
-  const double z =
-      std::min((h[0] + h[1]) / (2 * std::sin(halfX_)), (h[2] + h[3]) / (2 * std::sin(halfY_)));
-  Vec3 position = x * right_ + y * up_ + z * forward_;
-  // A little air around the outermost bodies: step back by a tenth of the distance.
-  const double distance = std::max(forward_.dot(region.centre - position), 1e-3);
-  position -= forward_ * (0.1 * distance);
-  CameraView c;
-  c.position = position;
-  c.lookAt = position + forward_ * (1.1 * distance);
-  c.up = Vec3::UnitZ();
-  c.fovYDegrees = fovYDegrees_;
-  return c;
-}
-
-Sphere viewSlice(const CameraView& camera, double aspect, double depth) {
-  const Vec3 forward = (camera.lookAt - camera.position).normalized();
-  const Mat4 view = camera.viewMatrix();
-  const Vec3 right = view.block<1, 3>(0, 0).transpose();
-  const Vec3 up = view.block<1, 3>(1, 0).transpose();
-  const double h = depth * std::tan(camera.fovYDegrees * kDegrees / 2), w = h * aspect;
-  std::vector<Sphere> corners{Sphere{camera.position, 0}};
-  for (const double sx : {-1.0, 1.0}) {
-    for (const double sy : {-1.0, 1.0}) {
-      corners.push_back(
-          Sphere{camera.position + forward * depth + right * (sx * w) + up * (sy * h), 0});
-    }
-  }
-  return encloseAll(corners);
 }
 
 void DrawListBuilder::addTrails(DrawList& list, std::span<const BodyView> bodies, int frame) {
@@ -236,13 +142,39 @@ DrawListBuilder::DrawListBuilder(const CameraSpec& camera, std::optional<double>
       aspect_(static_cast<double>(width) / height),
       height_(height),
       fps_(fps),
-      framing_(camera.fovDegrees, aspect_) {}
+      framing_(camera.fovDegrees, aspect_),
+      light_(sceneLight(LightSpec{}, nullptr)),
+      autoView_(defaultAutoView()) {}
 
 DrawListBuilder::DrawListBuilder(const CameraSpec& camera, std::optional<double> groundHeight,
                                  double aspect)
     : DrawListBuilder(camera, groundHeight, static_cast<int>(std::lround(720 * aspect)), 720, 30) {
   aspect_ = aspect;
 }
+
+void DrawListBuilder::setTerrain(std::shared_ptr<const Heightfield> field,
+                                 std::shared_ptr<const DrapeImage> drape) {
+  field_ = std::move(field);
+  drape_ = std::move(drape);
+  if (!field_) {
+    setTerrain(std::shared_ptr<const TriMesh>());
+    setTerrainSides(nullptr);
+    return;
+  }
+  // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
+  auto surface = std::make_shared<const TriMesh>(field_->toMesh());
+  setTerrain(surface, std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*surface)));
+  const double base = terrainBase(*field_, ground_);
+  const bool onFloor = ground_ && *ground_ == base;
+  setTerrainSides(std::make_shared<const TriMesh>(terrainSides(*field_, base, !onFloor)));
+}
+
+void DrawListBuilder::setTerrainSides(std::shared_ptr<const TriMesh> sides) {
+  terrainSides_ = std::move(sides);
+  sidesSphere_ = terrainSides_ ? meshSphere(*terrainSides_) : Sphere{};
+}
+
+void DrawListBuilder::setLight(const SceneLight& light) { light_ = light; }
 
 void DrawListBuilder::setTerrain(std::shared_ptr<const TriMesh> mesh,
                                  std::shared_ptr<const std::vector<Vec3>> normals, Color color) {
@@ -364,7 +296,31 @@ std::optional<Vec3> DrawListBuilder::chaseTarget(std::span<const BodyView> bodie
   return Vec3(sum / count);
 }
 
+void DrawListBuilder::chooseAutoView(std::span<const BodyView> bodies) {
+  if (!field_) return;
+  // Every body placed, released or not: an emitter's bodies wait where they will be released.
+  std::vector<Vec3> placed;
+  for (const BodyView& b : bodies)
+    if (b.shape) placed.push_back(b.x);
+  if (const auto down = downhillNear(*field_, placed, kSlopeFitCells * field_->cell)) {
+    autoView_ = acrossSlope(*down);
+    framing_ = AutoFraming(spec_.fovDegrees, aspect_, autoView_);
+  }
+}
+
+DrawMesh DrawListBuilder::bodyMesh(const BodyView& b) {
+  if (!b.smoothDegrees) {
+    return DrawMesh{b.shape.get(), std::shared_ptr<const TriMesh>(b.shape, &b.shape->mesh), {}};
+  }
+  auto& creased = creased_[{b.shape.get(), *b.smoothDegrees}];
+  if (!creased)
+    creased = std::make_shared<const CreasedMesh>(creasedNormals(b.shape->mesh, *b.smoothDegrees));
+  return DrawMesh{creased.get(), std::shared_ptr<const TriMesh>(creased, &creased->mesh),
+                  std::shared_ptr<const std::vector<Vec3>>(creased, &creased->normals)};
+}
+
 void DrawListBuilder::include(std::span<const BodyView> bodies) {
+  if (included_++ == 0) chooseAutoView(bodies);
   // The terrain is left out: a large one would shrink the bodies to specks; the bodies (and the
   // floor under them) are where the action is.
   for (const Sphere& s : bodySpheres(bodies, true)) framing_.add(s);
@@ -389,6 +345,17 @@ void DrawListBuilder::addDrawnFrame(std::span<const BodyView> bodies) {
   } else {
     record.chase = target ? target : previous;
   }
+  record.chaseView = history_.empty() ? autoView_ : history_.back().chaseView;
+  if (terrainChase() && record.chase) {
+    const Vec3 at[] = {*record.chase};
+    if (const auto down = downhillNear(*field_, at, kChaseSlopeCells * field_->cell)) {
+      const bool first = history_.empty() || !history_.back().chase;  // the chase starts
+      const Vec3 turned = chaseStep(record.chaseView, acrossSlope(*down, kChaseUpSlopeDegrees),
+                                    1 / fps_, first ? 0.0 : kChaseTurnSeconds);
+      if (turned.head<2>().norm() > 1e-6)
+        record.chaseView = Vec3(turned.x(), turned.y(), 0).normalized();
+    }
+  }
   history_.push_back(std::move(record));
 }
 
@@ -397,10 +364,17 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies) {
   return build(bodies, observedFrames() - 1);
 }
 
+bool DrawListBuilder::terrainChase() const {
+  const bool follows = spec_.followBody || !spec_.followGroup.empty();
+  return follows && field_ && !spec_.offsetGiven;
+}
+
 CameraView DrawListBuilder::chooseCamera(std::span<const BodyView> bodies, int frame) {
   const std::optional<Vec3>& chase = history_[static_cast<std::size_t>(frame)].chase;
   if (!spec_.path.empty()) return interpolateCameraPath(spec_.path, frame / fps_, spec_.up);
-  if (spec_.given) {
+  // A chase on a terrain without a given offset is framed across the slope (below), and
+  // before its bodies are released the view is the automatic one.
+  if (spec_.given && !terrainChase()) {
     CameraView cam;
     cam.position = spec_.position;
     cam.lookAt = spec_.lookAt;
@@ -414,7 +388,8 @@ CameraView DrawListBuilder::chooseCamera(std::span<const BodyView> bodies, int f
     return cam;
   }
   if (chase) {
-    // The followed bodies with three body sizes of context, and the floor under them.
+    // The followed bodies with three body sizes of context (more on a terrain), and the floor
+    // under them.
     double r = 0;
     std::vector<int> ids = spec_.followGroup;
     if (spec_.followBody) ids.push_back(*spec_.followBody);
@@ -422,14 +397,63 @@ CameraView DrawListBuilder::chooseCamera(std::span<const BodyView> bodies, int f
       if (id < 0 || static_cast<std::size_t>(id) >= bodies.size()) continue;
       const BodyView& b = bodies[static_cast<std::size_t>(id)];
       if (!b.active || !b.shape) continue;
-      r = std::max(r, (b.x - *chase).norm() + 3 * shapeRadius(b.shape));
+      const double context = field_ ? kTerrainChaseContext : kChaseContext;
+      r = std::max(r, (b.x - *chase).norm() + context * shapeRadius(b.shape));
     }
-    AutoFraming own(spec_.fovDegrees, aspect_);
-    own.add(Sphere{*chase, r});
-    if (ground_) own.add(Sphere{Vec3(chase->x(), chase->y(), *ground_), 0.25 * r});
-    return own.camera();
+    auto framed = [&](const Vec3& view) {
+      AutoFraming own(spec_.fovDegrees, aspect_, view, field_ ? kTerrainChasePitch : 13);
+      own.add(Sphere{*chase, r});
+      if (ground_) own.add(Sphere{Vec3(chase->x(), chase->y(), *ground_), 0.25 * r});
+      CameraView cam = own.camera();
+      if (field_) keepAboveTerrain(*field_, cam, *chase, 0.1 * r);
+      return cam;
+    };
+    const Vec3 view = field_ ? history_[static_cast<std::size_t>(frame)].chaseView : autoView_;
+    CameraView cam = framed(view);
+    // Off the terrain's data the camera would look at the solid's wall: from the other side
+    // of the slope instead, where that side has ground.
+    const auto offTerrain = [&](const CameraView& c) {
+      return std::isnan(field_->heightAt(c.position.x(), c.position.y()));
+    };
+    if (field_ && offTerrain(cam)) {
+      const CameraView other = framed(-view);
+      if (!offTerrain(other)) cam = other;
+    }
+    return cam;
   }
-  return framing_.camera();
+  return automaticCamera();
+}
+
+CameraView DrawListBuilder::automaticCamera() {
+  const std::pair<int, int> seen{included_, observedFrames()};
+  if (autoCamera_ && autoCamera_->first == seen) return autoCamera_->second;
+  CameraView cam = framing_.camera();
+  if (field_ && !framing_.empty()) {
+    // In sight of the bodies over the clip: the eye as high as the ground between it and them
+    // asks (checked for up to about kSightLines body positions spread evenly over the frames),
+    // reached by rising and stepping back with the same pitch. Stepping back can bring other
+    // ground into the way, so a few rounds.
+    std::size_t positions = 0;
+    for (const FrameRecord& f : history_) positions += f.centres.size();
+    const std::size_t stride = std::max<std::size_t>(1, positions / kSightLines);  // frames
+    // Not above this, however much ground is in the way: a view from far above shows a map.
+    const double highest = cam.position.z() + kMostLift * (cam.lookAt - cam.position).norm() / 1.1;
+    for (int round = 0; round < kSightRounds; ++round) {
+      CameraView lifted = cam;
+      const double clearance = 0.05 * (cam.lookAt - cam.position).norm();
+      keepAboveTerrain(*field_, lifted, framing_.region().centre, clearance);
+      for (std::size_t k = 0; k < history_.size(); k += stride) {
+        const FrameRecord& f = history_[k];
+        for (std::size_t id = 0; id < f.centres.size(); ++id)
+          if (f.active[id]) keepAboveTerrain(*field_, lifted, f.centres[id], clearance);
+      }
+      if (lifted.position.z() <= cam.position.z()) break;
+      cam = framing_.camera(std::min(lifted.position.z(), highest));
+      if (lifted.position.z() >= highest) break;
+    }
+  }
+  autoCamera_ = std::make_pair(seen, cam);
+  return cam;
 }
 
 DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
@@ -449,11 +473,9 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
   for (std::size_t id = 0; id < bodies.size(); ++id) {
     const BodyView& b = bodies[id];
     if (!b.active || !b.shape) continue;
-    auto [it, added] = meshIndex.emplace(b.shape.get(), static_cast<int>(list.meshes.size()));
-    if (added) {
-      list.meshes.push_back(
-          DrawMesh{b.shape.get(), std::shared_ptr<const TriMesh>(b.shape, &b.shape->mesh), {}});
-    }
+    DrawMesh drawn = bodyMesh(b);
+    auto [it, added] = meshIndex.emplace(drawn.key, static_cast<int>(list.meshes.size()));
+    if (added) list.meshes.push_back(std::move(drawn));
     DrawInstance inst;
     inst.mesh = it->second;
     inst.model = bodyModelMatrix(b.x, b.q);
@@ -478,6 +500,15 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
     inst.surface = Surface::terrain;
     list.instances.push_back(inst);
   }
+  if (terrainSides_ && !terrainSides_->triangles.empty()) {
+    list.meshes.push_back(DrawMesh{terrainSides_.get(), terrainSides_, nullptr});
+    DrawInstance inst;
+    inst.mesh = static_cast<int>(list.meshes.size()) - 1;
+    inst.color = kTerrainSideColor;
+    inst.surface = Surface::body;
+    list.instances.push_back(inst);
+  }
+  list.drape = drape_;
 
   // Shadow casters: every body on the stage in every observed frame (one map for the whole
   // clip, so frames differ only where bodies moved: the renderer redraws just that part) and
@@ -487,6 +518,7 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
     casters.push_back(Sphere{casterBox_.center(), 0.5 * casterBox_.diagonal().norm()});
   }
   if (terrain_) casters.push_back(terrainSphere_);
+  if (terrainSides_ && !terrainSides_->vertices.empty()) casters.push_back(sidesSphere_);
   Sphere casterSphere = encloseAll(casters);
 
   // Depth range and floor fade from the distances involved: near as far out as the framed
@@ -517,7 +549,10 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
   list.casterCentre = casterSphere.centre;
   list.casterRadius = casterSphere.radius;
 
-  list.sunDirection = sunFromCamera(cam.position - cam.lookAt);
+  // Fixed in the world: the scene's sun, or the default for the automatic view (which the
+  // first observed frame fixed), whatever camera draws this frame.
+  list.sunDirection = light_.sunDirection.value_or(defaultSunDirection(autoView_));
+  list.light = light_.colors;
   return list;
 }
 

@@ -10,8 +10,13 @@
 #include <span>
 #include <vector>
 
+#include "render/auto_framing.h"
 #include "render/camera.h"
+#include "render/light.h"
+#include "render/smooth_normals.h"
 #include "sim/scene/scene.h"
+#include "sim/shape/drape_import.h"
+#include "sim/shape/heightfield.h"
 #include "sim/world.h"
 
 namespace vf {
@@ -48,6 +53,10 @@ struct DrawList {
   std::optional<double> groundHeight;  // z of the floor plane, m; none: no floor drawn
   CameraView camera;
   Vec3 sunDirection = Vec3(0.3, -0.4, 0.87).normalized();  // unit, towards the sun
+  LightColors light;  // sun, sky and ambient light (render/light.h)
+  // A picture draped on the instances with Surface::terrain (world x, y to texel by its
+  // rectangle); null: they are coloured by slope.
+  std::shared_ptr<const DrapeImage> drape;
   // Sphere around everything that casts a shadow: what the shadow map has to cover.
   Vec3 casterCentre = Vec3::Zero();
   double casterRadius = 1;
@@ -64,16 +73,13 @@ struct BodyView {
   Quat q = Quat::Identity();  // body -> world
   bool active = true;         // released (emitters); inactive bodies are not drawn
   Color color{0.8f, 0.8f, 0.8f};
+  // Crease angle in degrees for smooth shading (creasedNormals); none: every face flat.
+  std::optional<double> smoothDegrees;
 };
 
 // The bodies of a world with their colours; a body without a colour in `colors` gets
 // defaultBodyColor(id).
 std::vector<BodyView> bodyViews(const World& world, const std::vector<Color>& colors);
-
-// Per-vertex normals of a mesh with shared vertices: the mean of the normals of the triangles
-// around each vertex, weighted by their angles there (for smooth shading of terrain grids). A
-// vertex in no triangle gets +z.
-std::vector<Vec3> smoothVertexNormals(const TriMesh& mesh);
 
 // Model matrix of a body: rotation R(q) and translation x.
 Mat4 bodyModelMatrix(const Vec3& x, const Quat& q);
@@ -88,46 +94,6 @@ struct GpuTransform {
   bool operator==(const GpuTransform& o) const { return model == o.model && normal == o.normal; }
 };
 GpuTransform gpuTransform(const Mat4& model);
-
-// A bounding sphere.
-struct Sphere {
-  Vec3 centre = Vec3::Zero();
-  double radius = 0;
-};
-// Smallest sphere around both (exact for two spheres).
-Sphere enclose(const Sphere& a, const Sphere& b);
-// A sphere around all of them (the centre of their bounding box; not minimal, but simple and
-// order-independent). An empty list gives a unit sphere at the origin.
-Sphere encloseAll(std::span<const Sphere> spheres);
-
-// The automatic camera: a fixed orientation (looking 13 degrees down, from the azimuth of the
-// default CameraSpec position, so floor, shadows and the horizon show) and the position closest
-// to the scene from which every sphere added so far projects inside a view of the given
-// vertical field of view and aspect ratio, with a little air around. Exact per sphere, not via
-// one enclosing sphere, so a scene spread flat on the floor fills the picture.
-class AutoFraming {
- public:
-  AutoFraming(double fovYDegrees, double aspect);
-  // Includes a sphere (the framing only ever grows).
-  void add(const Sphere& s);
-  bool empty() const { return empty_; }
-  // A sphere around everything added (for depth range and fade distances).
-  const Sphere& region() const { return region_; }
-  // The camera; with nothing added, one that frames a unit sphere at the origin.
-  CameraView camera() const;
-
- private:
-  static constexpr double kMargin = 1.05;  // radii grow 5%: rounding never clips a body
-  double fovYDegrees_, halfX_ = 0, halfY_ = 0;
-  Vec3 forward_, right_, up_;
-  std::array<Vec3, 4> normals_;     // inward side-plane normals: right, left, top, bottom
-  std::array<double, 4> limits_{};  // n_j . P <= limits_[j] keeps every sphere in view
-  Sphere region_;
-  bool empty_ = true;
-};
-
-// The part of a camera's view from the eye out to `depth` (m) along its axis, as a sphere.
-Sphere viewSlice(const CameraView& camera, double aspect, double depth);
 
 // Terrains of more than twice this many triangles are drawn in tiles of about this many.
 constexpr std::size_t kTerrainTileTriangles = 8192;
@@ -150,6 +116,11 @@ class DrawListBuilder {
   // The same for an aspect ratio width / height, 720 pixels high, 30 frames per second.
   DrawListBuilder(const CameraSpec& camera, std::optional<double> groundHeight, double aspect);
 
+  // A terrain as the solid it is: its surface with smooth normals, its sides and base
+  // (terrain_solid.h), the picture draped on it (none: slope colours) and its heights, which
+  // turn the automatic and chase cameras across its slope (terrain_camera.h).
+  void setTerrain(std::shared_ptr<const Heightfield> field,
+                  std::shared_ptr<const DrapeImage> drape = nullptr);
   // A static terrain mesh in world coordinates, drawn with slope shading and casting shadows.
   // It is not part of the automatic framing (see observe()). A large one is drawn as tiles,
   // one instance each (kTerrainTileTriangles), so that a partial redraw draws only the tiles
@@ -157,6 +128,22 @@ class DrawListBuilder {
   void setTerrain(std::shared_ptr<const TriMesh> mesh,
                   std::shared_ptr<const std::vector<Vec3>> normals = nullptr,
                   Color color = Color{0.16f, 0.22f, 0.09f});
+
+  // The terrain's surface as drawn (world coordinates); null without a terrain.
+  const std::shared_ptr<const TriMesh>& terrainSurface() const { return terrain_; }
+  // Its vertex normals (smooth), one per vertex of terrainSurface(); null without them.
+  const std::shared_ptr<const std::vector<Vec3>>& terrainSurfaceNormals() const {
+    return terrainNormals_;
+  }
+  // The sides and base of the terrain's solid (terrainSides), drawn lit in an earth colour and
+  // casting shadows.
+  void setTerrainSides(std::shared_ptr<const TriMesh> sides);
+  // The scene's light (sceneLight). Without a sun direction, the default one for the automatic
+  // camera's view (defaultSunDirection): fixed once the first frame is included.
+  void setLight(const SceneLight& light);
+  // The automatic camera's horizontal viewing direction: defaultAutoView(), or across the
+  // terrain's slope under the first included frame's bodies.
+  const Vec3& autoView() const { return autoView_; }
 
   // Folds the next frame's active bodies into the automatic framing and records the frame's
   // body centres and chase target. Frames are observed in order, starting at frame 0.
@@ -186,6 +173,14 @@ class DrawListBuilder {
   double shapeRadius(const std::shared_ptr<const Shape>& shape);
 
  private:
+  // Turns the automatic view across the terrain's slope under these bodies (the first frame).
+  void chooseAutoView(std::span<const BodyView> bodies);
+  // A chase on a terrain without a given offset, which frames across the slope.
+  bool terrainChase() const;
+  // The automatic camera for the frames observed so far (worked out once for them).
+  CameraView automaticCamera();
+  // What a body is drawn with: its shape's mesh, or that mesh split for smooth shading.
+  DrawMesh bodyMesh(const BodyView& body);
   std::vector<Sphere> bodySpheres(std::span<const BodyView> bodies, bool withGround);
   // The chase camera's target this frame: the followed body or the group's centroid (active
   // bodies only); none when nothing is followed or all followed bodies are inactive.
@@ -202,6 +197,9 @@ class DrawListBuilder {
     std::vector<Vec3> centres;  // per body id
     std::vector<bool> active;
     std::optional<Vec3> chase;  // smoothed chase target
+    // A chase on a terrain: its horizontal viewing direction, across the slope under the
+    // target, turning smoothly (kChaseTurnSeconds in draw_list.cpp).
+    Vec3 chaseView = Vec3::Zero();
   };
 
   CameraSpec spec_;
@@ -225,6 +223,17 @@ class DrawListBuilder {
   Color terrainColor_{};
   Sphere terrainSphere_;
   Eigen::AlignedBox3d terrainBox_;
+  std::shared_ptr<const Heightfield> field_;
+  std::shared_ptr<const TriMesh> terrainSides_;
+  Sphere sidesSphere_;
+  int included_ = 0;  // frames folded into the framing so far
+  // The automatic camera, for this many included and observed frames.
+  std::optional<std::pair<std::pair<int, int>, CameraView>> autoCamera_;
+  std::shared_ptr<const DrapeImage> drape_;
+  SceneLight light_;
+  Vec3 autoView_;
+  // Smooth-shaded meshes per shape and crease angle, made once.
+  std::map<std::pair<const Shape*, double>, std::shared_ptr<const CreasedMesh>> creased_;
 };
 
 }  // namespace vf

@@ -227,6 +227,8 @@ std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list
   Frame now;
   now.camera = list.camera;
   now.sun = list.sunDirection;
+  now.light = list.light;
+  now.drape = list.drape.get();
   now.ground = list.groundHeight;
   now.fadeStart = list.groundFadeStart;
   now.fadeEnd = list.groundFadeEnd;
@@ -269,8 +271,9 @@ std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list
 
   std::optional<std::vector<PixelRect>> region;
   if (last_ && sameCamera(last_->camera, now.camera) && last_->sun == now.sun &&
-      last_->ground == now.ground && last_->fadeStart == now.fadeStart &&
-      last_->fadeEnd == now.fadeEnd && last_->shadow == now.shadow) {
+      last_->light == now.light && last_->drape == now.drape && last_->ground == now.ground &&
+      last_->fadeStart == now.fadeStart && last_->fadeEnd == now.fadeEnd &&
+      last_->shadow == now.shadow) {
     const Frame& before = *last_;
     // Instances are matched by id (bodies appear and leave), those without one by order.
     auto keys = [](const Frame& f) {

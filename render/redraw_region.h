@@ -125,6 +125,8 @@ class RedrawTracker {
   struct Frame {
     CameraView camera;
     Vec3 sun = Vec3::Zero();
+    LightColors light;
+    const DrapeImage* drape = nullptr;
     std::optional<double> ground;
     double fadeStart = 0, fadeEnd = 0;
     Mat4 shadow = Mat4::Zero();

@@ -57,6 +57,8 @@ struct ScenePlayback::Impl {
         bodies(bodyViews(*built->world, built->colors)),
         names(built->shapeOf) {
     recorder.emplace(*built->world, spec.fps, spec.duration);
+    for (std::size_t id = 0; id < bodies.size(); ++id)
+      bodies[id].smoothDegrees = smoothOf(built->shapeOf[id]);
     addTerrain(built->world->def().terrain);
   }
 
@@ -69,19 +71,30 @@ struct ScenePlayback::Impl {
       BodyView v;
       v.shape = shapes[static_cast<std::size_t>(body.shape)];
       v.color = body.color;
+      v.smoothDegrees = spec.shapes[static_cast<std::size_t>(body.shape)].smoothDegrees;
       bodies.push_back(v);
       names.push_back(spec.shapes[static_cast<std::size_t>(body.shape)].name);
     }
     addTerrain(loadSceneTerrain(spec));
   }
 
+  std::optional<double> smoothOf(const std::string& shape) const {
+    for (const ShapeSpec& s : spec.shapes)
+      if (s.name == shape) return s.smoothDegrees;
+    return std::nullopt;
+  }
+
+  // The terrain as a solid with its drape, and the light, which may need the terrain's place.
   void addTerrain(const std::shared_ptr<const Heightfield>& field) {
+    drawing.setLight(sceneLight(spec.light, field.get()));
     if (!field) return;
     terrain = field;
-    // A heightfield is a sampled smooth surface: drawn with smooth normals, and slope-coloured.
-    terrainMesh = std::make_shared<const TriMesh>(field->toMesh());
-    terrainNormals = std::make_shared<const std::vector<Vec3>>(smoothVertexNormals(*terrainMesh));
-    drawing.setTerrain(terrainMesh, terrainNormals);
+    std::shared_ptr<const DrapeImage> drape;
+    if (!spec.terrainTexturePath.empty())
+      drape = std::make_shared<const DrapeImage>(loadDrape(spec.terrainTexturePath, *field));
+    drawing.setTerrain(field, drape);
+    terrainMesh = drawing.terrainSurface();
+    terrainNormals = drawing.terrainSurfaceNormals();
   }
 
   // Drawn frames (at [output] speed) and the scene's own frames (t = j / fps), which the

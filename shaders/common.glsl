@@ -4,7 +4,10 @@
 
 uniform vec3 uCameraPos;             // m
 uniform vec3 uSunDir;                // unit, towards the sun
-uniform vec3 uFillDir;               // unit, towards the fill light (casts no shadow)
+uniform vec3 uFillDir;               // unit, 25 degrees high on the side away from the sun
+uniform vec3 uSunLight;              // light on a surface facing the sun ([light] intensity x color)
+uniform vec3 uSkyLight;              // the sky's light on a surface facing up ([light] sky)
+uniform vec3 uAmbientLight;          // light from the surroundings ([light] ambient)
 uniform float uFadeStart;            // m from the camera: things start fading into the sky...
 uniform float uFadeEnd;              // ...and are sky from here on
 uniform sampler2DShadow uShadowMap;  // sun depth, compared in the sampler
@@ -17,12 +20,6 @@ uniform float uShadowFilter;         // offset of the filter's taps along each a
 const vec3 kZenith = vec3(0.170, 0.320, 0.660);
 const vec3 kHorizon = vec3(0.700, 0.760, 0.840);
 const vec3 kBelowHorizon = vec3(0.560, 0.590, 0.620);
-
-// Light. Sun about 2.3x the sky's ambient: crisp shadows that are still not black.
-const vec3 kSunColor = vec3(1.75, 1.68, 1.55);
-const vec3 kSkyLight = vec3(0.40, 0.46, 0.57);     // ambient arriving from above
-const vec3 kGroundLight = vec3(0.17, 0.16, 0.15);  // ambient bounced up from the floor
-const vec3 kFillColor = vec3(0.16, 0.17, 0.20);
 
 // Sky colour along unit direction d: only its elevation matters. Above the horizon a cubic
 // ease from haze to deep blue; below it the haze darkens quickly to the colour the floor fades
@@ -75,15 +72,16 @@ float sunVisibility(vec3 p, vec3 n, float cosine) {
 #endif
 }
 
-// Lit colour of a surface with linear albedo at p, unit normal n: sun (shadowed), sky
-// ambient by hemisphere, an unshadowed fill from the other side, a faint sun highlight.
+// Lit colour of a surface with linear albedo at p, unit normal n (render/light.h states the
+// model): the sun (shadowed), the sky's light by how much of the sky the surface faces, the
+// surroundings' light from everywhere and as much again from the side away from the sun (an
+// unshadowed fill, so faces turned from the sun keep their facets), a faint sun highlight.
 vec3 shade(vec3 albedo, vec3 p, vec3 n) {
   float cosine = dot(n, uSunDir);
   float sun = 0.0;
   if (cosine > 0.0) sun = cosine * sunVisibility(p, n, cosine);
-  vec3 ambient = mix(kGroundLight, kSkyLight, 0.5 + 0.5 * n.z);
-  float fill = max(dot(n, uFillDir), 0.0);
+  vec3 ambient = uSkyLight * (0.5 + 0.5 * n.z) + uAmbientLight * (1.0 + max(dot(n, uFillDir), 0.0));
   vec3 h = normalize(uSunDir + normalize(uCameraPos - p));
   float highlight = sun > 0.0 ? 0.10 * pow(max(dot(n, h), 0.0), 40.0) * (sun / cosine) : 0.0;
-  return albedo * (kSunColor * sun + ambient + kFillColor * fill) + kSunColor * highlight;
+  return albedo * (uSunLight * sun + ambient) + uSunLight * highlight;
 }

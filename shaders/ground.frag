@@ -38,7 +38,7 @@ float shadowOpacity(vec3 albedo, vec3 shaded) {
   float cosine = dot(n, uSunDir);
   if (cosine <= 0.0) return 0.0;
   float lost = 1.0 - sunVisibility(vWorldPos, n, cosine);
-  vec3 unshadowed = shaded + albedo * kSunColor * cosine * lost;
+  vec3 unshadowed = shaded + albedo * uSunLight * cosine * lost;
   const vec3 kLuma = vec3(0.2126, 0.7152, 0.0722);
   float opacity = 1.0 - dot(shaded, kLuma) / max(dot(unshadowed, kLuma), 1e-6);
   float far = smoothstep(uFadeStart, uFadeEnd, length(vWorldPos - uCameraPos));

@@ -32,7 +32,9 @@ using nlohmann::json;
 constexpr char kSignature[] = "VOXFALL-BAKE 1\n";
 // 2: the header holds the scene's named cameras ([cameras.NAME]) as well; 1 is still read.
 // 3: each shape holds its up axis, repair flag and generated rock; 1 and 2 are still read.
-constexpr int kVersion = 3;
+// 4: the scene's [light], the terrain's texture, each shape's `smooth` and each camera's
+// `offset_given`; 1 to 3 are still read.
+constexpr int kVersion = 4;
 constexpr int kValuesPerBody = 14;  // active, x(3), q(w, x, y, z), P(3), L(3)
 static_assert(std::endian::native == std::endian::little, "bakes are little-endian float64");
 
@@ -138,6 +140,7 @@ json cameraJson(const CameraSpec& c) {
   return {{"name", c.name},
           {"where", c.where},
           {"given", c.given},
+          {"offset_given", c.offsetGiven},
           {"position", vec(c.position)},
           {"look_at", vec(c.lookAt)},
           {"up", vec(c.up)},
@@ -150,13 +153,52 @@ json cameraJson(const CameraSpec& c) {
           {"trail", c.trailSeconds}};
 }
 
+// [light] as the header stores it: its keys resolved, with `null` for an unset sun.
+json lightJson(const LightSpec& l) {
+  const auto rgb = [](const Color& c) { return json::array({c[0], c[1], c[2]}); };
+  return {
+      {"azimuth", l.azimuthDegrees ? json(*l.azimuthDegrees) : json(nullptr)},
+      {"elevation", l.elevationDegrees ? json(*l.elevationDegrees) : json(nullptr)},
+      {"date", l.date ? json::array({l.date->year, l.date->month, l.date->day}) : json(nullptr)},
+      {"utc_seconds", l.utcSeconds},
+      {"intensity", l.intensity},
+      {"color", rgb(l.color)},
+      {"sky", rgb(l.sky)},
+      {"ambient", rgb(l.ambient)},
+      {"where", l.where}};
+}
+
+// The inverse of lightJson.
+LightSpec readLight(const json& j) {
+  LightSpec l;
+  if (!j.at("azimuth").is_null()) l.azimuthDegrees = j.at("azimuth").get<double>();
+  if (!j.at("elevation").is_null()) l.elevationDegrees = j.at("elevation").get<double>();
+  if (const json& d = j.at("date"); !d.is_null())
+    l.date = CivilDate{readInteger<int>(d.at(0), "scene.light.date"),
+                       readInteger<int>(d.at(1), "scene.light.date"),
+                       readInteger<int>(d.at(2), "scene.light.date")};
+  l.utcSeconds = j.at("utc_seconds").get<double>();
+  l.intensity = j.at("intensity").get<double>();
+  const auto required = [&](const char* key) {
+    const std::optional<Color> c = readColor(j.at(key));
+    if (!c) throw std::domain_error(std::string("'scene.light.") + key + "' must be a colour");
+    return *c;
+  };
+  l.color = required("color");
+  l.sky = required("sky");
+  l.ambient = required("ambient");
+  l.where = j.at("where").get<std::string>();
+  return l;
+}
+
 // The inverse of cameraJson. `name` and `where` are absent in version 1 (its one camera was
-// the scene's [camera]).
+// the scene's [camera]); `offset_given` before version 4, when a given view kept its offset.
 CameraSpec readCamera(const json& j) {
   CameraSpec c;
   c.name = j.value("name", c.name);
   c.where = j.value("where", c.where);
   c.given = j.at("given").get<bool>();
+  c.offsetGiven = j.value("offset_given", c.given);
   c.position = readVec(j.at("position"));
   c.lookAt = readVec(j.at("look_at"));
   c.up = readVec(j.at("up"));
@@ -275,15 +317,17 @@ void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
   const SceneSpec& s = bake.scene;
   json shapes = json::array();
   for (const ShapeSpec& shape : s.shapes)
-    shapes.push_back({{"name", shape.name},
-                      {"mesh", storedPath(shape.meshPath, bakePath)},
-                      {"scale", vec(shape.scale)},
-                      {"density", shape.density},
-                      {"level", shape.level.value_or(s.level)},
-                      {"color", color(shape.color)},
-                      {"up", shape.yUp ? "y" : "z"},
-                      {"repair", shape.repair},
-                      {"rock", rockJson(shape.rock)}});
+    shapes.push_back(
+        {{"name", shape.name},
+         {"mesh", storedPath(shape.meshPath, bakePath)},
+         {"scale", vec(shape.scale)},
+         {"density", shape.density},
+         {"level", shape.level.value_or(s.level)},
+         {"color", color(shape.color)},
+         {"up", shape.yUp ? "y" : "z"},
+         {"repair", shape.repair},
+         {"rock", rockJson(shape.rock)},
+         {"smooth", shape.smoothDegrees ? json(*shape.smoothDegrees) : json(nullptr)}});
   json bodies = json::array();
   for (const BakeBody& b : bake.bodies) {
     json inertia = json::array();
@@ -308,6 +352,8 @@ void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {
                          {"ground_plane", s.groundPlane ? json(*s.groundPlane) : json(nullptr)},
                          {"terrain", storedPath(s.terrainPath, bakePath)},
                          {"terrain_offset", vec(s.terrainShift)},
+                         {"terrain_texture", storedPath(s.terrainTexturePath, bakePath)},
+                         {"light", lightJson(s.light)},
                          {"camera", cameraJson(s.camera)},
                          {"cameras", cameras},
                          {"output",
@@ -416,9 +462,25 @@ void checkHeader(const Bake& bake, const std::string& where) {
       fov(key + "path[].fov", k.fovDegrees);
     }
   }
+  const LightSpec& light = s.light;
+  if (light.azimuthDegrees.has_value() != light.elevationDegrees.has_value())
+    fail("scene.light.azimuth", "and 'elevation' must both be numbers or both null", 0);
+  if (light.azimuthDegrees) finite("scene.light.azimuth", *light.azimuthDegrees);
+  if (light.elevationDegrees && !(*light.elevationDegrees > 0 && *light.elevationDegrees <= 90))
+    fail("scene.light.elevation", "must be above 0 and at most 90 degrees",
+         *light.elevationDegrees);
+  if (light.date && (light.date->month < 1 || light.date->month > 12 || light.date->day < 1 ||
+                     light.date->day > 31 || light.date->year < 1800 || light.date->year > 2200))
+    fail("scene.light.date", "must be a date [year, month, day] in 1800..2200", light.date->year);
+  if (!(light.utcSeconds >= 0 && light.utcSeconds < 86400))
+    fail("scene.light.utc_seconds", "must be 0 <= s < 86400", light.utcSeconds);
+  if (!(light.intensity >= 0 && light.intensity <= 100))
+    fail("scene.light.intensity", "must be 0..100", light.intensity);
   for (std::size_t i = 0; i < s.shapes.size(); ++i) {
     const ShapeSpec& shape = s.shapes[i];
     const std::string key = "shapes[" + std::to_string(i) + "].";
+    if (shape.smoothDegrees && !(*shape.smoothDegrees >= 0 && *shape.smoothDegrees <= 180))
+      fail(key + "smooth", "must be 0..180 degrees", *shape.smoothDegrees);
     for (int i = 0; i < 3; ++i) positive(key + "scale", shape.scale[i]);
     nonNegative(key + "density", shape.density);  // 0: the scene gave the shape's mass
     if (const auto& r = shape.rock) {
@@ -474,6 +536,10 @@ Bake readBake(const std::string& path) {
     if (!sc.at("ground_plane").is_null()) s.groundPlane = sc.at("ground_plane").get<double>();
     s.terrainPath = resolvedPath(sc.at("terrain").get<std::string>(), path);
     s.terrainShift = readVec(sc.at("terrain_offset"));
+    if (version >= 4) {
+      s.terrainTexturePath = resolvedPath(sc.at("terrain_texture").get<std::string>(), path);
+      s.light = readLight(sc.at("light"));
+    }
     s.camera = readCamera(sc.at("camera"));
     // Version 1 kept only the scene's [camera]: such a bake has no named cameras.
     if (version >= 2)
@@ -500,6 +566,8 @@ Bake readBake(const std::string& path) {
         shape.repair = j.at("repair").get<bool>();
         shape.rock = readRock(j.at("rock"));
       }
+      if (version >= 4 && !j.at("smooth").is_null())
+        shape.smoothDegrees = j.at("smooth").get<double>();
       s.shapes.push_back(shape);
     }
     for (const json& j : h.at("bodies")) {

@@ -50,6 +50,7 @@ namespace vf::gl {
   X(PFNGLTEXIMAGE2DMULTISAMPLEPROC, TexImage2DMultisample)                   \
   X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                   \
   X(PFNGLTEXPARAMETERFVPROC, TexParameterfv)                                 \
+  X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap)                                 \
   X(PFNGLCREATESHADERPROC, CreateShader)                                     \
   X(PFNGLSHADERSOURCEPROC, ShaderSource)                                     \
   X(PFNGLCOMPILESHADERPROC, CompileShader)                                   \
@@ -68,6 +69,7 @@ namespace vf::gl {
   X(PFNGLUNIFORM1FPROC, Uniform1f)                                           \
   X(PFNGLUNIFORM2FPROC, Uniform2f)                                           \
   X(PFNGLUNIFORM3FPROC, Uniform3f)                                           \
+  X(PFNGLUNIFORM4FPROC, Uniform4f)                                           \
   X(PFNGLUNIFORMMATRIX3FVPROC, UniformMatrix3fv)                             \
   X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                             \
   X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                               \

@@ -68,6 +68,9 @@ struct Renderer::Impl {
   int sceneWidth = 0, sceneHeight = 0;
 
   std::unique_ptr<ShaderProgram> sceneProgram, groundProgram, shadowProgram, presentProgram;
+  // Terrain with a picture draped on it: a program of its own, since llvmpipe pays for a
+  // texture lookup behind a runtime test on every terrain fragment (4% of a cliff frame).
+  std::unique_ptr<ShaderProgram> drapedSceneProgram;
   std::unique_ptr<ShaderProgram> litGroundProgram;     // the floor without shadow lookups
   std::unique_ptr<ShaderProgram> floorPresentProgram;  // present where no sample shows sky
   // With RenderSettings::alpha these are the VF_ALPHA variants: the floor writes its shadow's
@@ -89,6 +92,11 @@ struct Renderer::Impl {
   // by the present pass, so there is no resolve blit.
   unsigned sceneFbo = 0, sceneColor = 0, sceneDepth = 0;
   unsigned presentFbo = 0, presentColor = 0;
+
+  // The drape's texture (sRGB with coverage, mipmapped), made for one DrapeImage and kept
+  // while draw lists bring the same one.
+  std::shared_ptr<const DrapeImage> drape;
+  unsigned drapeTexture = 0;
 
   struct MeshEntry {
     std::shared_ptr<const TriMesh> pin;  // keeps the key's owner alive: keys are never reused
@@ -113,6 +121,8 @@ struct Renderer::Impl {
   ~Impl();
   void createTargets();
   const GpuMesh& mesh(const DrawMesh& m);
+  // Binds the list's drape to texture unit 1, uploading it when it is new.
+  void bindDrape(const DrawList& list);
   // `texels`: the parts of the map to redraw (the rest holds the last frame's casters, which
   // is exact: see RedrawTracker::shadowMapRegion); null: decide by comparing all casters.
   void shadowPass(const DrawList& list, const ShadowProjection& shadow,
@@ -137,6 +147,7 @@ Renderer::Impl::~Impl() {
   gl.DeleteFramebuffers(1, &presentFbo);
   gl.DeleteRenderbuffers(1, &presentColor);
   gl.DeleteVertexArrays(1, &emptyVao);
+  if (drapeTexture) gl.DeleteTextures(1, &drapeTexture);
 }
 
 void Renderer::Impl::createTargets() {
@@ -221,6 +232,29 @@ const GpuMesh& Renderer::Impl::mesh(const DrawMesh& m) {
     it = meshes.emplace(m.key, std::move(entry)).first;
   }
   return *it->second.mesh;
+}
+
+void Renderer::Impl::bindDrape(const DrawList& list) {
+  gl.ActiveTexture(GL_TEXTURE1);
+  if (list.drape && list.drape != drape) {
+    if (!drapeTexture) gl.GenTextures(1, &drapeTexture);
+    gl.BindTexture(GL_TEXTURE_2D, drapeTexture);
+    gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    // sRGB: the sampler returns linear albedo, filtered in linear light.
+    gl.TexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, list.drape->width, list.drape->height, 0,
+                  GL_RGBA, GL_UNSIGNED_BYTE, list.drape->rgba.data());
+    gl.GenerateMipmap(GL_TEXTURE_2D);
+    // Closer than a texel to a pixel, each texel is drawn as the square it is (as GIS viewers
+    // show rasters): no detail is made up between them, and the picture's cells stay where the
+    // data put them. Further away, mipmaps average them.
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    drape = list.drape;
+  }
+  gl.BindTexture(GL_TEXTURE_2D, list.drape ? drapeTexture : 0);
+  gl.ActiveTexture(GL_TEXTURE0);
 }
 
 void Renderer::Impl::shadowPass(const DrawList& list, const ShadowProjection& shadow,
@@ -310,6 +344,9 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
     setVec3(gl, p.uniform("uCameraPos"), list.camera.position);
     setVec3(gl, p.uniform("uSunDir"), sun);
     setVec3(gl, p.uniform("uFillDir"), fill);
+    setVec3(gl, p.uniform("uSunLight"), list.light.sun);
+    setVec3(gl, p.uniform("uSkyLight"), list.light.sky);
+    setVec3(gl, p.uniform("uAmbientLight"), list.light.ambient);
     gl.Uniform1f(p.uniform("uFadeStart"), static_cast<float>(list.groundFadeStart));
     gl.Uniform1f(p.uniform("uFadeEnd"), static_cast<float>(list.groundFadeEnd));
     gl.Uniform1i(p.uniform("uShadowMap"), 0);
@@ -323,16 +360,33 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
   };
 
   // Bodies and terrain first: the floor and the sky then only shade what is still visible.
+  if (list.drape) {
+    bindDrape(list);
+    setCommon(*drapedSceneProgram);
+    const DrapeImage& d = *list.drape;
+    gl.Uniform1i(drapedSceneProgram->uniform("uDrape"), 1);
+    gl.Uniform4f(drapedSceneProgram->uniform("uDrapeRect"), static_cast<float>(d.x0),
+                 static_cast<float>(d.y0), static_cast<float>(d.x1 - d.x0),
+                 static_cast<float>(d.y1 - d.y0));
+  }
   setCommon(*sceneProgram);
+  ShaderProgram* current = sceneProgram.get();
   for (std::size_t i = 0; i < list.instances.size(); ++i) {
     const DrawInstance& inst = list.instances[i];
     // Wholly outside the scissor, or, drawing the whole frame, out of view.
     if (region ? !tracker.mayCover(i, *region) : !tracker.maySee(i)) continue;
+    ShaderProgram* program = list.drape && inst.surface == Surface::terrain
+                                 ? drapedSceneProgram.get()
+                                 : sceneProgram.get();
+    if (program != current) {
+      program->use();
+      current = program;
+    }
     const GpuTransform transform = gpuTransform(inst.model);
-    setMatrix(gl, sceneProgram->uniform("uModel"), transform.model);
-    setMatrix3(gl, sceneProgram->uniform("uNormalMatrix"), transform.normal);
-    gl.Uniform3f(sceneProgram->uniform("uColor"), inst.color[0], inst.color[1], inst.color[2]);
-    gl.Uniform1i(sceneProgram->uniform("uSurface"), static_cast<int>(inst.surface));
+    setMatrix(gl, program->uniform("uModel"), transform.model);
+    setMatrix3(gl, program->uniform("uNormalMatrix"), transform.normal);
+    gl.Uniform3f(program->uniform("uColor"), inst.color[0], inst.color[1], inst.color[2]);
+    gl.Uniform1i(program->uniform("uSurface"), static_cast<int>(inst.surface));
     mesh(list.meshes[static_cast<std::size_t>(inst.mesh)]).draw();
   }
 
@@ -424,6 +478,8 @@ Renderer::Renderer(Context& context, const RenderSettings& settings)
     return names;
   };
   r.sceneProgram = std::make_unique<ShaderProgram>(r.gl, dir, "scene.vert", "scene.frag");
+  r.drapedSceneProgram = std::make_unique<ShaderProgram>(r.gl, dir, "scene.vert", "scene.frag",
+                                                         std::vector<std::string>{"VF_DRAPED"});
   r.groundProgram =
       std::make_unique<ShaderProgram>(r.gl, dir, "ground.vert", "ground.frag", defines({}));
   r.litGroundProgram = std::make_unique<ShaderProgram>(r.gl, dir, "ground.vert", "ground.frag",

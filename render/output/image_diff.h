@@ -23,8 +23,8 @@ namespace vf {
 
 // The defaults come from measurement (numbers in image_diff.cpp): llvmpipe's rounding
 // differences stay 14 times below them; a body moved by one leaf voxel is 4 times above them in
-// every frame; a sun turned by 5 degrees fails every frame, by 2 degrees the frames where its
-// shadows are large.
+// every frame; a sun turned by 5 degrees in azimuth fails every frame, in elevation or by 2
+// degrees the frames where its shadows are large.
 struct DiffTolerance {
   int threshold = 8;              // channel difference (0..255) above which a pixel differs
   double maxFraction = 0.0005;    // share of pixels (0..1) allowed to differ: 0.05%

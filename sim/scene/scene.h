@@ -33,7 +33,10 @@ struct ShapeSpec {
   std::optional<int> level;   // overrides [simulation] level for this shape
   std::optional<Color> color;
   bool repair = false;  // fill small holes, fix winding (geometry/mesh_repair.h)
-  std::string where;    // "file:line:column" of the table, for later errors
+  // `smooth`: crease angle in degrees for drawing. Edges between faces meeting at a smaller
+  // angle are shaded smooth, sharper ones stay hard; unset: every face flat. Drawing only.
+  std::optional<double> smoothDegrees;
+  std::string where;  // "file:line:column" of the table, for later errors
 };
 
 struct BodySpec {
@@ -89,6 +92,10 @@ struct CameraKey {
 struct CameraSpec {
   std::string name = "camera";  // "camera" for [camera], NAME for [cameras.NAME]
   bool given = false;           // a view is given (fixed or chase); false: automatic, or the path
+  // `position` or `look_at` given: a chase keeps their offset. Without them a chase on a
+  // terrain frames its bodies across the slope (render/terrain_camera.h), and elsewhere keeps
+  // the default offset.
+  bool offsetGiven = false;
   Vec3 position = Vec3(4, -6, 3);
   Vec3 lookAt = Vec3::Zero();
   Vec3 up = Vec3::UnitZ();
@@ -140,6 +147,33 @@ struct EnsembleSpec {
   std::string where;  // "file:line:column" of [ensemble]
 };
 
+// A calendar date (the proleptic Gregorian calendar).
+struct CivilDate {
+  int year = 2000, month = 1, day = 1;
+  bool operator==(const CivilDate&) const = default;
+};
+
+// [light]: the sun, fixed in the world, and the light of the sky and the surroundings
+// (render/light.h; docs/rendering.md, "Light"). Drawing only: it never changes a run.
+struct LightSpec {
+  // The sun's compass direction, degrees clockwise from north (+y, the DEM's grid north), and
+  // its height above the horizon, degrees. Both or neither.
+  std::optional<double> azimuthDegrees, elevationDegrees;
+  // Or the sun of a date and a UTC time of day at the terrain's location (a georeferenced DEM).
+  std::optional<CivilDate> date;
+  double utcSeconds = 12 * 3600.0;  // `time`: seconds after 00:00 UTC
+  // Light on a surface facing the sun: intensity x color (linear RGB). The defaults are a
+  // slightly warm sun about 2.3 times the sky's light.
+  double intensity = 1.75;
+  Color color{1.0f, 0.96f, 0.886f};
+  // The sky's light on a surface facing straight up (none facing down), and the light from
+  // the surroundings: half of it from every direction, the other half from the side away from
+  // the sun (linear RGB).
+  Color sky{0.23f, 0.30f, 0.42f};
+  Color ambient{0.17f, 0.16f, 0.15f};
+  std::string where;  // "file:line:column" of [light]; empty without one
+};
+
 struct OutputSpec {
   int width = 1280;
   int height = 720;
@@ -181,6 +215,7 @@ struct SceneSpec {
   std::optional<double> groundPlane;
   std::string terrainPath;           // DEM (any raster GDAL reads), resolved; empty: no terrain
   Vec3 terrainShift = Vec3::Zero();  // `offset`: added to the DEM's coordinates, m
+  std::string terrainTexturePath;    // `texture`: an RGB raster draped on the DEM; empty: none
   // Rock fall ground materials (opt-in). Empty `groundMaterial`: the paper's model.
   std::string groundMaterial;  // a preset (sim/ground/ground_material.cpp) or custom name
   std::vector<GroundMaterialSpec> groundMaterials;  // custom ones
@@ -193,6 +228,7 @@ struct SceneSpec {
   std::vector<EmitterSpec> emitters;
   CameraSpec camera;                // [camera], or the one `render --camera NAME` chose
   std::vector<CameraSpec> cameras;  // [cameras.NAME] tables, in file order
+  LightSpec light;                  // [light]
   OutputSpec output;
   std::optional<EnsembleSpec> ensemble;  // [ensemble]
 };

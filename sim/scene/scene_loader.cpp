@@ -384,6 +384,20 @@ void readContact(const Reader& r, const toml::table& t, ContactMaterial& c) {
 
 // --- [ground] -----------------------------------------------------------------------------
 
+// The path in string `n` (key `key`), resolved against the scene's folder; it must name a file,
+// else the error says "WHAT not found: 'PATH'" and then `hint`.
+std::string existingFile(const Reader& r, const toml::node& n, const std::string& key,
+                         const fs::path& sceneFolder, const std::string& what,
+                         const std::string& hint = "") {
+  fs::path resolved(r.string(n, key));
+  if (resolved.is_relative()) resolved = sceneFolder / resolved;
+  resolved = resolved.lexically_normal();
+  std::error_code ec;
+  if (!fs::is_regular_file(resolved, ec))
+    r.fail(n, what + " not found: '" + resolved.string() + "'" + hint);
+  return resolved.string();
+}
+
 // [ground.materials.NAME]: the keys of its law only, each checked; a slip material needs all
 // four of mu(s)'s coefficients (no published default fits every ground).
 GroundMaterialSpec readGroundMaterial(const Reader& r, const toml::table& m,
@@ -455,21 +469,22 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
   }
   if (const auto* n = t.get("plane")) spec.groundPlane = r.number(*n, "plane");
   if (const auto* n = t.get("heightfield")) {
-    const std::string given = r.string(*n, "heightfield");
-    fs::path resolved(given);
-    if (resolved.is_relative()) resolved = sceneFolder / resolved;
-    resolved = resolved.lexically_normal();
-    std::error_code ec;
-    if (!fs::is_regular_file(resolved, ec))
-      r.fail(*n, "terrain grid not found: '" + resolved.string() +
-                     "' (a DEM GDAL reads, e.g. GeoTIFF or ESRI ASCII; relative paths resolve "
-                     "against the scene file's folder)");
-    spec.terrainPath = resolved.string();
+    spec.terrainPath = existingFile(r, *n, "heightfield", sceneFolder, "terrain grid",
+                                    " (a DEM GDAL reads, e.g. GeoTIFF or ESRI ASCII; relative "
+                                    "paths resolve against the scene file's folder)");
   }
   if (const auto* n = t.get("offset")) {
     if (spec.terrainPath.empty())
       r.fail(*n, "'offset' moves the heightfield; give 'heightfield' too");
     spec.terrainShift = r.vec3(*n, "offset");
+  }
+  if (const auto* n = t.get("texture")) {
+    if (spec.terrainPath.empty())
+      r.fail(*n, "'texture' is draped on the heightfield; give 'heightfield' too");
+    spec.terrainTexturePath =
+        existingFile(r, *n, "texture", sceneFolder, "texture raster",
+                     " (an RGB or grey raster GDAL reads, e.g. an orthophoto GeoTIFF; relative "
+                     "paths resolve against the scene file's folder)");
   }
   if (const auto* n = t.get("materials")) {
     const toml::table& all = r.table(*n, "materials");
@@ -500,13 +515,7 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
       r.fail(*n, "'classes' is a raster on the heightfield's grid; give 'heightfield' too");
     if (spec.groundMaterial.empty())
       r.fail(*n, "give 'material' too: it applies where the class raster has no mapped class");
-    fs::path resolved(r.string(*n, "classes"));
-    if (resolved.is_relative()) resolved = sceneFolder / resolved;
-    resolved = resolved.lexically_normal();
-    std::error_code ec;
-    if (!fs::is_regular_file(resolved, ec))
-      r.fail(*n, "class raster not found: '" + resolved.string() + "'");
-    spec.groundClassesPath = resolved.string();
+    spec.groundClassesPath = existingFile(r, *n, "classes", sceneFolder, "class raster");
     const toml::node* map = t.get("class_materials");
     if (map == nullptr) r.fail(*n, "give 'class_materials' too: a table class = \"material\"");
     const toml::table& m = r.table(*map, "class_materials");
@@ -713,6 +722,7 @@ std::vector<ShapeSpec> readShape(const Reader& r, const std::string& name, const
   if (const auto* n = t.get("level"))
     s.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
   if (const auto* n = t.get("color")) s.color = r.color(*n, "color");
+  if (const auto* n = t.get("smooth")) s.smoothDegrees = r.inRange(*n, "smooth", 0, 180);
   if (seeds == 0) return {s};
   std::vector<ShapeSpec> variants;
   for (std::int64_t k = 0; k < seeds; ++k) {
@@ -949,6 +959,7 @@ CameraSpec readCamera(const Reader& r, const toml::table& t, const std::string& 
   // automatic camera, and a path replaces the fixed view.
   c.given = t.get("path") == nullptr && (t.get("position") || t.get("look_at") || t.get("up") ||
                                          t.get("fov") || t.get("follow"));
+  c.offsetGiven = t.get("position") || t.get("look_at");
   if (const auto* n = t.get("position")) c.position = r.vec3(*n, "position");
   if (const auto* n = t.get("look_at")) c.lookAt = r.vec3(*n, "look_at");
   if (const auto* n = t.get("up")) {
@@ -1042,6 +1053,62 @@ void readOutput(const Reader& r, const toml::table& t, SceneSpec& spec) {
   if (const auto* n = t.get("overlay")) readOverlay(r, *n, spec.output);
 }
 
+// --- [light] ------------------------------------------------------------------------------
+
+// The sun by compass direction and height, or by a date and a UTC time at the terrain's place
+// (which the renderer looks up in the DEM's CRS: render/light.cpp); colours in linear RGB.
+void readLight(const Reader& r, const toml::table& t, SceneSpec& spec) {
+  r.checkKeys(t, sceneKeysOf("light"), "[light]");
+  LightSpec& l = spec.light;
+  l.where = r.where(t);
+  const toml::node* azimuth = t.get("azimuth");
+  const toml::node* elevation = t.get("elevation");
+  const toml::node* date = t.get("date");
+  const toml::node* time = t.get("time");
+  if ((azimuth || elevation) && (date || time))
+    r.fail(date ? *date : *time,
+           "give the sun either by 'azimuth' and 'elevation' or by 'date' and 'time', not both");
+  if (azimuth || elevation) {
+    if (!azimuth) r.fail(*elevation, "'elevation' needs 'azimuth' too (degrees from north)");
+    if (!elevation) r.fail(*azimuth, "'azimuth' needs 'elevation' too (degrees above the horizon)");
+    l.azimuthDegrees = r.inRange(*azimuth, "azimuth", -360, 360);
+    const double e = r.number(*elevation, "elevation");
+    if (!(e > 0 && e <= 90))
+      r.fail(*elevation,
+             "'elevation' must be above 0 and at most 90 degrees (a sun on or below "
+             "the horizon lights nothing), got " +
+                 formatNumber(e));
+    l.elevationDegrees = e;
+  }
+  if (date || time) {
+    if (!date) r.fail(*time, "'time' needs 'date' too, e.g. date = 2024-06-21");
+    if (!time) r.fail(*date, "'date' needs 'time' too (UTC), e.g. time = 10:30:00");
+    const auto* d = date->as_date();
+    if (d == nullptr)
+      r.fail(*date,
+             "'date' must be a TOML date such as 2024-06-21 (no quotes), got " + typeName(*date));
+    const auto* clock = time->as_time();
+    if (clock == nullptr)
+      r.fail(*time, "'time' must be a TOML time of day in UTC such as 10:30:00 (no quotes), got " +
+                        typeName(*time));
+    const toml::date v = d->get();
+    // The solar-position algorithm's range (render/solar_position.h).
+    if (v.year < 1800 || v.year > 2200)
+      r.fail(*date, "'date' must be in the years 1800 to 2200, got " + std::to_string(v.year));
+    l.date = CivilDate{v.year, v.month, v.day};
+    const toml::time c = clock->get();
+    l.utcSeconds = c.hour * 3600.0 + c.minute * 60.0 + c.second + c.nanosecond * 1e-9;
+    if (spec.terrainPath.empty())
+      r.fail(*date,
+             "'date' and 'time' place the sun for the terrain's location: give [ground] "
+             "heightfield (a georeferenced DEM), or the sun's 'azimuth' and 'elevation'");
+  }
+  if (const auto* n = t.get("intensity")) l.intensity = r.inRange(*n, "intensity", 0, 100);
+  if (const auto* n = t.get("color")) l.color = r.color(*n, "color");
+  if (const auto* n = t.get("sky")) l.sky = r.color(*n, "sky");
+  if (const auto* n = t.get("ambient")) l.ambient = r.color(*n, "ambient");
+}
+
 // --- [ensemble] ---------------------------------------------------------------------------
 
 // `[lo, hi]` with lo <= hi, each within [min, max].
@@ -1096,13 +1163,7 @@ void readRelease(const Reader& r, const toml::table& t, const fs::path& sceneFol
   e.releaseWhere = r.where(*given);
   if (key == "cells") {
     e.release = ReleaseKind::kCells;
-    fs::path resolved(r.string(*given, e.releaseKey));
-    if (resolved.is_relative()) resolved = sceneFolder / resolved;
-    resolved = resolved.lexically_normal();
-    std::error_code ec;
-    if (!fs::is_regular_file(resolved, ec))
-      r.fail(*given, "source raster not found: '" + resolved.string() + "'");
-    e.cellsPath = resolved.string();
+    e.cellsPath = existingFile(r, *given, e.releaseKey, sceneFolder, "source raster");
     return;
   }
   e.release = key == "area"   ? ReleaseKind::kArea
@@ -1251,6 +1312,7 @@ SceneSpec loadScene(const std::string& path) {
   if (const auto* n = root.get("simulation")) readSimulation(r, r.table(*n, "simulation"), spec);
   if (const auto* n = root.get("contact")) readContact(r, r.table(*n, "contact"), spec.contact);
   if (const auto* n = root.get("ground")) readGround(r, r.table(*n, "ground"), sceneFolder, spec);
+  if (const auto* n = root.get("light")) readLight(r, r.table(*n, "light"), spec);
   // A rock-fall scene (one with ground materials) rotates by the midpoint rule unless it says
   // otherwise: the paper's explicit Euler gains energy in free tumbling, and a rock's runout
   // depends on the spin it keeps in flight. Scenes without materials keep the paper's update.

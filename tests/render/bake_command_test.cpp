@@ -125,39 +125,63 @@ TEST_F(BakeCommand, ABakeKeepsTheScenesNamedCameras) {
   EXPECT_FALSE(fs::exists(dir_.path() / "x.mp4"));
 }
 
+TEST_F(BakeCommand, ABakeKeepsTheScenesLightAndSmoothShapes) {
+  // A low sun from the west in orange and smooth shading on the cubes (a crease above their 90
+  // degree edges): both change the pixels, so a bake that lost either draws other bytes.
+  std::ofstream(dir_.path() / "cubes.toml", std::ios::app)
+      << "\n[light]\nazimuth = 270\nelevation = 20\ncolor = [1.0, 0.6, 0.3]\n";
+  std::string scene = readFile(dir_.path() / "cubes.toml");
+  const std::string shape = "[shapes.cube]\n";
+  ASSERT_NE(scene.find(shape), std::string::npos);
+  std::ofstream(dir_.path() / "smooth.toml")
+      << scene.insert(scene.find(shape) + shape.size(), "smooth = 100\n");
+  ASSERT_EQ(run("simulate smooth.toml --bake run.bake"), 0) << err_;
+  ASSERT_EQ(run("render smooth.toml --size 96x64 --frames 30 -o scene.png"), 0) << err_;
+  ASSERT_EQ(run("render run.bake --size 96x64 --frames 30 -o bake.png"), 0) << err_;
+  EXPECT_TRUE(readFile(dir_.path() / "scene.png") == readFile(dir_.path() / "bake.png"));
+  ASSERT_EQ(run("render cubes.toml --size 96x64 --frames 30 -o flat.png"), 0) << err_;
+  EXPECT_FALSE(readFile(dir_.path() / "flat.png") == readFile(dir_.path() / "bake.png"))
+      << "smooth shading shows";
+}
+
 TEST_F(BakeCommand, AVersion1BakeStillRendersWithItsOneCamera) {
-  // Version 1 headers had `camera` only, and versions 1 and 2 no shape `repair`, `rock` or `up`:
-  // rewrite this run's header as version 1 would have been written (no `cameras`, no camera
-  // `name` or `where`, none of those shape keys) and check it draws the same frames.
+  // Version 1 headers had `camera` only, versions 1 and 2 no shape `repair`, `rock` or `up`, and
+  // versions 1 to 3 no light, terrain texture, shape `smooth` or camera `offset_given`: rewrite
+  // this run's header as version 1 would have been written (no `cameras`, no camera `name` or
+  // `where`, none of those keys) and check it draws the same frames.
   ASSERT_EQ(run("simulate cubes.toml --bake run.bake"), 0) << err_;
   std::string bytes = readFile(dir_.path() / "run.bake");
   const std::size_t start = bytes.find('\n') + 1, end = bytes.find('\n', start);
   std::string header = bytes.substr(start, end - start);
   auto cut = [&header](const std::regex& what) { header = std::regex_replace(header, what, ""); };
+  cut(std::regex(R"re(,?"light":\{[^}]*\})re"));
+  cut(std::regex(R"re(,?"terrain_texture":"[^"]*")re"));
+  cut(std::regex(R"re(,?"smooth":null)re"));
+  cut(std::regex(R"re(,?"offset_given":(true|false))re"));
   cut(std::regex(R"re(,?"cameras":\[[^\]]*\])re"));
   cut(std::regex(R"re("name":"camera",)re"));
   cut(std::regex(R"re(,"where":"[^"]*")re"));  // the header's keys are sorted: last
   cut(std::regex(R"re("repair":false,"rock":null,)re"));
   cut(std::regex(R"re(,"up":"z")re"));
-  header = std::regex_replace(header, std::regex(R"re("version":3)re"), R"re("version":1)re");
-  ASSERT_EQ(header.find("cameras"), std::string::npos) << header;
-  ASSERT_EQ(header.find("rock"), std::string::npos) << header;
-  ASSERT_EQ(header.find("\"up\":\"z\""), std::string::npos) << header;
+  header = std::regex_replace(header, std::regex(R"re("version":4)re"), R"re("version":1)re");
+  for (const char* key : {"\"cameras\"", "\"light\"", "\"terrain_texture\"", "\"smooth\"",
+                          "\"offset_given\"", "\"rock\"", "\"up\":\"z\""})
+    ASSERT_EQ(header.find(key), std::string::npos) << key << " in " << header;
   ASSERT_NE(header.find(R"re("version":1)re"), std::string::npos) << header;
   std::ofstream(dir_.path() / "v1.bake", std::ios::binary)
       << bytes.substr(0, start) << header << bytes.substr(end);
-  ASSERT_EQ(run("render run.bake --size 96x64 --frames 0:3 -o v2/f_##.png"), 0) << err_;
+  ASSERT_EQ(run("render run.bake --size 96x64 --frames 0:3 -o v4/f_##.png"), 0) << err_;
   ASSERT_EQ(run("render v1.bake --size 96x64 --frames 0:3 -o v1/f_##.png"), 0) << err_;
-  expectSameFrames("v2", "v1", 4);
+  expectSameFrames("v4", "v1", 4);
   EXPECT_EQ(run("render v1.bake --camera chase -o x.mp4"), 1);
   EXPECT_NE(err_.find("v1.bake: no camera named 'chase'; the scene has: camera"), std::string::npos)
       << err_;
   // A version from the future is refused by number, not misread.
-  header = std::regex_replace(header, std::regex(R"re("version":1)re"), R"re("version":4)re");
-  std::ofstream(dir_.path() / "v4.bake", std::ios::binary)
+  header = std::regex_replace(header, std::regex(R"re("version":1)re"), R"re("version":5)re");
+  std::ofstream(dir_.path() / "v5.bake", std::ios::binary)
       << bytes.substr(0, start) << header << bytes.substr(end);
-  EXPECT_EQ(run("render v4.bake -o x.mp4"), 1);
-  EXPECT_NE(err_.find("bake version 4 is not one this voxfall reads (1..3)"), std::string::npos)
+  EXPECT_EQ(run("render v5.bake -o x.mp4"), 1);
+  EXPECT_NE(err_.find("bake version 5 is not one this voxfall reads (1..4)"), std::string::npos)
       << err_;
 }
 

@@ -476,6 +476,9 @@ TEST(RedrawTracker, ChangedViewLightOrFloorRedrawEverything) {
   DrawList sun = base;
   sun.sunDirection = Vec3(0.31, -0.4, 0.87).normalized();
   EXPECT_FALSE(afterChange(sun).has_value()) << "sun";
+  DrawList sky = base;
+  sky.light.sky *= 1.01;
+  EXPECT_FALSE(afterChange(sky).has_value()) << "sky light";
   DrawList fade = base;
   fade.groundFadeEnd += 1;
   EXPECT_FALSE(afterChange(fade).has_value()) << "floor fade";

@@ -226,6 +226,78 @@ TEST_F(SceneTest, ImpossibleValues) {
   expectError("[camera]\nfov = 180\n", "180", "'fov' must be a vertical field of view");
 }
 
+TEST_F(SceneTest, LightBySunDirectionOrDateAndItsColours) {
+  const LightSpec byDirection =
+      loadScene(write("a.toml",
+                      "[light]\nazimuth = 135\nelevation = 30\n"
+                      "intensity = 2\ncolor = [1, 0.9, 0.8]\n"
+                      "sky = [0.1, 0.2, 0.3]\nambient = [0.05, 0.05, 0.04]\n"))
+          .light;
+  EXPECT_EQ(byDirection.azimuthDegrees, 135);
+  EXPECT_EQ(byDirection.elevationDegrees, 30);
+  EXPECT_FALSE(byDirection.date);
+  EXPECT_EQ(byDirection.intensity, 2);
+  EXPECT_EQ(byDirection.color, (Color{1.0f, 0.9f, 0.8f}));
+  EXPECT_EQ(byDirection.sky, (Color{0.1f, 0.2f, 0.3f}));
+  EXPECT_EQ(byDirection.ambient, (Color{0.05f, 0.05f, 0.04f}));
+  // A date needs the terrain's place: any DEM file will do for the loader (the renderer asks
+  // it for its CRS).
+  fs::copy_file(std::string(VOXFALL_SOURCE_DIR) + "/scenes/terrain/cliff.asc", dir_ / "dem.asc");
+  const LightSpec byDate =
+      loadScene(write("b.toml",
+                      "[ground]\nheightfield = \"dem.asc\"\n[light]\ndate = 2024-06-21\n"
+                      "time = 10:30:15\n"))
+          .light;
+  ASSERT_TRUE(byDate.date);
+  EXPECT_EQ(*byDate.date, (CivilDate{2024, 6, 21}));
+  EXPECT_EQ(byDate.utcSeconds, 10 * 3600 + 30 * 60 + 15);
+  EXPECT_FALSE(byDate.azimuthDegrees);
+  // Unset: the defaults, no sun direction (the renderer's default sun).
+  const LightSpec none = loadScene(write("c.toml", "")).light;
+  EXPECT_FALSE(none.azimuthDegrees || none.date);
+  EXPECT_TRUE(none.where.empty());
+}
+
+TEST_F(SceneTest, LightErrorsNameTheKey) {
+  expectError("[light]\nazimuth = 10\n", "10", "'azimuth' needs 'elevation' too");
+  expectError("[light]\nelevation = 10\n", "10", "'elevation' needs 'azimuth' too");
+  expectError("[light]\nazimuth = 11\nelevation = 0\n", "0\n",
+              "'elevation' must be above 0 and at most 90 degrees");
+  expectError("[light]\nazimuth = 10\nelevation = 95\n", "95", "got 95");
+  expectError("[light]\nazimuth = 400\nelevation = 10\n", "400",
+              "'azimuth' must be between -360 and 360");
+  expectError("[light]\nazimuth = 10\nelevation = 10\ndate = 2024-06-21\n", "2024",
+              "either by 'azimuth' and 'elevation' or by 'date' and 'time'");
+  expectError("[light]\ndate = 2024-06-21\ntime = 12:00:00\n", "2024",
+              "give [ground] heightfield (a georeferenced DEM)");
+  expectError("[light]\ndate = \"2024-06-21\"\ntime = 12:00:00\n", "\"2024",
+              "'date' must be a TOML date such as 2024-06-21 (no quotes), got string");
+  expectError("[light]\ndate = 2024-06-21\n", "2024", "'date' needs 'time' too (UTC)");
+  expectError("[light]\ntime = 12:00:00\n", "12:", "'time' needs 'date' too");
+  expectError("[light]\ndate = 1700-06-21\ntime = 12:00:00\n", "1700",
+              "'date' must be in the years 1800 to 2200, got 1700");
+  expectError("[light]\nintensity = -1\n", "-1", "'intensity' must be between 0 and 100");
+  expectError("[light]\nsky = [0.1, 2, 0.1]\n", "2", "'sky' components must be between 0 and 1");
+  expectError("[light]\nsun = 1\n", "sun", "unknown key 'sun' in [light]");
+}
+
+TEST_F(SceneTest, TerrainTextureAndSmoothShapes) {
+  fs::copy_file(std::string(VOXFALL_SOURCE_DIR) + "/scenes/terrain/cliff.asc", dir_ / "dem.asc");
+  std::ofstream(dir_ / "photo.tif") << "a file; the loader only checks that it exists";
+  const SceneSpec spec =
+      loadScene(write("a.toml", "[ground]\ntexture = \"photo.tif\"\nheightfield = \"dem.asc\"\n" +
+                                    kShape + "smooth = 30\n"));
+  EXPECT_EQ(spec.terrainTexturePath, (dir_ / "photo.tif").string());
+  ASSERT_EQ(spec.shapes.size(), 1u);
+  EXPECT_EQ(spec.shapes[0].smoothDegrees, 30);
+  EXPECT_FALSE(loadScene(write("b.toml", kShape)).shapes[0].smoothDegrees);
+  expectError("[ground]\ntexture = \"photo.tif\"\n", "\"photo",
+              "'texture' is draped on the heightfield; give 'heightfield' too");
+  expectError("[ground]\nheightfield = \"dem.asc\"\ntexture = \"none.tif\"\n", "\"none",
+              "texture raster not found");
+  expectError(kShape + "smooth = 200\n", "200", "'smooth' must be between 0 and 180");
+}
+
 TEST_F(SceneTest, MissingRequiredKeys) {
   expectError("[shapes.cube]\ndensity = 800\n", "[shapes.cube]",
               "missing required key 'mesh' (a mesh file) or 'rock' (a generated rock");
