@@ -21,6 +21,7 @@
 #include "sim/run_guard.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
+#include "sim/solve/contact_cache.h"
 #include "sim/solve/ground_law.h"
 #include "sim/solve/rotation_update.h"
 #include "sim/solve/sleep.h"
