@@ -80,7 +80,7 @@ void EnsembleFiles::writeRasterFile(OutputFile& file, int format, const std::vec
   file.closeStream();
   try {
     writeRaster(file.tempPath(), static_cast<RasterFormat>(format), values, ens.dem().nx,
-                ens.dem().ny, ens.spec().terrainPath);
+                ens.dem().ny, ens.spec().terrainPath, ens.dem().crsWkt);
   } catch (const InputError& e) {
     std::string message = e.message();
     for (std::size_t at; (at = message.find(file.tempPath() + ": ")) != std::string::npos;)

@@ -17,7 +17,7 @@
 namespace vf {
 
 void writeRaster(const std::string& path, RasterFormat format, const std::vector<double>& values,
-                 int nx, int ny, const std::string& demPath) {
+                 int nx, int ny, const std::string& demPath, const std::string& crsWkt) {
   static std::once_flag registered;
   std::call_once(registered, [] { GDALAllRegister(); });
   gdal::QuietErrors errors;
@@ -36,9 +36,8 @@ void writeRaster(const std::string& path, RasterFormat format, const std::vector
   mem.h = GDALCreate(GDALGetDriverByName("MEM"), "", nx, ny, 1, GDT_Float64, nullptr);
   if (!mem.h) throw InputError(path, "cannot create the raster: " + errors.last());
   GDALSetGeoTransform(mem.h, gt);
-  const char* wkt = GDALGetProjectionRef(dem.h);
-  const bool hasCrs = wkt != nullptr && *wkt != '\0';
-  if (hasCrs) GDALSetProjection(mem.h, wkt);
+  const bool hasCrs = !crsWkt.empty();
+  if (hasCrs) GDALSetProjection(mem.h, crsWkt.c_str());
   GDALRasterBandH band = GDALGetRasterBand(mem.h, 1);
   GDALSetRasterNoDataValue(band, kRasterNoData);
   // Our rows run from the south, GDAL's from the north.

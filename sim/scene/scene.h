@@ -220,6 +220,7 @@ struct SceneSpec {
   std::string terrainPath;           // DEM (any raster GDAL reads), resolved; empty: no terrain
   Vec3 terrainShift = Vec3::Zero();  // `offset`: added to the DEM's coordinates, m
   std::string terrainTexturePath;    // `texture`: an RGB raster draped on the DEM; empty: none
+  std::string terrainCrs;  // `crs`: the DEM's CRS where its file names none; empty: the file's
   // Rock fall ground materials (opt-in). Empty `groundMaterial`: the paper's model.
   std::string groundMaterial;  // a preset (sim/ground/ground_material.cpp) or custom name
   std::vector<GroundMaterialSpec> groundMaterials;  // custom ones

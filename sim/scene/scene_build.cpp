@@ -22,6 +22,7 @@
 #include "sim/ground/ground_material.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/convex_polyhedron.h"
+#include "sim/shape/crs.h"
 #include "sim/shape/shape.h"
 #include "sim/shape/sphere_tree.h"
 
@@ -231,6 +232,7 @@ Color defaultBodyColor(int id) {
 std::shared_ptr<const Heightfield> loadSceneTerrain(const SceneSpec& spec) {
   if (spec.terrainPath.empty()) return nullptr;
   Heightfield terrain = loadDem(spec.terrainPath);
+  if (!spec.terrainCrs.empty()) assignCrs(terrain, parseCrs(spec.terrainCrs), spec.terrainPath);
   if (spec.terrainShift != Vec3::Zero()) shiftHeightfield(terrain, spec.terrainShift);
   return std::make_shared<const Heightfield>(std::move(terrain));
 }

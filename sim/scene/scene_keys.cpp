@@ -17,7 +17,7 @@ const std::vector<SceneTableKeys>& sceneTableKeys() {
       {"contact.restitution", {"body_body", "body_ground"}},
       {"contact.friction", {"body_body", "body_ground"}},
       {"ground",
-       {"plane", "heightfield", "offset", "texture", "material", "materials", "classes",
+       {"plane", "heightfield", "offset", "crs", "texture", "material", "materials", "classes",
         "class_materials", "edge", "variability", "variability_seed"}},
       {"ground.materials.NAME",
        {"law", "restitution", "friction", "rolling_resistance", "tangential_restitution", "mu_min",

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +26,7 @@
 #include "sim/ground/ground_material.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/scene_keys.h"
+#include "sim/shape/crs.h"
 #include "sim/shape/sphere_tree.h"
 
 namespace vf {
@@ -487,6 +489,16 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
     if (spec.terrainPath.empty())
       r.fail(*n, "'offset' moves the heightfield; give 'heightfield' too");
     spec.terrainShift = r.vec3(*n, "offset");
+  }
+  if (const auto* n = t.get("crs")) {
+    if (spec.terrainPath.empty())
+      r.fail(*n, "'crs' is the heightfield's coordinate reference system; give 'heightfield' too");
+    spec.terrainCrs = r.string(*n, "crs");
+    try {
+      parseCrs(spec.terrainCrs);
+    } catch (const std::invalid_argument& e) {
+      r.fail(*n, std::string("'crs': ") + e.what());
+    }
   }
   if (const auto* n = t.get("texture")) {
     if (spec.terrainPath.empty())

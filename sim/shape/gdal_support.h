@@ -1,13 +1,17 @@
 // GDAL helpers shared by the files that talk to GDAL (sim/shape/dem_import.cpp reads DEMs,
 // sim/shape/drape_import.cpp drapes textures on them, sim/shape/geo_location.cpp places them on
-// the Earth, sim/ensemble/raster_output.cpp writes rasters). A private header: it includes GDAL,
-// so no voxfall header may include it; only those .cpp files do.
+// the Earth, sim/shape/crs.cpp reads a scene's CRS, sim/ensemble/raster_output.cpp writes
+// rasters). A private header: it includes GDAL, so no voxfall header may include it; only those
+// .cpp files do.
 #pragma once
 
 #include <cpl_error.h>
 #include <gdal.h>
+#include <ogr_srs_api.h>
 
+#include <memory>
 #include <string>
+#include <type_traits>
 
 namespace vf::gdal {
 
@@ -39,5 +43,11 @@ class QuietErrors {
     return m && *m ? std::string(m) : std::string("GDAL gave no reason");
   }
 };
+
+// A spatial reference, destroyed when it goes out of scope.
+struct SrsDeleter {
+  void operator()(OGRSpatialReferenceH h) const { OSRDestroySpatialReference(h); }
+};
+using Srs = std::unique_ptr<std::remove_pointer_t<OGRSpatialReferenceH>, SrsDeleter>;
 
 }  // namespace vf::gdal

@@ -13,13 +13,11 @@
 namespace vf {
 namespace {
 
-struct SrsDeleter {
-  void operator()(OGRSpatialReferenceH h) const { OSRDestroySpatialReference(h); }
-};
+using gdal::Srs;
+
 struct TransformDeleter {
   void operator()(OGRCoordinateTransformationH h) const { OCTDestroyCoordinateTransformation(h); }
 };
-using Srs = std::unique_ptr<std::remove_pointer_t<OGRSpatialReferenceH>, SrsDeleter>;
 using Transform =
     std::unique_ptr<std::remove_pointer_t<OGRCoordinateTransformationH>, TransformDeleter>;
 

@@ -206,6 +206,66 @@ TEST_F(EnsembleCommandTest, RastersCarryTheInputGeoreferenceAndCrs) {
   GDALClose(in);
 }
 
+// True if the raster `path` (its .prj for an ASCII grid) is in EPSG:31287.
+bool inAustriaLambert(const fs::path& path) {
+  GDALAllRegister();
+  GDALDatasetH ds = GDALOpen(path.c_str(), GA_ReadOnly);
+  if (!ds) return false;
+  OGRSpatialReferenceH got = OSRNewSpatialReference(GDALGetProjectionRef(ds));
+  OGRSpatialReferenceH want = OSRNewSpatialReference(nullptr);
+  OSRImportFromEPSG(want, 31287);
+  const char* const criterion[] = {"CRITERION=EQUIVALENT", nullptr};
+  const bool same = got && *GDALGetProjectionRef(ds) && OSRIsSameEx(got, want, criterion);
+  OSRDestroySpatialReference(got);
+  OSRDestroySpatialReference(want);
+  GDALClose(ds);
+  return same;
+}
+
+TEST_F(EnsembleCommandTest, ASceneGivesItsCrsToADemThatHasNone) {
+  vf::test::ChuteDem bare;
+  bare.crs = false;
+  ASSERT_TRUE(vf::test::writeChuteDem(dir_ / "chute.tif", bare));
+  // Without the key the rasters have no CRS (the control: the check below can fail).
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+  auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o none");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(inAustriaLambert(dir_ / "none" / "energy_p95.tif"));
+  EXPECT_FALSE(fs::exists(dir_ / "none" / "energy_p95.prj"));
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 3.0, "crs = \"EPSG:31287\"\n");
+  r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o crs");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* name : {"energy_p95.tif", "energy_p95.asc", "reach_probability.tif"})
+    EXPECT_TRUE(inAustriaLambert(dir_ / "crs" / name)) << name;
+  EXPECT_TRUE(fs::exists(dir_ / "crs" / "energy_p95.prj"));
+  EXPECT_NE(readFile(dir_ / "crs" / "summary.json").find("EPSG:31287"), std::string::npos);
+}
+
+TEST_F(EnsembleCommandTest, ACrsOtherThanTheDemsOwnIsRefusedAndWritesNothing) {
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 3.0, "crs = \"EPSG:4326\"\n");
+  const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o out");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("chute.tif"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("EPSG:31287"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("EPSG:4326"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "runs.csv"));
+  // The DEM's own CRS, given again, is accepted.
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 3.0, "crs = \"EPSG:31287\"\n");
+  EXPECT_EQ(runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o same").code, 0);
+}
+
+TEST_F(EnsembleCommandTest, ACrsGdalDoesNotKnowIsOneErrorAtItsLine) {
+  for (const char* bad : {"EPSG:0", "LOCAL_CS[\\\"site\\\"]"}) {
+    vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 3.0,
+                              std::string("crs = \"") + bad + "\"\n");
+    const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o out");
+    EXPECT_EQ(r.code, 1) << bad;
+    EXPECT_NE(r.err.find("scene.toml:9"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("crs"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out"));
+  }
+}
+
 TEST_F(EnsembleCommandTest, ReachProbabilityEqualsAnIndependentCountFromThePaths) {
   vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
   const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 8 --jobs 2 --paths -q -o p");

@@ -21,10 +21,11 @@ struct ChuteDem {
   double west = 1000.0, north = 5024.0;  // outer corner of the north-west pixel, file coords
   double slopeDegrees = 35.0;
   double top = 100.0;  // height of the western column, m
+  bool crs = true;     // false: a file that names no CRS
 };
 
-// Writes the chute as a Float64 GeoTIFF in EPSG:31287 (MGI / Austria Lambert); returns false
-// if GDAL cannot.
+// Writes the chute as a Float64 GeoTIFF in EPSG:31287 (MGI / Austria Lambert), or in no CRS;
+// returns false if GDAL cannot.
 inline bool writeChuteDem(const std::filesystem::path& path, const ChuteDem& c = {}) {
   GDALAllRegister();
   GDALDatasetH ds =
@@ -32,13 +33,15 @@ inline bool writeChuteDem(const std::filesystem::path& path, const ChuteDem& c =
   if (!ds) return false;
   double gt[6] = {c.west, c.cell, 0, c.north, 0, -c.cell};
   GDALSetGeoTransform(ds, gt);
-  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
-  OSRImportFromEPSG(srs, 31287);
-  char* wkt = nullptr;
-  OSRExportToWkt(srs, &wkt);
-  GDALSetProjection(ds, wkt);
-  CPLFree(wkt);
-  OSRDestroySpatialReference(srs);
+  if (c.crs) {
+    OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
+    OSRImportFromEPSG(srs, 31287);
+    char* wkt = nullptr;
+    OSRExportToWkt(srs, &wkt);
+    GDALSetProjection(ds, wkt);
+    CPLFree(wkt);
+    OSRDestroySpatialReference(srs);
+  }
   std::vector<double> z(static_cast<std::size_t>(c.nx) * c.ny);
   const double drop = std::tan(c.slopeDegrees * M_PI / 180.0) * c.cell;
   for (int row = 0; row < c.ny; ++row)
