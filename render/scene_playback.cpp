@@ -89,7 +89,6 @@ struct ScenePlayback::Impl {
     drawing.setLight(sceneLight(spec.light, field.get()));
     if (!field) return;
     terrain = field;
-    std::shared_ptr<const DrapeImage> drape;
     if (!spec.terrainTexturePath.empty())
       drape = std::make_shared<const DrapeImage>(loadDrape(spec.terrainTexturePath, *field));
     drawing.setTerrain(field, drape);
@@ -145,6 +144,7 @@ struct ScenePlayback::Impl {
   std::shared_ptr<const Heightfield> terrain;
   std::shared_ptr<const TriMesh> terrainMesh;
   std::shared_ptr<const std::vector<Vec3>> terrainNormals;
+  std::shared_ptr<const DrapeImage> drape;
 };
 
 ScenePlayback::ScenePlayback(const SceneSpec& spec, int width, int height)
@@ -232,6 +232,8 @@ std::shared_ptr<const std::vector<Vec3>> ScenePlayback::terrainNormals() const {
 }
 
 std::shared_ptr<const Heightfield> ScenePlayback::terrain() const { return impl_->terrain; }
+
+std::shared_ptr<const DrapeImage> ScenePlayback::terrainTexture() const { return impl_->drape; }
 
 const std::vector<std::string>& ScenePlayback::shapeNames() const { return impl_->names; }
 

@@ -60,6 +60,9 @@ class ScenePlayback {
   // one.
   std::shared_ptr<const TriMesh> terrainMesh() const;
   std::shared_ptr<const std::vector<Vec3>> terrainNormals() const;
+  // The picture draped on the terrain ([ground] texture), resampled over the DEM's extent;
+  // null without one.
+  std::shared_ptr<const DrapeImage> terrainTexture() const;
   // The terrain's heightfield (its CRS and the offset added to its coordinates); null without.
   std::shared_ptr<const Heightfield> terrain() const;
   // Per body id: the name of its [shapes] entry.

@@ -94,6 +94,7 @@ int World::addBody(const BodyDef& d) {
   b.isStatic = d.isStatic;
   b.releaseTime = d.releaseTime;
   b.dropHeight = d.dropHeight;
+  b.clearRelease = d.clearRelease;
   b.active = d.releaseTime <= time_ + kTimeTolerance;
   BodyState y;
   y.x = d.position;
@@ -291,7 +292,12 @@ std::uint64_t World::releaseBodies() {
     BodyInfo& b = bodies_[i];
     if (b.active || b.releaseTime > time_ + kTimeTolerance) continue;
     if (b.dropHeight >= 0) liftForRelease(i);
-    overlapping += overlapsActiveBody(i, bodies_, states_) ? 1 : 0;
+    bool overlaps = overlapsActiveBody(i, bodies_, states_);
+    if (overlaps && b.clearRelease) {
+      states_[i].x.z() += releaseClearLift(i, bodies_, states_);
+      overlaps = overlapsActiveBody(i, bodies_, states_);
+    }
+    overlapping += overlaps ? 1 : 0;
     b.active = true;
     if (def_.terrain && !b.isStatic) monitor_.onRelease(i, time_, bodies_, states_);
   }

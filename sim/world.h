@@ -47,6 +47,10 @@ struct BodyDef {
   // If >= 0, at release the body is moved vertically so that its lowest point is this far
   // above the highest point below its footprint (other bodies, floor, terrain), m.
   double dropHeight = -1;
+  // If set, a release whose leaf spheres would touch another active body's is raised until its
+  // mesh box clears the boxes of those bodies, grown by both leaf radii (releaseClearLift); a
+  // release that touches nothing stays where it is, to the bit.
+  bool clearRelease = false;
 };
 
 struct WorldDef {

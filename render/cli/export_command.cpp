@@ -59,6 +59,7 @@ int runExport(const ExportOptions& o) {
   animation.shapeNames = played->shapeNames();
   animation.terrain = played->terrainMesh();
   animation.terrainNormals = played->terrainNormals();
+  animation.terrainTexture = played->terrainTexture();
   if (const auto terrain = played->terrain())
     animation.georeference = DemGeoreference{terrain->crsName, terrain->crsWkt, terrain->shift};
   for (int k = 0; k < played->frameCount(); ++k) animation.frames.push_back(played->bodiesAt(k));

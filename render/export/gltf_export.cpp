@@ -7,7 +7,9 @@
 
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <assimp/Exporter.hpp>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -15,6 +17,8 @@
 #include <nlohmann/json.hpp>
 #include <utility>
 
+#include "render/image.h"
+#include "render/output/png_writer.h"
 #include "sim/core/error.h"
 
 namespace vf {
@@ -61,7 +65,7 @@ aiMesh* flatMesh(const TriMesh& mesh, unsigned material, const std::string& name
 
 // A mesh with shared vertices and the given per-vertex normals (the terrain, smooth).
 aiMesh* smoothMesh(const TriMesh& mesh, const std::vector<Vec3>& normals, unsigned material,
-                   const std::string& name) {
+                   const std::string& name, const DrapeImage* drape) {
   VF_ASSERT(normals.size() == mesh.vertices.size());
   auto* m = new aiMesh();
   m->mName = aiString(name);
@@ -80,7 +84,63 @@ aiMesh* smoothMesh(const TriMesh& mesh, const std::vector<Vec3>& normals, unsign
     const auto& t = mesh.triangles[f];
     m->mFaces[f] = triangleFace(t[0], t[1], t[2]);
   }
+  if (drape) {
+    // The renderer's drape lookup (shaders/scene.frag): a world point's texel is at
+    // ((x - x0) / (x1 - x0), (y - y0) / (y1 - y0)) of the image from its south-west corner.
+    // assimp keeps v upwards from the image's last row, as OpenGL does, and its glTF exporter
+    // writes 1 - v, glTF's downwards from the first row (the north edge, see drapePicture).
+    m->mNumUVComponents[0] = 2;
+    m->mTextureCoords[0] = new aiVector3D[m->mNumVertices];
+    const double w = drape->x1 - drape->x0, h = drape->y1 - drape->y0;
+    for (unsigned i = 0; i < m->mNumVertices; ++i) {
+      const Vec3& p = mesh.vertices[i];
+      m->mTextureCoords[0][i] = aiVector3D(static_cast<float>((p.x() - drape->x0) / w),
+                                           static_cast<float>((p.y() - drape->y0) / h), 0.0f);
+    }
+  }
   return m;
+}
+
+// The sRGB transfer function and its inverse (IEC 61966-2-1), on values in [0, 1].
+double srgbToLinear(double c) {
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+double linearToSrgb(double c) {
+  return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
+}
+
+// The drape as an opaque picture, north row first: each texel laid over `under` (linear RGB)
+// by its coverage, mixed in linear light as the renderer mixes it over its slope colours, since
+// a glTF material's texture has no second colour to show where the raster has no data.
+Image drapePicture(const DrapeImage& d, const Color& under) {
+  Image out(d.width, d.height);
+  for (int row = 0; row < d.height; ++row)
+    for (int col = 0; col < d.width; ++col) {
+      const std::uint8_t* in = d.rgba.data() + 4 * (static_cast<std::size_t>(row) * d.width + col);
+      std::uint8_t* px = out.pixel(col, d.height - 1 - row);  // DrapeImage: row 0 is south
+      const double a = in[3] / 255.0;
+      for (int k = 0; k < 3; ++k) {
+        const double c = in[k] / 255.0;
+        const double mixed = a == 1 ? c : linearToSrgb(a * srgbToLinear(c) + (1 - a) * under[k]);
+        px[k] = static_cast<std::uint8_t>(std::lround(255 * std::clamp(mixed, 0.0, 1.0)));
+      }
+    }
+  return out;
+}
+
+// The drape as assimp's embedded texture "*0": a PNG, whose bytes the glTF exporter stores in
+// the GLB's binary chunk.
+aiTexture* embeddedPng(const DrapeImage& d, const Color& under, const std::string& where) {
+  const std::vector<std::uint8_t> png =
+      encodePng(drapePicture(d, under), PngCompression::small, where);
+  auto* texture = new aiTexture();
+  texture->mWidth = static_cast<unsigned>(png.size());  // mHeight 0: compressed, mWidth bytes
+  texture->mHeight = 0;
+  texture->pcData = new aiTexel[(png.size() + sizeof(aiTexel) - 1) / sizeof(aiTexel)];
+  std::memcpy(texture->pcData, png.data(), png.size());
+  std::strcpy(texture->achFormatHint, "png");
+  texture->mFilename = aiString("terrain_texture.png");
+  return texture;
 }
 
 aiMaterial* toAiMaterial(const Color& c, const std::string& name) {
@@ -198,8 +258,20 @@ void writeGltfAnimation(const std::string& path, const AnimationExport& a,
   }
   if (a.terrain) {
     VF_ASSERT(a.terrainNormals != nullptr);
-    scene.mMeshes[bodyMeshes] = smoothMesh(*a.terrain, *a.terrainNormals, bodyMeshes, "terrain");
-    scene.mMaterials[bodyMeshes] = toAiMaterial(Color{0.16f, 0.22f, 0.09f}, "terrain");
+    const DrapeImage* drape = a.terrainTexture.get();
+    scene.mMeshes[bodyMeshes] =
+        smoothMesh(*a.terrain, *a.terrainNormals, bodyMeshes, "terrain", drape);
+    const Color terrainColour{0.16f, 0.22f, 0.09f};
+    if (drape) {
+      // glTF multiplies the texture by the base colour: white shows the picture as it is.
+      scene.mMaterials[bodyMeshes] = toAiMaterial(Color{1, 1, 1}, "terrain");
+      const aiString embedded("*0");
+      scene.mMaterials[bodyMeshes]->AddProperty(&embedded, AI_MATKEY_TEXTURE_DIFFUSE(0));
+      scene.mNumTextures = 1;
+      scene.mTextures = new aiTexture* [1] { embeddedPng(*drape, terrainColour, path) };
+    } else {
+      scene.mMaterials[bodyMeshes] = toAiMaterial(terrainColour, "terrain");
+    }
   }
   // Names are glTF ids in assimp's exporter: the root must not share the animation's name.
   scene.mRootNode = new aiNode("world");

@@ -11,6 +11,7 @@
 
 #include "render/draw_list.h"
 #include "render/output/output_file.h"
+#include "sim/shape/drape_import.h"
 
 namespace vf {
 
@@ -25,8 +26,10 @@ struct DemGeoreference {
 // that shape and colour (the shape's mesh in its body frame, flat normals as voxfall draws
 // bodies, the colour as its material: a glTF mesh carries its material); one node per body,
 // named after its shape and body id ("rock_12"); optionally the static terrain (smooth normals,
-// as drawn) in a node "terrain"; and one animation with a translation, rotation and scale key
-// per body per frame (scale 0 while a body is not yet released).
+// as drawn) in a node "terrain", with its draped texture embedded as a PNG and texture
+// coordinates that put each world point (x, y) on the texel the renderer puts it on; and one
+// animation with a translation, rotation and scale key per body per frame (scale 0 while a
+// body is not yet released).
 struct AnimationExport {
   std::string name;                           // scene name: the animation's
   double fps = 30;                            // key frames per second of the animation
@@ -34,6 +37,7 @@ struct AnimationExport {
   std::vector<std::string> shapeNames;        // per body id: its [shapes] entry's name
   std::shared_ptr<const TriMesh> terrain;     // world coordinates; null: none
   std::shared_ptr<const std::vector<Vec3>> terrainNormals;  // per terrain vertex, unit
+  std::shared_ptr<const DrapeImage> terrainTexture;         // draped on the terrain; null: none
   std::optional<DemGeoreference> georeference;              // with a terrain from a DEM
 };
 

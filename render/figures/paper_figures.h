@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "sim/scene/scene.h"
+
 namespace vf::fig {
 
 struct PaperFigureOptions {
@@ -22,6 +24,23 @@ constexpr double kInterpenetrationThreshold = 0.005;
 
 // "fig10", "fig13", "fig14", "fig16".
 const std::vector<std::string>& paperFigureNames();
+
+// One run of a figure: a shipped scene at a voxel level, step and contact method.
+struct RunConfig {
+  std::string scene;  // file stem in the scenes folder
+  int level = 4;
+  double step = 0;  // s; 0: eq. 20
+  ColliderMethod collider = ColliderMethod::kVoxel;
+  int repeats = 1;
+};
+
+// Every run figure `name` makes (the full set, or --quick's), one repeat each: what the tests
+// check the paper's scenes under.
+std::vector<RunConfig> paperFigureRuns(const std::string& name, bool quick);
+
+// The scene `config.scene` from `scenesDir` as that run simulates it: its level, step and
+// contact method. Throws InputError as loadScene does.
+SceneSpec figureRunSpec(const std::string& scenesDir, const RunConfig& config);
 
 // Makes the named figures (all when `names` is empty; unknown names throw InputError) in
 // options.outDir, with OUT/README.md describing them.

@@ -31,12 +31,13 @@ struct BodyInfo {
   double invMass = 0;                  // 1/M, 0 for static bodies
   Mat3 inertiaBodyInv = Mat3::Zero();  // I_body^-1, zero for static bodies
   bool isStatic = false;
-  bool active = true;      // released (emitter bodies join later)
-  double releaseTime = 0;  // s
-  double dropHeight = -1;  // m; < 0: release where placed (see BodyDef)
-  bool sleeping = false;   // at rest: frozen until touched (solve/sleep.h)
-  double restTime = 0;     // s the body has been slower than the sleep threshold
-  int sleepIsland = -1;    // lowest id of the island it fell asleep with
+  bool active = true;         // released (emitter bodies join later)
+  double releaseTime = 0;     // s
+  double dropHeight = -1;     // m; < 0: release where placed (see BodyDef)
+  bool clearRelease = false;  // raised at release if born inside another body (see BodyDef)
+  bool sleeping = false;      // at rest: frozen until touched (solve/sleep.h)
+  double restTime = 0;        // s the body has been slower than the sleep threshold
+  int sleepIsland = -1;       // lowest id of the island it fell asleep with
   // Released and not static: has mass, gravity and energy, awake or asleep.
   bool dynamic() const { return active && !isStatic; }
   // Dynamic and awake: what the step's stages move.

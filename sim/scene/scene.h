@@ -72,6 +72,9 @@ struct EmitterSpec {
   // this far onto whatever lies below it at release time: example 4's "dropped from 0.5 m"
   // onto a growing pile.
   std::optional<double> dropHeight;
+  // If set, a release that would be born inside another body (their leaf spheres touching) is
+  // raised until it clears it; other releases are left where they are.
+  bool clearRelease = false;
   std::optional<Color> color;
   std::string where;
 };

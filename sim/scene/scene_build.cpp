@@ -315,6 +315,7 @@ BuiltScene buildScene(const SceneSpec& spec) {
       def.angularVelocity = e.angularVelocity;
       def.releaseTime = e.start + i * e.interval;
       if (e.dropHeight) def.dropHeight = *e.dropHeight;
+      def.clearRelease = e.clearRelease;
       add(s, e.shape, def, e.color, e.where);
     }
   }

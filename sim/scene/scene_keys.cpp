@@ -30,7 +30,7 @@ const std::vector<SceneTableKeys>& sceneTableKeys() {
         "color"}},
       {"emitters",
        {"shape", "count", "start", "interval", "position", "positions", "velocity",
-        "angular_velocity", "orientation", "color", "jitter", "drop_height"}},
+        "angular_velocity", "orientation", "color", "jitter", "drop_height", "clear_release"}},
       {"emitters.jitter", {"position", "direction", "orientation", "seed"}},
       {"camera",
        {"position", "look_at", "up", "fov", "follow", "smoothing", "path", "min_pixels", "trail"}},

@@ -916,6 +916,7 @@ void readEmitters(const Reader& r, const toml::array& emitters, SceneSpec& spec)
     if (const auto* n = t.get("jitter")) readJitter(r, r.table(*n, "jitter"), e);
     if (const auto* n = t.get("drop_height"))
       e.dropHeight = r.nonNegative(*n, "drop_height", " m (fall height above what lies below)");
+    if (const auto* n = t.get("clear_release")) e.clearRelease = r.boolean(*n, "clear_release");
     spec.emitters.push_back(std::move(e));
   }
 }

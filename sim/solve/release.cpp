@@ -87,6 +87,33 @@ double releaseLift(int id, double clearance, const std::vector<BodyInfo>& bodies
   return top + clearance - box.min().z();
 }
 
+double releaseClearLift(int id, const std::vector<BodyInfo>& bodies,
+                        const std::vector<BodyState>& states) {
+  const int n = static_cast<int>(bodies.size());
+  const Eigen::AlignedBox3d box = meshBounds(bodies[id], states[id]);
+  const double ownPad = bodies[id].shape->tree->leaves().radius;
+  std::vector<Eigen::AlignedBox3d> others;
+  for (int j = 0; j < n; ++j) {
+    if (j == id || !bodies[j].active) continue;
+    const Eigen::AlignedBox3d b = meshBounds(bodies[j], states[j]);
+    const Vec3 pad = Vec3::Constant(ownPad + bodies[j].shape->tree->leaves().radius);
+    others.emplace_back(b.min() - pad, b.max() + pad);
+  }
+  // Each pass raises the body onto the top of one more box it meets, so this ends; a lift
+  // only grows, so rounding cannot make it cycle.
+  double lift = 0;
+  for (bool moved = true; moved;) {
+    moved = false;
+    const Eigen::AlignedBox3d placed(box.min() + Vec3(0, 0, lift), box.max() + Vec3(0, 0, lift));
+    for (const Eigen::AlignedBox3d& o : others)
+      if (o.intersects(placed) && o.max().z() - box.min().z() > lift) {
+        lift = o.max().z() - box.min().z();
+        moved = true;
+      }
+  }
+  return lift;
+}
+
 bool overlapsActiveBody(int id, const std::vector<BodyInfo>& bodies,
                         const std::vector<BodyState>& states) {
   const Collider mine = sphereTreeCollider(id, *bodies[id].shape->tree, states[id].x, states[id].q);

@@ -34,6 +34,13 @@ double releaseLift(int id, double clearance, const std::vector<BodyInfo>& bodies
                    const std::vector<BodyState>& states, const std::vector<Contact>& lastContacts,
                    bool firstStep, const ReleaseGround& ground);
 
+// How far to raise body `id` (vertically, m, >= 0) so that its mesh bounds lie above the bounds
+// of every active body they would meet, each grown by both bodies' leaf radii (as in
+// releaseLift): clear of their leaf spheres. Used for a release that would be born inside
+// another body (`clear_release`); 0 when the bounds meet none.
+double releaseClearLift(int id, const std::vector<BodyInfo>& bodies,
+                        const std::vector<BodyState>& states);
+
 // True if body `id`'s leaf spheres touch those of another active body: an emitter aimed into a
 // pile (counted in the run's statistics, StepStats::overlappingReleases).
 bool overlapsActiveBody(int id, const std::vector<BodyInfo>& bodies,

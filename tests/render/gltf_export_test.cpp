@@ -2,9 +2,12 @@
 // would: one node per body named after its shape and id, one animation channel per body, a
 // key per frame at t = k / fps, and the pose at a key equal to the state `voxfall simulate
 // --csv` reports for that frame; unit normals (a body's its faces', the terrain's upward); one
-// mesh per shape shared by its bodies' nodes; the DEM's CRS and offset in the root's extras.
+// mesh per shape shared by its bodies' nodes; the DEM's CRS and offset in the root's extras;
+// a draped texture embedded as a PNG (decoded by libpng) with texture coordinates that put each
+// terrain vertex on the texel of the raster that covers it.
 #include <assimp/scene.h>
 #include <gtest/gtest.h>
+#include <png.h>
 
 #include <assimp/Importer.hpp>
 #include <cmath>
@@ -31,6 +34,17 @@ class GltfExport : public ::testing::Test {
         vf::test::runVoxfall(VOXFALL_EXE, dir_.path(), args + " --quiet");
     err_ = r.err;
     return r.code;
+  }
+  // Exports `scene` to rocks.glb and reads it back with `importer` (null on failure, with
+  // a test failure naming why).
+  const aiScene* exportAndRead(const std::string& scene, Assimp::Importer& importer) {
+    if (run("export '" + scene + "' -o rocks.glb") != 0) {
+      ADD_FAILURE() << err_;
+      return nullptr;
+    }
+    const aiScene* read = importer.ReadFile(dir_.file("rocks.glb"), 0);
+    if (!read) ADD_FAILURE() << importer.GetErrorString();
+    return read;
   }
   vf::test::ScratchDir dir_;
   std::string err_;
@@ -138,10 +152,9 @@ const aiNode* child(const aiScene* scene, const std::string& name) {
 }
 
 TEST_F(GltfExport, BodiesOfAShapeShareItsMeshWithUnitFaceNormalsAndNodesNamedAfterIt) {
-  ASSERT_EQ(run("export '" + rocksOnADem(dir_) + "' -o rocks.glb"), 0) << err_;
   Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(dir_.file("rocks.glb"), 0);
-  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  const aiScene* scene = exportAndRead(rocksOnADem(dir_), importer);
+  ASSERT_NE(scene, nullptr);
   // rock_0..2 share one mesh, box_3 has its own, and the terrain its own.
   EXPECT_EQ(scene->mNumMeshes, 3u);
   std::vector<unsigned> meshOf;
@@ -183,10 +196,9 @@ TEST_F(GltfExport, BodiesOfAShapeShareItsMeshWithUnitFaceNormalsAndNodesNamedAft
 
 // The root node's extras, as assimp reads them into its metadata.
 TEST_F(GltfExport, TheDemsCrsAndOffsetAreInTheRootNodesExtras) {
-  ASSERT_EQ(run("export '" + rocksOnADem(dir_) + "' -o rocks.glb"), 0) << err_;
   Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(dir_.file("rocks.glb"), 0);
-  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  const aiScene* scene = exportAndRead(rocksOnADem(dir_), importer);
+  ASSERT_NE(scene, nullptr);
   const aiMetadata* extras = scene->mRootNode->mMetaData;
   ASSERT_NE(extras, nullptr) << "no extras on the root node";
   aiString crs, wkt;
@@ -206,6 +218,118 @@ TEST_F(GltfExport, TheDemsCrsAndOffsetAreInTheRootNodesExtras) {
     ASSERT_EQ(offset->mValues[i].mType, AI_DOUBLE) << i;
     EXPECT_EQ(*static_cast<const double*>(offset->mValues[i].mData), expected[i]) << i;
   }
+}
+
+// An orthophoto over rocksOnADem's DEM (raster extent x 999..1013, y 1999..2011 in EPSG:31287):
+// 1 m texels, 14 x 12, grey 60 but for the texel in column 9 and row 3 from the top (grey 250),
+// which covers x 1008..1009, y 2007..2008: world x 8..9, y 7..8 after the offset.
+std::string rocksOnATexturedDem(const vf::test::ScratchDir& dir) {
+  const std::string scene = rocksOnADem(dir);
+  std::ofstream photo(dir.file("photo.asc"));
+  photo << "ncols 14\nnrows 12\nxllcorner 999\nyllcorner 1999\ncellsize 1\n";
+  for (int row = 0; row < 12; ++row) {
+    for (int col = 0; col < 14; ++col) photo << (row == 3 && col == 9 ? 250 : 60) << " ";
+    photo << "\n";
+  }
+  photo.close();
+  const std::string command = "gdal_translate -q -ot Byte -a_srs EPSG:31287 '" +
+                              dir.file("photo.asc") + "' '" + dir.file("photo.tif") + "'";
+  EXPECT_EQ(std::system(command.c_str()), 0) << command;
+  std::string text = readFile(scene);
+  const std::string dem = "heightfield = \"dem.tif\"\n";
+  text.replace(text.find(dem), dem.size(), dem + "texture = \"photo.tif\"\n");
+  std::ofstream(scene) << text;
+  return scene;
+}
+
+struct Picture {
+  unsigned width = 0, height = 0;
+  std::vector<unsigned char> rgb;  // top row first
+  unsigned char red(unsigned col, unsigned row) const { return rgb[3 * (row * width + col)]; }
+};
+
+// An embedded compressed texture (mHeight 0: mWidth bytes) decoded by libpng.
+Picture decodePng(const aiTexture& t) {
+  Picture out;
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_memory(&png, t.pcData, t.mWidth)) return out;
+  png.format = PNG_FORMAT_RGB;
+  out.rgb.resize(PNG_IMAGE_SIZE(png));
+  if (!png_image_finish_read(&png, nullptr, out.rgb.data(), 0, nullptr)) return {};
+  out.width = png.width;
+  out.height = png.height;
+  return out;
+}
+
+TEST_F(GltfExport, ADrapedTextureIsEmbeddedAndItsTexelsLieOverTheCellsTheyCover) {
+  Assimp::Importer importer;
+  const aiScene* scene = exportAndRead(rocksOnATexturedDem(dir_), importer);
+  ASSERT_NE(scene, nullptr);
+  const aiNode* node = child(scene, "terrain");
+  ASSERT_NE(node, nullptr);
+  const aiMesh* terrain = scene->mMeshes[node->mMeshes[0]];
+  ASSERT_EQ(terrain->mNumVertices, 42u) << "the DEM's 7 x 6 samples";
+  ASSERT_TRUE(terrain->HasTextureCoords(0));
+  EXPECT_EQ(terrain->mNumUVComponents[0], 2u);
+
+  // The material's base colour texture is the embedded picture.
+  const aiMaterial* material = scene->mMaterials[terrain->mMaterialIndex];
+  aiString path;
+  ASSERT_EQ(material->GetTexture(aiTextureType_DIFFUSE, 0, &path), AI_SUCCESS);
+  const aiTexture* texture = scene->GetEmbeddedTexture(path.C_Str());
+  ASSERT_NE(texture, nullptr) << path.C_Str();
+  EXPECT_EQ(texture->mHeight, 0u) << "stored compressed";
+  EXPECT_STREQ(texture->achFormatHint, "png");
+  const Picture picture = decodePng(*texture);
+  ASSERT_EQ(picture.width, 14u) << "the raster's own 1 m texels over the DEM's extent";
+  ASSERT_EQ(picture.height, 12u);
+  for (unsigned row = 0; row < 12; ++row)
+    for (unsigned col = 0; col < 14; ++col)
+      EXPECT_EQ(picture.red(col, row) > 155, col == 9 && row == 3) << col << ", " << row;
+
+  // Every vertex's texture coordinate against the raster's geotransform: world (x, y) is file
+  // (x + 1000, y + 2000), texel column x_file - 999 and row 2011 - y_file from the top. glTF's
+  // v runs down from the picture's first row; assimp reads it as 1 - v (v up from the last).
+  // Float storage: agreement to 1e-5 of the picture, far inside a texel (1/14, 1/12).
+  for (unsigned i = 0; i < terrain->mNumVertices; ++i) {
+    const aiVector3D& p = terrain->mVertices[i];
+    const aiVector3D& uv = terrain->mTextureCoords[0][i];
+    ASSERT_GE(uv.x, 0.0f);
+    ASSERT_LE(uv.x, 1.0f);
+    ASSERT_GE(uv.y, 0.0f);
+    ASSERT_LE(uv.y, 1.0f);
+    EXPECT_NEAR(uv.x * 14, p.x + 1000 - 999, 1e-4) << "vertex " << i;
+    EXPECT_NEAR((1 - uv.y) * 12, 2011 - (p.y + 2000), 1e-4) << "vertex " << i;
+  }
+  // The marked cell's centre, world (8.5, 7.5), lies in the grid square of the samples at
+  // x = 8, 10 and y = 6, 8; texture coordinates are affine there, so its own is the bilinear
+  // mix of those four vertices'. It lands on the marked texel, within the texel.
+  aiVector3D mix(0, 0, 0);
+  int found = 0;
+  for (unsigned i = 0; i < terrain->mNumVertices; ++i) {
+    const aiVector3D& p = terrain->mVertices[i];
+    const bool x8 = std::abs(p.x - 8) < 1e-4, x10 = std::abs(p.x - 10) < 1e-4;
+    const bool y6 = std::abs(p.y - 6) < 1e-4, y8 = std::abs(p.y - 8) < 1e-4;
+    if (!(x8 || x10) || !(y6 || y8)) continue;
+    const double weight = (x8 ? 0.75 : 0.25) * (y8 ? 0.75 : 0.25);
+    mix += terrain->mTextureCoords[0][i] * static_cast<float>(weight);
+    ++found;
+  }
+  ASSERT_EQ(found, 4);
+  const double col = mix.x * 14, row = (1 - mix.y) * 12;
+  EXPECT_NEAR(col, 9.5, 0.5);
+  EXPECT_NEAR(row, 3.5, 0.5);
+  EXPECT_GT(picture.red(static_cast<unsigned>(col), static_cast<unsigned>(row)), 155);
+}
+
+TEST_F(GltfExport, ATerrainWithoutATextureHasNoTextureCoordinates) {
+  Assimp::Importer importer;
+  const aiScene* scene = exportAndRead(rocksOnADem(dir_), importer);
+  ASSERT_NE(scene, nullptr);
+  const aiMesh* terrain = scene->mMeshes[child(scene, "terrain")->mMeshes[0]];
+  EXPECT_FALSE(terrain->HasTextureCoords(0));
+  EXPECT_EQ(scene->mNumTextures, 0u);
 }
 
 TEST_F(GltfExport, ABakeExportsTheSameFileAsItsScene) {

@@ -51,6 +51,27 @@ TEST(World, ReleaseIntoAnotherBodyIsCounted) {
   EXPECT_EQ(world.totals().overlappingReleases, 1u);
 }
 
+TEST(World, ClearReleaseRaisesOnlyAReleaseBornInsideAnotherBody) {
+  WorldDef def;
+  def.gravity = Vec3::Zero();
+  World world(def);
+  auto s = test::boxShape(0.2, 0.2, 0.2, 800, 3);
+  const double r = s->tree->leaves().radius;
+  world.addBody(test::bodyAt(s, Vec3(0, 0, 0)));
+  BodyDef into = test::bodyAt(s, Vec3(0.1, 0, 0), 0.1);  // overlaps body 0
+  into.clearRelease = true;
+  world.addBody(into);
+  BodyDef free = test::bodyAt(s, Vec3(3, 0, 0.05), 0.2);  // meets nothing
+  free.clearRelease = true;
+  world.addBody(free);
+  world.advanceTo(0.3);
+  EXPECT_EQ(world.totals().overlappingReleases, 0u);
+  // Raised until its bottom (z - 0.1) is on body 0's top (0.1) grown by both leaf radii.
+  EXPECT_NEAR(world.state(1).x.z(), 0.2 + 2 * r, 1e-12);
+  EXPECT_EQ(world.state(1).x.x(), 0.1);
+  EXPECT_EQ(world.state(2).x.z(), 0.05) << "a release that meets nothing stays, to the bit";
+}
+
 TEST(World, DropHeightReleasesThatFarAboveWhatLiesBelow) {
   WorldDef def;
   def.groundHeight = 0.0;
