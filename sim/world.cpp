@@ -248,7 +248,7 @@ void World::stepToward(double target) {
   }
   if (slip && def_.ground->hasScar())
     scarDrag_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground, groundLaw_,
-                         s.dt);
+                         s.dt, def_.terrain.get(), def_.groundHeight);
   if (slip) slipLaw_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground, s.dt);
   s.secondsSolve = clock.lap();
 

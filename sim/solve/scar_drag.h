@@ -3,6 +3,8 @@
 // layer (scar_drag.cpp).
 #pragma once
 
+#include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "sim/collide/contact.h"
@@ -26,32 +28,43 @@ double unitSegmentArea(double h);
 double immersedFrontalArea(const BodyInfo& b, const BodyState& y, const Vec3& n, const Vec3& t,
                            double depth);
 
-// Per-body scar depth d (m), kept across steps; 0 out of the layer.
+// Per-body scar layer: its depth d (m), kept across steps; 0 out of the layer.
 class ScarDrag {
  public:
-  // The scar depth of body i (m): 0 unless it is in contact with scar ground.
-  double depth(std::size_t i) const { return i < depth_.size() ? depth_[i] : 0.0; }
+  // The scar depth of body i (m): 0 out of the layer.
+  double depth(std::size_t i) const { return i < layers_.size() ? layers_[i].depth : 0.0; }
 
-  // After the step's contact solve, per moving body with ground contacts on scar materials
-  // carrying normal impulse (N s, in contact order): d becomes the larger of itself and eq. 11
-  // for the body's incoming speed along the contacts' normal (its velocity before the solve, as
-  // `law` saw it), and the drag F = -1/2 (C_f + C_s) rho A |v| v acts on its centre of mass
-  // over dt (v after the solve, A the frontal area at depth d). A body without such a contact
-  // has left the layer: d = 0. The materials are those of the contact with the largest normal
-  // impulse.
+  // After the step's contact solve, per moving body. With ground contacts on scar materials
+  // carrying normal impulse (N s, in contact order) it strikes the layer: d becomes the larger of
+  // itself and eq. 11 for the body's incoming speed along the contacts' normal (its velocity
+  // before the solve, as `law` saw it). Without ground contact it stays in the layer while a
+  // leaf sphere is within d of the terrain or the floor plane (clearOfGround), and leaves it
+  // (d = 0) once clear; a contact on other ground ends it too. In the layer the drag
+  // F = -1/2 (C_f + C_s) rho A |v| v acts on its centre of mass over dt (v after the solve, A
+  // the frontal area at depth d), with the material and normal of its last scar contact (that
+  // of the largest normal impulse).
   void afterSolve(const std::vector<Contact>& contacts, const std::vector<double>& normalImpulses,
                   const std::vector<BodyInfo>& bodies, std::vector<BodyState>& states,
-                  const GroundMap& ground, const GroundLaw& law, double dt);
+                  const GroundMap& ground, const GroundLaw& law, double dt,
+                  const Heightfield* terrain, std::optional<double> floor);
 
  private:
-  void dragBody(std::size_t i, const BodyInfo& b, BodyState& y, const Vec3& incoming, double dt);
+  void dragBody(std::size_t i, const BodyInfo& b, BodyState& y, const Vec3& incoming, double dt,
+                const Heightfield* terrain, std::optional<double> floor);
 
-  std::vector<double> depth_;  // d, m
+  struct Layer {
+    double depth = 0;             // d, m; 0: out of the layer
+    Vec3 normal = Vec3::UnitZ();  // of the last scar contact, out of the ground
+    GroundCoefficients material;  // of the last scar contact
+    std::uint32_t nearLeaf = 0;   // clearOfGround's hint
+  };
+  std::vector<Layer> layers_;
   // Per-step scratch, per body: the largest normal impulse of a scar contact (N s; 0: none),
-  // that contact's material, and the impulse-weighted normal.
+  // that contact's material, the impulse-weighted normal, and whether other ground was touched.
   std::vector<double> largest_;
   std::vector<GroundCoefficients> material_;
   std::vector<Vec3> normal_;
+  std::vector<char> otherGround_;
 };
 
 }  // namespace vf

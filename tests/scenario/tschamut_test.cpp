@@ -109,3 +109,15 @@ TEST(Tschamut2014, SlipLawEveryRockStopsOrLeavesAndTheMedianOvershoots) {
 }
 
 }  // namespace vf
+
+namespace vf {
+
+// The slip law under Lu et al. 2019's soft-soil scar layer (their whole-trajectory set, the
+// preset ramms_chant_sura_scar), the layer their rebound-plane parameters were fitted beneath.
+TEST(Tschamut2014, ScarLayer) {
+  const SiteResult site = runSite("tschamut2014_scar.toml");
+  for (RockState s : site.states)
+    EXPECT_TRUE(s == RockState::kStopped || s == RockState::kLeft) << rockStateName(s);
+}
+
+}  // namespace vf
