@@ -160,7 +160,9 @@ TEST(ScarDrag, ABlockSlidingInTheLayerSlowsAsTheDragOdePredicts) {
   const double d = scarDepth(s->mass, m.scarModulus, vImpact);
   EXPECT_NEAR(world.scarDepth(0), d, 1e-15);
   const double ay = equivalentSemiAxis(0.4), az = equivalentSemiAxis(0.1);
-  const double A = ay * az * unitSegmentArea(d / az);
+  // The ellipse's segment: the circle of radius a_z's segment of height d, stretched by a_y / a_z.
+  const double A =
+      ay / az * (az * az * std::acos((az - d) / az) - (az - d) * std::sqrt(2 * az * d - d * d));
   const double k = 0.5 * (m.scarFluidDrag + m.scarCompactionDrag) * m.scarDensity * A / s->mass;
   const double tL = world.time(), vL = world.velocity(0).x();
   EXPECT_LT(vL, vx);
