@@ -225,6 +225,7 @@ void World::stepToward(double target) {
   // lands such a box in one pass, and the paper's 12 passes serve both.
   solver.iterations = def_.solverIterations;
   solver.patchBlocks = def_.contactReduction;
+  solver.warmStartNearest = def_.contactReduction;  // representatives change keys (contact_cache)
   solver.restingSpeed = 2 * def_.gravity.norm() * s.dt;  // what gravity adds in two steps
   solver.dt = s.dt;
   solver.pool = pool_.get();

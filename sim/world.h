@@ -21,6 +21,7 @@
 #include "sim/run_guard.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
+#include "sim/solve/contact_cache.h"
 #include "sim/solve/ground_law.h"
 #include "sim/solve/rotation_update.h"
 #include "sim/solve/scar_drag.h"
@@ -59,8 +60,9 @@ struct WorldDef {
   std::shared_ptr<const Heightfield> terrain;  // heightfield ground; none: no terrain
   ContactMaterial contact;
   int solverIterations = 12;  // sequential-impulse passes over the contacts
-  // Extensions beyond the paper (README, "Performance"). Both change trajectories, so both are
-  // off by default: the paper's method, and the pinned golden checksums, stay the default.
+  // Extensions beyond the paper (docs/performance.md). Both change trajectories. A World built
+  // in code gets the paper's method unless it asks for them; a scene file gets both unless it
+  // says method = "paper" (SceneSpec).
   bool contactReduction = false;  // a few representative contacts per patch (contact_reduction.h)
   bool sleep = false;             // bodies at rest sleep until touched (solve/sleep.h)
   SleepSettings sleepSettings;

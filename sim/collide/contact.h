@@ -50,15 +50,4 @@ struct ContactKey {
   auto operator<=>(const ContactKey&) const = default;
 };
 
-// A resting contact's accumulated impulse from the previous step, to seed the next step's
-// solve ("warm starting").
-struct CachedImpulse {
-  ContactKey key;
-  double normal = 0, tangent1 = 0, tangent2 = 0;  // N s
-};
-struct ContactCache {
-  double dt = 0;                        // length of the step the impulses belong to, s
-  std::vector<CachedImpulse> impulses;  // sorted by key
-};
-
 }  // namespace vf

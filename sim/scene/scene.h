@@ -206,10 +206,14 @@ struct SceneSpec {
   Vec3 gravity = Vec3(0, 0, -9.81);
   double fps = 30;
   ColliderMethod collider = ColliderMethod::kVoxel;  // collider = "voxel" | "polygon"
-  bool contactReduction = false;  // a few contacts per patch (README, "Performance")
-  bool sleep = false;             // bodies at rest sleep until touched
-  int threads = 1;          // not a scene key (results do not depend on it): set by the caller
-  bool stageTimes = false;  // not a scene key: time each stage of every step (WorldDef)
+  // The two extensions beyond the paper that change trajectories for speed (docs/performance.md).
+  // `method = "fast"` (the default: both on) or `"paper"` (both off) sets them; the keys
+  // `contact_reduction` and `sleep` override it one by one. WorldDef, for code that builds a
+  // World itself, keeps the paper's method as its default.
+  bool contactReduction = true;  // a few contacts per patch
+  bool sleep = true;             // bodies at rest sleep until touched
+  int threads = 1;               // not a scene key (results do not depend on it): set by the caller
+  bool stageTimes = false;       // not a scene key: time each stage of every step (WorldDef)
   RotationUpdate rotation = RotationUpdate::kExplicitEuler;  // `rotation = "euler" | "midpoint"`
   bool stopWhenSettled = false;  // `stop = "all_at_rest"`: end when every rock stopped or left
   RestCriterion rest;            // `rest = { speed = .., time = .. }`

@@ -349,6 +349,16 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
              "comparison method, convex meshes only), got \"" +
                  c + "\"");
   }
+  if (const auto* n = t.get("method")) {
+    const std::string m = r.string(*n, "method");
+    if (m != "fast" && m != "paper")
+      r.fail(*n,
+             "'method' must be \"fast\" (contact reduction and sleeping, the default) or "
+             "\"paper\" (the paper's method: neither), got \"" +
+                 m + "\"");
+    spec.contactReduction = spec.sleep = m == "fast";
+  }
+  // Each key overrides the method's choice.
   if (const auto* n = t.get("contact_reduction"))
     spec.contactReduction = r.boolean(*n, "contact_reduction");
   if (const auto* n = t.get("sleep")) spec.sleep = r.boolean(*n, "sleep");

@@ -23,12 +23,14 @@
 //     landing.) The scale never exceeds 1 because part of an impulse
 //     corrects velocity errors and does not grow with dt: after a very short step (a release
 //     time just after a frame time), scaling up by the step ratio would blow bodies apart.
+//     With the extensions a contact can also be seeded by a cached contact of another key
+//     (contact reduction's representatives) or by one kept while its bodies slept
+//     (contact_cache.cpp).
 //   - with contact reduction (an extension, SolverSettings::patchBlocks), each pass first
 //     solves the normal impulses of a patch of 2-4 points together ("patch blocks", below).
 // A single new contact gets exactly eq. 15 in the first pass, and later passes change nothing.
 #include "sim/solve/impulse.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -46,58 +48,6 @@ double inverseEffectiveMass(double invMassA, const Mat3& invInertiaA, const Vec3
   // d . [(I1^-1 (r1 x d)) x r1] = (r1 x d) . I1^-1 (r1 x d): the paper's form, rearranged.
   const Vec3 raXd = ra.cross(d), rbXd = rb.cross(d);
   return invMassA + invMassB + raXd.dot(invInertiaA * raXd) + rbXd.dot(invInertiaB * rbXd);
-}
-
-bool patchBlockInverse(const Eigen::Matrix4d& block, int m, const Vec3* arms, const Vec3& n,
-                       Eigen::Matrix4d& inverse) {
-  // Rows and columns beyond m: K(0, 0) on the diagonal, the block's own scale, so that the
-  // cut-offs below are relative to the block whatever the bodies' masses (never read).
-  Eigen::Matrix4d K = Eigen::Matrix4d::Zero();
-  K.topLeftCorner(m, m) = block.topLeftCorner(m, m);
-  for (int i = m; i < 4; ++i) K(i, i) = K(0, 0);
-  // The closed form. K_ij = 1/M_a + 1/M_b + (r_ai x n).I_a^-1 (r_aj x n) + (r_bi x n).I_b^-1
-  // (r_bj x n), and r_bi = r_ai + x_a - x_b, so K u = 0 for every u with sum u_i = 0 and
-  // sum u_i (r_ai x n) = 0: the affine dependencies of the points seen along n. Four points in
-  // a plane have one, u_k = n.(d_l x d_m) for (k, l, m) cyclic in (1, 2, 3), d_k = arm_k -
-  // arm_0, u_0 = -(u_1 + u_2 + u_3) (Cramer's rule in the plane); fewer generally have none.
-  // With K's null vector u (unit) known, K + s u u^T is invertible and its inverse is
-  // K^+ + u u^T / s, for any s > 0 (K is symmetric: u is orthogonal to K's range).
-  Eigen::Vector4d u = Eigen::Vector4d::Zero();
-  const double s = K.trace() / 4;
-  bool closed = std::isfinite(s) && s > 0;
-  if (closed && m == 4) {
-    const Vec3 d1 = arms[1] - arms[0], d2 = arms[2] - arms[0], d3 = arms[3] - arms[0];
-    u << 0, n.dot(d2.cross(d3)), n.dot(d3.cross(d1)), n.dot(d1.cross(d2));
-    u[0] = -(u[1] + u[2] + u[3]);
-    // All four points nearly on one line: u is rounding (and K has a second null direction).
-    const double spread = d1.squaredNorm() + d2.squaredNorm() + d3.squaredNorm();
-    const double uu = u.squaredNorm();
-    closed = uu > 1e-12 * spread * spread;
-    if (closed) u /= std::sqrt(uu);
-  }
-  const Eigen::Matrix4d lifted = K + s * u * u.transpose();  // K itself where u = 0
-  // Taken only where every eigenvalue of the lifted K (K's non-zero ones, s for u, K(0, 0) for
-  // the padding) lies above 1e-6 of the largest, far from the eigen-decomposition's cut-off of
-  // 1e-9: then both give K^+ up to rounding. It is positive semidefinite, so lambda_min >= det /
-  // lambda_max^3 >= det / trace^3, and det >= 1e-6 trace^4 suffices.
-  if (closed) {
-    const double trace = lifted.trace();
-    closed = lifted.determinant() >= 1e-6 * trace * trace * trace * trace;
-  }
-  if (closed) {
-    inverse = lifted.inverse();
-    if (m == 4) inverse -= (u / s) * u.transpose();
-    return true;
-  }
-  // Otherwise the eigen-decomposition: directions K does not move (up to rounding of its
-  // entries) are left out.
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(K);
-  const Eigen::Vector4d lambda = eigen.eigenvalues();
-  const double floor = 1e-9 * lambda.cwiseAbs().maxCoeff();
-  Eigen::Vector4d inv;
-  for (int i = 0; i < 4; ++i) inv[i] = lambda[i] > floor ? 1.0 / lambda[i] : 0.0;
-  inverse = eigen.eigenvectors() * inv.asDiagonal() * eigen.eigenvectors().transpose();
-  return false;
 }
 
 namespace {
@@ -122,7 +72,9 @@ struct Axis {
 
 struct Row {  // one contact, prepared
   ContactKey key;
-  int a, b;  // motion indices; b may be the ground slot
+  Vec3 point;    // the contact point (world), for the cache
+  double reach;  // how far a cached point may lie to seed it (warmStartNearest), m
+  int a, b;      // motion indices; b may be the ground slot
   Vec3 ra, rb;
   Axis n, t1, t2;
   double target;  // wanted normal velocity
@@ -157,6 +109,10 @@ struct SolverScratch {
   // rows[k] and patches[k] belong to contact k (most patches[k] unused: no clearing needed).
   std::vector<int> root, islandOfRoot, start, order, contactIsland, next, runStart, islandPasses;
   std::vector<char> made;  // made[k]: contact k has a row
+  // claimed[i]: cache entry i has seeded a row (each seeds at most one). Islands share no body
+  // pair, so the threads solving them write disjoint entries.
+  std::vector<char> claimed;
+  std::vector<char> warm;  // warm[k]: contact k's row was seeded from the cache
 };
 
 // Fewer rows than this are solved on one thread: waking a worker costs about as much as a few
@@ -237,6 +193,10 @@ bool prepareRow(const std::vector<Contact>& contacts, int k, const std::vector<B
   const ContactMaterial& mat = settings.material;
   const Contact& c = contacts[static_cast<std::size_t>(k)];
   r.key = ContactKey{c.a, c.b, c.leafA, c.leafB};
+  r.point = c.point;
+  r.reach = settings.warmStartNearest
+                ? representativeReach(bodies[c.a], c.b == kGround ? nullptr : &bodies[c.b])
+                : 0.0;
   r.a = bodies[c.a].moves() ? c.a : zeroSlot;
   r.fixedB = c.b == kGround || !bodies[c.b].moves();
   r.b = r.fixedB ? zeroSlot : c.b;
@@ -433,23 +393,54 @@ bool passRow(const int* k, Row* rows, const Patch* patches, Motion& A, Motion& B
   return changed;
 }
 
-// Warm start and passes over the rows [first, last) of one island; returns the passes made.
-int solveIsland(const int* first, const int* last, Row* rows, const Patch* patches, Motion* motion,
-                const ContactCache& cache, double scale, const SolverSettings& settings) {
-  // Warm start from the previous step's impulses (cache sorted by key: binary search).
+// Seeds row r from cache entry e (an impulse of the same contact, or with `reproject` one
+// standing for it, whose normal and tangents may differ from r's: its world vector is taken
+// along r's axes, the normal part kept >= 0) and applies that impulse.
+void seedRow(Row& r, const CachedImpulse& e, bool reproject, double dt, Motion* motion) {
+  const double scale = warmStartScale(e, dt);
+  if (reproject) {
+    r.jn = std::max(0.0, e.impulse.dot(r.n.d)) * scale;
+    r.jt1 = e.impulse.dot(r.t1.d) * scale;
+    r.jt2 = e.impulse.dot(r.t2.d) * scale;
+  } else {
+    r.jn = e.normal * scale;
+    r.jt1 = e.tangent1 * scale;
+    r.jt2 = e.tangent2 * scale;
+  }
+  push(r.n, r.jn, motion[r.a], motion[r.b]);
+  push(r.t1, r.jt1, motion[r.a], motion[r.b]);
+  push(r.t2, r.jt2, motion[r.a], motion[r.b]);
+}
+
+// Warm start of the rows [first, last) of one island (contact_cache.h): every row whose contact
+// the cache holds by key, then, with warmStartNearest, the rest from the nearest unclaimed
+// entry of their body pair, in row order.
+void warmStart(const int* first, const int* last, Row* rows, Motion* motion,
+               const ContactCache& cache, SolverScratch& w, const SolverSettings& settings) {
   for (const int* k = first; k != last; ++k) {
     Row& r = rows[*k];
-    const auto it =
-        std::lower_bound(cache.impulses.begin(), cache.impulses.end(), r.key,
-                         [](const CachedImpulse& c, const ContactKey& key) { return c.key < key; });
-    if (it == cache.impulses.end() || it->key != r.key) continue;
-    r.jn = it->normal * scale;
-    r.jt1 = it->tangent1 * scale;
-    r.jt2 = it->tangent2 * scale;
-    push(r.n, r.jn, motion[r.a], motion[r.b]);
-    push(r.t1, r.jt1, motion[r.a], motion[r.b]);
-    push(r.t2, r.jt2, motion[r.a], motion[r.b]);
+    const std::ptrdiff_t e = findCached(cache, r.key);
+    if (e < 0) continue;
+    w.claimed[static_cast<std::size_t>(e)] = 1;
+    w.warm[static_cast<std::size_t>(*k)] = 1;
+    seedRow(r, cache.impulses[static_cast<std::size_t>(e)], false, settings.dt, motion);
   }
+  if (!settings.warmStartNearest) return;
+  for (const int* k = first; k != last; ++k) {
+    Row& r = rows[*k];
+    if (w.warm[static_cast<std::size_t>(*k)]) continue;
+    const std::ptrdiff_t e = nearestCached(cache, r.key.a, r.key.b, r.point, r.reach, w.claimed);
+    if (e < 0) continue;
+    w.claimed[static_cast<std::size_t>(e)] = 1;
+    w.warm[static_cast<std::size_t>(*k)] = 1;
+    seedRow(r, cache.impulses[static_cast<std::size_t>(e)], true, settings.dt, motion);
+  }
+}
+
+// Warm start and passes over the rows [first, last) of one island; returns the passes made.
+int solveIsland(const int* first, const int* last, Row* rows, const Patch* patches, Motion* motion,
+                const ContactCache& cache, SolverScratch& w, const SolverSettings& settings) {
+  warmStart(first, last, rows, motion, cache, w, settings);
   // A pass that changes no accumulated impulse leaves every velocity as it was (it pushes only
   // zero impulses), so every later pass would repeat it: the passes stop there, with the
   // result of all `iterations` passes (tests/sim/impulse_test.cpp compares both).
@@ -481,7 +472,6 @@ int solveIslands(int islands, const std::vector<Contact>& contacts,
                  SolverScratch& w, const ContactCache& cache, const SolverSettings& settings) {
   const int n = static_cast<int>(bodies.size());
   const int count = w.start[islands];
-  const double scale = cache.dt > 0 ? std::min(1.0, settings.dt / cache.dt) : 0.0;
   auto solve = [&](int i) {
     int* order = w.order.data();
     int end = w.start[i];                              // the rows made so far: order[start[i], end)
@@ -496,7 +486,7 @@ int solveIslands(int islands, const std::vector<Contact>& contacts,
       preparePatches(contacts, order + w.start[i], end - w.start[i], w.rows.data(), w.motion.data(),
                      w.patches.data());
     return solveIsland(order + w.start[i], order + end, w.rows.data(), w.patches.data(),
-                       w.motion.data(), cache, scale, settings);
+                       w.motion.data(), cache, w, settings);
   };
   const int threads = islands < 2 || count < kRowsPerThread || !settings.pool
                           ? 1
@@ -550,11 +540,15 @@ void applyImpulses(const SolverScratch& w, const std::vector<BodyInfo>& bodies,
 void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyInfo>& bodies,
                    std::vector<BodyState>& states, const SolverSettings& settings,
                    ContactCache& cache) {
+  // The next step's cache: this step's resting contacts and the sleeping bodies' (kept first,
+  // while the previous cache is still whole).
+  std::vector<CachedImpulse>& next = cache.scratch;
+  next.clear();
+  keepSleepingContacts(cache, bodies, next);
   if (contacts.empty()) {
     if (settings.passes) *settings.passes = 0;
     if (settings.normalImpulses) settings.normalImpulses->clear();
-    cache.impulses.clear();
-    cache.dt = settings.dt;
+    cache.impulses.swap(next);
     return;
   }
   // Scratch reused from step to step (per thread: ensembles step worlds on several). Passed on
@@ -567,19 +561,22 @@ void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyI
   w.rows.resize(contacts.size());
   if (settings.patchBlocks) w.patches.resize(contacts.size());
   w.made.assign(contacts.size(), 0);
+  w.warm.assign(contacts.size(), 0);
+  w.claimed.assign(cache.impulses.size(), 0);
   const int passes = solveIslands(islands, contacts, bodies, states, w, cache, settings);
   if (settings.passes) *settings.passes = passes;
 
   // Only resting contacts seed the next step: an impact's impulse belongs to its own step, and
   // re-applied while the bodies separate it would throw them apart.
-  cache.dt = settings.dt;
-  cache.impulses.clear();
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const Row& r = w.rows[k];
-    if (w.made[k] && r.target == 0.0) cache.impulses.push_back({r.key, r.jn, r.jt1, r.jt2});
+    if (!w.made[k] || r.target != 0.0) continue;
+    const Vec3 impulse = r.jn * r.n.d + r.jt1 * r.t1.d + r.jt2 * r.t2.d;
+    next.push_back({r.key, r.jn, r.jt1, r.jt2, impulse, r.point, settings.dt});
   }
-  std::sort(cache.impulses.begin(), cache.impulses.end(),
+  std::sort(next.begin(), next.end(),
             [](const CachedImpulse& x, const CachedImpulse& y) { return x.key < y.key; });
+  cache.impulses.swap(next);
 
   if (settings.normalImpulses) {
     settings.normalImpulses->assign(contacts.size(), 0.0);

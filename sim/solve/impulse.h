@@ -6,6 +6,8 @@
 
 #include "sim/collide/contact.h"
 #include "sim/core/body.h"
+#include "sim/solve/contact_cache.h"
+#include "sim/solve/patch_block.h"
 
 namespace vf {
 
@@ -18,15 +20,6 @@ double inverseEffectiveMass(double invMassA, const Mat3& invInertiaA, const Vec3
                             double invMassB, const Mat3& invInertiaB, const Vec3& rb,
                             const Vec3& d);
 
-// The Moore-Penrose pseudo-inverse of a patch block (the top left m x m of `block`, m = 2..4,
-// K_ij = the normal velocity at point i per unit normal impulse at point j, all along the
-// patch's normal n; SolverSettings::patchBlocks) into the top left m x m of `inverse`. `arms`:
-// the points' r_a x n. By a closed form where K is well conditioned but for the null direction
-// that four coplanar points always give it (returns true), else by an eigen-decomposition that
-// leaves out eigenvalues below 1e-9 of the largest. See impulse.cpp.
-bool patchBlockInverse(const Eigen::Matrix4d& block, int m, const Vec3* arms, const Vec3& n,
-                       Eigen::Matrix4d& inverse);
-
 struct SolverSettings {
   ContactMaterial material;
   int iterations = 12;
@@ -37,6 +30,10 @@ struct SolverSettings {
   // (2-4 consecutive contacts of one body pair with the same normal), their normal impulses
   // are solved together as one small linear system. See impulse.cpp.
   bool patchBlocks = false;
+  // Contact reduction's warm start (an extension, with contact reduction): a contact that
+  // matches no cached key takes the impulse of the nearest unclaimed cached contact of its body
+  // pair within representativeReach (contact_cache.cpp).
+  bool warmStartNearest = false;
   // Approach speeds below this get no restitution: the speed gravity adds in a step or two.
   // Without it a resting body would bounce by eps g dt every step (visible jitter).
   double restingSpeed = 0;
@@ -59,7 +56,8 @@ struct SolverSettings {
 // Resolves every contact and applies the impulses to P and L of the bodies involved
 // (P1 += J, L1 += r1 x J; the opposite on body 2). Contacts with the ground or a static body use
 // the body-ground material, others body-body. See impulse.cpp for the scheme.
-// `cache` holds the previous step's impulses on entry and this step's on return.
+// `cache` holds the previous step's impulses on entry and this step's on return, together with
+// those of sleeping bodies' contacts (keepSleepingContacts).
 void solveContacts(const std::vector<Contact>& contacts, const std::vector<BodyInfo>& bodies,
                    std::vector<BodyState>& states, const SolverSettings& settings,
                    ContactCache& cache);

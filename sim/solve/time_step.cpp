@@ -2,9 +2,10 @@
 // v_max = v_g,max + (l/2) w_max (eq. 18) and r = l / 2^(Lv+1) (eq. 19), giving eq. 20.
 //
 // The paper has one kind of body per scene; voxfall's scenes mix shapes and levels. We take
-// r as the smallest leaf radius term l_i / 2^(Lv_i+1) over moving bodies, and v_max as the
-// largest translational speed plus the largest rim speed (l_i/2) w_i over moving bodies: for a
-// scene of identical bodies this is eq. 20 exactly, otherwise it is more conservative.
+// r as the smallest leaf radius term l_i / 2^(Lv_i+1) over dynamic bodies (asleep ones too: a
+// contact can wake one within the step), and v_max as the largest translational speed plus the
+// largest rim speed (l_i/2) w_i over moving bodies: for a scene of identical bodies this is
+// eq. 20 exactly, otherwise it is more conservative.
 //
 // One refinement: voxfall applies gravity before moving the bodies (the README's step order),
 // so the speed that moves a body during the step is |v| + |g| dt, not |v|. Solving
@@ -51,19 +52,22 @@ double stepToMove(double distance, double speed, double g, double maxStep) {
 
 double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
                   const Vec3& gravity, double maxStep) {
-  double radius = INFINITY;  // eq. 19, smallest over moving bodies
+  double radius = INFINITY;  // eq. 19, smallest over dynamic bodies
   double speed = 0;          // largest |v_g|
   double rimSpeed = 0;       // largest (l/2) |w|
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const BodyInfo& b = bodies[i];
-    if (!b.moves()) continue;
+    if (!b.dynamic()) continue;
     const Shape& s = *b.shape;
-    const BodyState& y = states[i];
+    // Asleep bodies count for r: one that a contact wakes in this step (solve/sleep.h) moves in
+    // it, from rest, and its leaves too must move less than their radius. They add no speed.
     radius = std::min(radius, s.stepRadius());
+    if (!b.moves()) continue;
+    const BodyState& y = states[i];
     speed = std::max(speed, velocityOf(b, y).norm());
     rimSpeed = std::max(rimSpeed, 0.5 * s.diameter * angularVelocityOf(b, y).norm());
   }
-  if (!std::isfinite(radius)) return maxStep;  // nothing moves
+  if (!std::isfinite(radius)) return maxStep;  // no dynamic body
   return std::min(stepToMove(radius, speed + rimSpeed, gravity.norm(), maxStep), maxStep);
 }
 
@@ -117,6 +121,8 @@ double clearanceStep(const std::vector<BodyInfo>& bodies, const std::vector<Body
       r.clearance = r.budget;
       if (groundHeight) r.clearance = std::min(r.clearance, y.x.z() - r.reach - *groundHeight);
       r.clearance = std::max(r.clearance, 0.0);
+    } else if (b.dynamic()) {
+      r.radius = s.stepRadius();  // asleep: may wake within the step (see stableStep)
     }
     r.lo = y.x.x() - r.reach - r.budget;
     r.hi = y.x.x() + r.reach + r.budget;
@@ -157,6 +163,10 @@ double clearanceStep(const std::vector<BodyInfo>& bodies, const std::vector<Body
     }
   double dt = maxStep;
   for (const Reach& r : xs) {
+    if (bodies[r.id].sleeping) {  // woken within the step, it moves from rest (see stableStep)
+      dt = std::min(dt, stepToMove(r.radius, 0.0, g, maxStep));
+      continue;
+    }
     if (r.budget == 0) continue;
     dt = std::min(dt, stepToMove(std::max(r.radius, r.clearance), r.speed, g, maxStep));
   }

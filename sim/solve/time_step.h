@@ -24,8 +24,9 @@ struct StepRule {
   bool isClearance() const { return kind == Kind::kClearance; }
 };
 
-// The largest step at which no leaf sphere of a moving body moves more than its own radius
-// (eq. 17), for the current state, capped at maxStep. See time_step.cpp for the details.
+// The largest step at which no leaf sphere of a moving body, or of an asleep one woken within
+// the step, moves more than its own radius (eq. 17), for the current state, capped at maxStep.
+// See time_step.cpp for the details.
 double stableStep(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,
                   const Vec3& gravity, double maxStep);
 

@@ -392,6 +392,27 @@ TEST_F(SceneTest, CameraPathKeysMustBeInTimeOrder) {
   expectError(kShape + "[cameras.x]\ntrails = 2\n", "trails", "did you mean 'trail'?");
 }
 
+TEST_F(SceneTest, MethodSetsBothExtensionsAndEachKeyOverridesIt) {
+  auto extensions = [&](const std::string& simulation) {
+    const SceneSpec spec = loadScene(write("scene.toml", "[simulation]\n" + simulation));
+    return std::make_pair(spec.contactReduction, spec.sleep);
+  };
+  using P = std::pair<bool, bool>;
+  EXPECT_EQ(extensions(""), P(true, true)) << "no key: the fast path";
+  EXPECT_EQ(extensions("method = \"fast\"\n"), P(true, true));
+  EXPECT_EQ(extensions("method = \"paper\"\n"), P(false, false));
+  EXPECT_EQ(extensions("method = \"paper\"\nsleep = true\n"), P(false, true));
+  EXPECT_EQ(extensions("contact_reduction = false\nmethod = \"fast\"\n"), P(false, true))
+      << "a key overrides the method wherever it stands";
+  EXPECT_EQ(extensions("sleep = false\n"), P(true, false));
+}
+
+TEST_F(SceneTest, UnknownMethodIsAnError) {
+  expectError("[simulation]\nmethod = \"quick\"\n", "\"quick\"",
+              "'method' must be \"fast\" (contact reduction and sleeping, the default) or "
+              "\"paper\"");
+}
+
 // --- what loads -------------------------------------------------------------------------------
 
 TEST_F(SceneTest, DefaultsAndNormalisation) {
