@@ -244,32 +244,3 @@ TEST(ScarDrag, AScarMaterialABodyNeverTouchesChangesNoBit) {
 }
 
 }  // namespace vf
-
-namespace vf {
-
-// Off by default: the slip law's own trajectory of a tumbling block on `ramms_chant_sura`
-// (no scar layer), pinned by its hash as the slip law without any scar-layer code produced it
-// (on this compiler and platform, as tests/golden's checksums are). A scar drag acting, or any
-// change of bits on the way, changes the hash.
-TEST(ScarDrag, OffTheSlipLawKeepsItsPinnedTrajectory) {
-  auto terrain =
-      std::make_shared<const Heightfield>(test::flatHeightfield(41, 11, 1.0, 0.0, -5.0, -5.0));
-  auto g = std::make_shared<GroundMap>();
-  g->materials = {*groundPreset("ramms_chant_sura", 0.8)};
-  EXPECT_FALSE(g->hasScar());
-  WorldDef def;
-  def.terrain = terrain;
-  def.ground = g;
-  World world(def);
-  auto s = test::boxShape(0.4, 0.3, 0.2, 2600, 3);
-  BodyDef bd;
-  bd.shape = s;
-  bd.position = Vec3(-2, 0, 0.6);
-  bd.velocity = Vec3(3.0, 0.2, 0);
-  bd.angularVelocity = Vec3(1, 2, 0);
-  world.addBody(bd);
-  world.advanceTo(2.0);
-  EXPECT_EQ(world.stepsHash(), 0x3e9c8a7e1b204723ULL);
-}
-
-}  // namespace vf
