@@ -6,6 +6,7 @@
 //   contact reduction         collide/contact_reduction.cpp (optional)
 //   impulses (eq. 15)         solve/impulse.cpp
 //   ground law (opt-in, rock fall: bounce, rolling)   solve/ground_law.cpp
+//   scar drag (opt-in, rock fall: soft soil over the slip law)   solve/scar_drag.cpp
 //   slippage (opt-in, rock fall: mu(s))   solve/slip_law.cpp
 //   explicit Euler, renormalise q   solve/integrate.cpp
 //   sleeping islands          solve/sleep.cpp (optional)
@@ -247,6 +248,9 @@ void World::stepToward(double target) {
                               def_.gravity, s.dt, def_.terrain.get(), def_.groundHeight);
     for (int id : law.bounced) monitor_.countBounce(id);
   }
+  if (slip && def_.ground->hasScar())
+    scarDrag_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground, groundLaw_,
+                         s.dt, def_.terrain.get(), def_.groundHeight);
   if (slip) slipLaw_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground, s.dt);
   s.secondsSolve = clock.lap();
 

@@ -24,6 +24,7 @@
 #include "sim/solve/contact_cache.h"
 #include "sim/solve/ground_law.h"
 #include "sim/solve/rotation_update.h"
+#include "sim/solve/scar_drag.h"
 #include "sim/solve/sleep.h"
 #include "sim/solve/slip_law.h"
 #include "sim/solve/time_step.h"
@@ -184,6 +185,9 @@ class World {
   bool isSleeping(int id) const { return bodies_[id].sleeping; }
   // The slip law's slippage s of body id (m; solve/slip_law.h): 0 without slip materials.
   double slippage(int id) const;
+  // The scar depth d of body id in the slip law's soft-soil layer (m; solve/scar_drag.h): 0 out
+  // of contact with scar ground.
+  double scarDepth(int id) const { return scarDrag_.depth(static_cast<std::size_t>(id)); }
   Vec3 velocity(int id) const;         // m/s
   Vec3 angularVelocity(int id) const;  // rad/s, world frame
   // The same for body id in state y (e.g. one of statesAt(t)).
@@ -250,6 +254,7 @@ class World {
   std::vector<double> normalImpulses_;  // scratch: per contact, for the ground law
   GroundLaw groundLaw_;                 // rock fall: flight, bounce, rolling (per body)
   SlipLaw slipLaw_;                     // rock fall: slippage s of the slip law (per body)
+  ScarDrag scarDrag_;                   // rock fall: the slip law's soft-soil scar layer
   RockMonitor monitor_;                 // terrain edges, push-out, rest, outcomes
   RunGuard guard_;                      // runaway checks (run_guard.h)
   std::optional<Runaway> runaway_;      // see runaway()

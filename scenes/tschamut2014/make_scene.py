@@ -72,6 +72,19 @@ SLIP = {
         'material = "ramms_chant_sura"',
     ],
 }
+SCAR = {
+    "file": "tschamut2014_scar.toml",
+    "title": "\n# Ground law: the slip law under Lu et al. 2019's soft-soil scar layer; tschamut2014.toml: STONE.",
+    "contact": SLIP["contact"],
+    "ground": [
+        "# The slip law of tschamut2014_slip.toml (Lu et al. 2019's rebound plane at Chant Sura:",
+        "# mu_min 0.55, mu_max 2.0, kappa 3 1/m, beta 185 1/s, normal restitution 0) under the",
+        "# soft-soil scar layer that set was fitted beneath (Lu et al. 2019, Landslides 16:2353-2367,",
+        "# eqs. 9-12): soil density 1700 kg/m^3, C_f 1.0, and their whole-trajectory C_s 1.5 and",
+        "# M_e 15 MN/m^2 (Table 5). Chosen before any run of this law on this site; NOT fitted.",
+        'material = "ramms_chant_sura_scar"',
+    ],
+}
 
 
 def shape_lines(bid, b, law):
@@ -134,5 +147,5 @@ def scene(law):
         out.write("\n".join(lines) + "\n")
 
 
-for law in (STONE, SLIP):
+for law in (STONE, SLIP, SCAR):
     scene(law)

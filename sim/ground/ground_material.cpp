@@ -59,12 +59,27 @@ constexpr Preset kPresets[] = {
     {"lakes_glaciers", 0.95, 0.10, 0.10, "Lakes, glaciers"},
 };
 
+// A scar layer's numbers (sim/solve/scar_drag.cpp): all zero for none.
+struct ScarPreset {
+  double density;     // rho_Sigma, kg/m^3
+  double fluidDrag;   // C_f
+  double compaction;  // C_s
+  double modulus;     // M_e, MN/m^2
+};
+
 struct SlipPreset {
   const char* name;
   double muMin, muMax, kappa, beta;  // kappa 1/m, beta 1/s
   double restitution;                // eps_N
   const char* source;
+  ScarPreset scar = {0, 0, 0, 0};
 };
+
+// Lu et al. 2019's whole-trajectory scar layer at Chant Sura: soil density 1700 kg/m^3 (which
+// they take from Dorren 2016), C_f 1.0, and C_s 1.5 and M_e 15 MN/m^2, the values of their
+// Table 5 runs (to two figures the means of their per-impact Table 3: C_s 4.0, 1.5, 0.1, 0.5;
+// M_e 25, 15, 10, 10 MN/m^2).
+constexpr ScarPreset kLu2019Scar = {1700.0, 1.0, 1.5, 15.0};
 
 // The slip law's published sets. Neither Lu et al. nor Bartelt et al. (as Lu quotes them)
 // print eps_N for Chant Sura: 0 is Leine et al. 2014's value for their demonstrations (eps_N
@@ -78,6 +93,11 @@ constexpr SlipPreset kSlipPresets[] = {
     {"leine2014_demo", 0.2, 1.3, 0.7, 20.0, 0.0,
      "Leine, Schweizer, Christen, Glover, Bartelt & Gerber 2014, Multibody Syst Dyn "
      "32:241-271, section 5.1 (square block on a 45-degree plane); eps_N = eps_T = 0 as there"},
+    {"ramms_chant_sura_scar", 0.55, 2.0, 3.0, 185.0, 0.0,
+     "Lu, Caviezel, Christen, Buehler & Bartelt 2019, Landslides 16:2353-2367: the rebound plane "
+     "of ramms_chant_sura under their soft-soil scar layer (rho 1700 kg/m^3, C_f 1.0, C_s 1.5, "
+     "M_e 15 MN/m^2: the whole-trajectory set of their Table 5); eps_N 0 is voxfall's choice",
+     kLu2019Scar},
 };
 
 }  // namespace
@@ -108,6 +128,11 @@ std::optional<GroundMaterial> groundPreset(const std::string& name, double frict
       m.muMax = p.muMax;
       m.kappa = p.kappa;
       m.beta = p.beta;
+      m.scar = p.scar.density > 0;
+      m.scarDensity = p.scar.density;
+      m.scarFluidDrag = p.scar.fluidDrag;
+      m.scarCompactionDrag = p.scar.compaction;
+      m.scarModulus = p.scar.modulus;
       m.source = p.source;
       return m;
     }
@@ -150,6 +175,12 @@ GroundCoefficients GroundMap::coefficientsAt(double x, double y) const {
 bool GroundMap::hasSlip() const {
   for (const GroundMaterial& m : materials)
     if (m.law == GroundLawKind::kSlip) return true;
+  return false;
+}
+
+bool GroundMap::hasScar() const {
+  for (const GroundMaterial& m : materials)
+    if (m.law == GroundLawKind::kSlip && m.scar) return true;
   return false;
 }
 

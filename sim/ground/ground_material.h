@@ -37,6 +37,13 @@ struct GroundCoefficients {
   double muMin = 0, muMax = 0;
   double kappa = 0;  // 1/m, slippage hardening
   double beta = 0;   // 1/s, slippage softening
+  // Slip law only: the soft-soil scar layer of Lu et al. 2019 above the ground, which acts as
+  // their hard "rebound plane" (sim/solve/scar_drag.cpp). Off unless `scar` is true.
+  bool scar = false;
+  double scarDensity = 0;         // rho_Sigma, kg/m^3: the soil's density
+  double scarFluidDrag = 0;       // C_f: the fluid part of the drag coefficient
+  double scarCompactionDrag = 0;  // C_s: the compaction part of the drag coefficient
+  double scarModulus = 0;         // M_e, MN/m^2: the soil's deformation modulus (eq. 11)
 };
 
 struct GroundMaterial : GroundCoefficients {
@@ -74,6 +81,8 @@ struct GroundMap {
   GroundCoefficients coefficientsAt(double x, double y) const;
   // Whether any material follows the slip law.
   bool hasSlip() const;
+  // Whether any material has a scar layer.
+  bool hasScar() const;
 };
 
 // The index j * nx + i of the sample nearest to world (x, y), or -1 off the grid.

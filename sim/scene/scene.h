@@ -114,12 +114,18 @@ struct CameraSpec {
 
 // [ground.materials.NAME]: a custom ground material. Stone law: unset values fall back to
 // [contact]'s body_ground restitution and friction, and no rolling resistance. Slip law: mu_min,
-// mu_max, kappa and beta are required, restitution defaults to 0.
+// mu_max, kappa and beta are required, restitution defaults to 0, and an optional `scar`
+// sub-table gives the soft-soil scar layer (all four of its keys required).
 struct GroundMaterialSpec {
   std::string name;
   GroundLawKind law = GroundLawKind::kStone;  // `law = "stone" | "slip"`
   std::optional<double> restitution, friction, rollingResistance, tangentialRestitution;
   std::optional<double> muMin, muMax, kappa, beta;  // slip law
+  // Slip law's scar layer (`scar = { density, fluid_drag, compaction_drag, modulus }`).
+  struct Scar {
+    double density = 0, fluidDrag = 0, compactionDrag = 0, modulus = 0;  // kg/m^3, -, -, MN/m^2
+  };
+  std::optional<Scar> scar;
   std::string where;
 };
 

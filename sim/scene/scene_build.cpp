@@ -156,6 +156,13 @@ GroundMaterial groundMaterial(const SceneSpec& spec, const std::string& name) {
       m.muMax = g.muMax.value_or(0.0);
       m.kappa = g.kappa.value_or(0.0);
       m.beta = g.beta.value_or(0.0);
+      if (g.scar) {
+        m.scar = true;
+        m.scarDensity = g.scar->density;
+        m.scarFluidDrag = g.scar->fluidDrag;
+        m.scarCompactionDrag = g.scar->compactionDrag;
+        m.scarModulus = g.scar->modulus;
+      }
       m.source = "scene " + g.where;
       return m;
     }

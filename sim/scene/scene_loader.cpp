@@ -410,6 +410,23 @@ std::string existingFile(const Reader& r, const toml::node& n, const std::string
   return resolved.string();
 }
 
+// [ground.materials.NAME] scar: the soft-soil layer of a slip material, all four keys required
+// (Lu et al. 2019 publish one set, the preset ramms_chant_sura_scar; no default fits every soil).
+GroundMaterialSpec::Scar readScar(const Reader& r, const toml::table& t, const std::string& label) {
+  r.checkKeys(t, sceneKeysOf("ground.materials.NAME.scar"), label + " scar");
+  for (const std::string& key : sceneKeysOf("ground.materials.NAME.scar"))
+    if (!t.get(key))
+      r.fail(t, label + " scar needs density, fluid_drag, compaction_drag and modulus; '" + key +
+                    "' is missing (or use the preset ramms_chant_sura_scar)");
+  GroundMaterialSpec::Scar s;
+  s.density = r.positive(*t.get("density"), "scar.density", " kg/m^3 (the soil's density)");
+  s.fluidDrag = r.nonNegative(*t.get("fluid_drag"), "scar.fluid_drag", " (drag coefficient C_f)");
+  s.compactionDrag =
+      r.nonNegative(*t.get("compaction_drag"), "scar.compaction_drag", " (drag coefficient C_s)");
+  s.modulus = r.positive(*t.get("modulus"), "scar.modulus", " MN/m^2 (deformation modulus M_e)");
+  return s;
+}
+
 // [ground.materials.NAME]: the keys of its law only, each checked; a slip material needs all
 // four of mu(s)'s coefficients (no published default fits every ground).
 GroundMaterialSpec readGroundMaterial(const Reader& r, const toml::table& m,
@@ -432,7 +449,7 @@ GroundMaterialSpec readGroundMaterial(const Reader& r, const toml::table& m,
   const bool slip = g.law == GroundLawKind::kSlip;
   const std::vector<std::string> stoneKeys{"friction", "rolling_resistance",
                                            "tangential_restitution"},
-      slipKeys{"mu_min", "mu_max", "kappa", "beta"};
+      slipKeys{"mu_min", "mu_max", "kappa", "beta", "scar"};
   for (const std::string& key : slip ? stoneKeys : slipKeys)
     if (const auto* x = m.get(key))
       r.fail(*x, "'" + key + "' " +
@@ -448,7 +465,7 @@ GroundMaterialSpec readGroundMaterial(const Reader& r, const toml::table& m,
   if (const auto* x = m.get("tangential_restitution"))
     g.tangentialRestitution = r.inRange(*x, "tangential_restitution", 0, 1);
   if (!slip) return g;
-  for (const std::string& key : slipKeys)
+  for (const std::string key : {"mu_min", "mu_max", "kappa", "beta"})
     if (!m.get(key))
       r.fail(m, label + " has law = \"slip\" and needs mu_min, mu_max, kappa and beta; '" + key +
                     "' is missing (or use a preset: ramms_chant_sura, leine2014_demo)");
@@ -459,6 +476,7 @@ GroundMaterialSpec readGroundMaterial(const Reader& r, const toml::table& m,
                                  "): friction grows with slippage, got " + formatNumber(*g.muMax));
   g.kappa = r.nonNegative(*m.get("kappa"), "kappa", " 1/m (slippage hardening)");
   g.beta = r.nonNegative(*m.get("beta"), "beta", " 1/s (slippage softening)");
+  if (const auto* x = m.get("scar")) g.scar = readScar(r, r.table(*x, "scar"), label);
   return g;
 }
 

@@ -34,6 +34,8 @@ class GroundLaw {
  public:
   // Remembers each body's velocity before the contact solve (the bounce's incoming velocity).
   void beforeSolve(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states);
+  // Body i's velocity as beforeSolve() saw it this step (m/s; the scar layer's impact speed).
+  const Vec3& incomingVelocity(std::size_t i) const { return modes_[i].incoming; }
 
   // Per body with ground contacts (b == kGround) carrying normal impulse (N s, in contact
   // order): a landing after a flight bounces (its tangential velocity, spin included, kept to

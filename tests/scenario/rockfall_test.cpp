@@ -8,7 +8,7 @@
 #include "sim/ground/ground_material.h"
 #include "sim/solve/ground_law.h"
 #include "sim/world.h"
-#include "tests/sim/test_meshes.h"
+#include "tests/support/smooth_ball.h"
 #include "tests/support/test_world.h"
 
 namespace vf {
@@ -31,39 +31,13 @@ std::shared_ptr<const GroundMap> oneMaterial(double restitution, double friction
 
 }  // namespace
 
-// A ball whose sphere tree is one sphere of radius r at its centre, with the inertia of a
-// solid sphere: it rolls on a plane without the bumps of a voxelised surface (a level-5
-// icosphere hops from leaf to leaf and loses half its speed in 1 s with no rolling resistance
-// at all), so the rolling law can be checked against its closed form alone.
-std::shared_ptr<const Shape> smoothBall(double r, double mass) {
-  auto s = std::make_shared<Shape>();
-  s->name = "smooth ball";
-  s->mesh = test::icosphere(2, r);
-  s->mass = mass;
-  s->volume = 4.0 / 3.0 * M_PI * r * r * r;
-  s->inertiaBody = 0.4 * mass * r * r * Mat3::Identity();
-  s->inertiaBodyInv = s->inertiaBody.inverse();
-  s->diameter = 2 * r;
-  s->meshOrigin = Vec3::Zero();
-  auto tree = std::make_shared<SphereTree>();
-  SphereTreeLevel leaf;
-  leaf.edge = 2 * r / std::sqrt(3.0);
-  leaf.radius = r;
-  leaf.centers = {Vec3::Zero()};
-  leaf.childBegin = {0, 0};
-  tree->levels = {leaf};
-  finishSphereTree(*tree);  // bounding radius r
-  s->tree = tree;
-  return s;
-}
-
 // A sphere rolling without slip on level ground with rolling resistance mu_r stops after
 // d = 7 v0^2 / (10 mu_r g) (Azzoni et al. 1995: v0^2 / (2 A mu_r g), A = 5/7 for a solid
 // sphere).
 TEST(Rockfall, RollingSphereStopsAtTheRollingResistanceDistance) {
   const double r = 0.25, v0 = 2.0, muR = 0.3;
   const double d = 7 * v0 * v0 / (10 * muR * kG);
-  auto ball = smoothBall(r, 100);
+  auto ball = test::smoothBall(r, 100);
   WorldDef def;
   def.groundHeight = 0.0;
   def.ground = oneMaterial(0.0, 0.8, muR);
@@ -112,7 +86,7 @@ TEST(Rockfall, AShortSlowLandingRollsOnWithNoBounceLoss) {
   def.ground = oneMaterial(0.0, 0.8, muR, 0.5);
   World world(def);
   BodyDef b;
-  b.shape = smoothBall(r, 100);
+  b.shape = test::smoothBall(r, 100);
   b.position = Vec3(0, 0, r + h);
   b.velocity = Vec3(v0, 0, 0);
   b.angularVelocity = Vec3(0, v0 / r, 0);
@@ -141,7 +115,7 @@ TEST(Rockfall, AFastLandingBouncesKeepingAtMostRtOfTheTangentialVelocity) {
     def.ground = oneMaterial(rn, 0.8, 0.0, rt);
     World world(def);
     BodyDef b;
-    b.shape = smoothBall(r, 100);
+    b.shape = test::smoothBall(r, 100);
     b.position = Vec3(0, 0, r + h);
     b.velocity = Vec3(v0, 0, 0);
     world.addBody(b);
@@ -270,7 +244,7 @@ World rollTowardsEdge(TerrainEdge edge) {
   def.contact.restitutionBodyGround = 0;
   World world(def);
   BodyDef b;
-  b.shape = smoothBall(0.25, 100);
+  b.shape = test::smoothBall(0.25, 100);
   b.position = Vec3(10, 10, 0.25);
   b.velocity = Vec3(3, 0, 0);
   b.angularVelocity = Vec3(0, 3 / 0.25, 0);
@@ -306,7 +280,7 @@ World ballOverFlatTerrain(WorldDef def, double height) {
   def.terrain = flatTerrain(11, 11);
   World world(def);
   BodyDef b;
-  b.shape = smoothBall(0.25, 100);
+  b.shape = test::smoothBall(0.25, 100);
   b.position = Vec3(5, 5, 0.25 + height);
   world.addBody(b);
   return world;
@@ -355,7 +329,7 @@ TEST(Rockfall, ARockDroppedIntoANoDataHoleIsRemoved) {
   def.terrain = flatTerrain(11, 11, {{5, 5}});  // the four cells around (5, 5) m have no data
   World world(def);
   BodyDef b;
-  b.shape = smoothBall(0.25, 100);
+  b.shape = test::smoothBall(0.25, 100);
   b.position = Vec3(5.2, 4.9, 3.0);
   world.addBody(b);
   world.advanceTo(2.0);
@@ -372,7 +346,7 @@ TEST(Rockfall, ABodyBelowTheSurfaceIsPushedOutOrStoppedNeverEjected) {
     def.terrain = flatTerrain(11, 11);
     World world(def);
     BodyDef b;
-    b.shape = smoothBall(0.25, 100);
+    b.shape = test::smoothBall(0.25, 100);
     b.position = Vec3(5, 5, -depth);
     world.addBody(b);
     world.advanceTo(2.0);
