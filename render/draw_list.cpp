@@ -309,14 +309,18 @@ void DrawListBuilder::chooseAutoView(std::span<const BodyView> bodies) {
 }
 
 DrawMesh DrawListBuilder::bodyMesh(const BodyView& b) {
+  // A shape's mesh is closed and wound outward (validateClosedMesh), and so is its creased
+  // copy: DrawMesh::closed.
   if (!b.smoothDegrees) {
-    return DrawMesh{b.shape.get(), std::shared_ptr<const TriMesh>(b.shape, &b.shape->mesh), {}};
+    return DrawMesh{
+        b.shape.get(), std::shared_ptr<const TriMesh>(b.shape, &b.shape->mesh), {}, false, true};
   }
   auto& creased = creased_[{b.shape.get(), *b.smoothDegrees}];
   if (!creased)
     creased = std::make_shared<const CreasedMesh>(creasedNormals(b.shape->mesh, *b.smoothDegrees));
   return DrawMesh{creased.get(), std::shared_ptr<const TriMesh>(creased, &creased->mesh),
-                  std::shared_ptr<const std::vector<Vec3>>(creased, &creased->normals)};
+                  std::shared_ptr<const std::vector<Vec3>>(creased, &creased->normals), false,
+                  true};
 }
 
 void DrawListBuilder::include(std::span<const BodyView> bodies) {

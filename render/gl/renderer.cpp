@@ -385,6 +385,7 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
   }
   setCommon(*sceneProgram);
   ShaderProgram* current = sceneProgram.get();
+  bool culling = false;
   for (std::size_t i = 0; i < list.instances.size(); ++i) {
     const DrawInstance& inst = list.instances[i];
     // Wholly outside the scissor, or, drawing the whole frame, out of view.
@@ -401,8 +402,18 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
     setMatrix3(gl, program->uniform("uNormalMatrix"), transform.normal);
     gl.Uniform3f(program->uniform("uColor"), inst.color[0], inst.color[1], inst.color[2]);
     gl.Uniform1i(program->uniform("uSurface"), static_cast<int>(inst.surface));
-    mesh(list.meshes[static_cast<std::size_t>(inst.mesh)]).draw();
+    const DrawMesh& drawn = list.meshes[static_cast<std::size_t>(inst.mesh)];
+    if (drawn.closed != culling) {
+      culling = drawn.closed;
+      if (culling) {
+        gl.Enable(GL_CULL_FACE);  // back faces, counter-clockwise in front (GL's defaults)
+      } else {
+        gl.Disable(GL_CULL_FACE);
+      }
+    }
+    mesh(drawn).draw();
   }
+  gl.Disable(GL_CULL_FACE);
   lap(&PassTimes::scene);
 
   gl.BindVertexArray(emptyVao);
