@@ -505,7 +505,9 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
     list.instances.push_back(inst);
   }
   if (terrainSides_ && !terrainSides_->triangles.empty()) {
-    list.meshes.push_back(DrawMesh{terrainSides_.get(), terrainSides_, nullptr});
+    // Walls and base face outward, and their insides lie under the surface: seen from outside
+    // the solid (or from above its surface) every back face is hidden, so they are culled.
+    list.meshes.push_back(DrawMesh{terrainSides_.get(), terrainSides_, nullptr, false, true});
     DrawInstance inst;
     inst.mesh = static_cast<int>(list.meshes.size()) - 1;
     inst.color = kTerrainSideColor;
