@@ -406,7 +406,8 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
     if (drawn.closed != culling) {
       culling = drawn.closed;
       if (culling) {
-        gl.Enable(GL_CULL_FACE);  // back faces, counter-clockwise in front (GL's defaults)
+        gl.Enable(GL_CULL_FACE);
+        gl.CullFace(GL_BACK);  // counter-clockwise in front: outward triangles seen from outside
       } else {
         gl.Disable(GL_CULL_FACE);
       }
