@@ -9,8 +9,9 @@
 //   4. draw again with the GL waited for after each pass (RenderSettings::timePasses):
 //      `shadow_ms`, `scene_ms`, `floor_ms`, `present_ms`, `readback_ms` per frame.
 // Environment: FRAMES (default 90) changes the clip length; SHADERS names another folder of
-// shaders (to compare a change of them in one session); SAMPLES (default 4) the MSAA samples. docs/performance.md, "Rendering
-// speed", says how to read them. Run: build/tests/bench/render_bench
+// shaders (to compare a change of them in one session); SAMPLES (default 4) the MSAA samples.
+// docs/performance.md, "Rendering speed", says how to read them. Run:
+// build/tests/bench/render_bench
 #include <benchmark/benchmark.h>
 #include <time.h>
 #include <unistd.h>
