@@ -309,14 +309,18 @@ void DrawListBuilder::chooseAutoView(std::span<const BodyView> bodies) {
 }
 
 DrawMesh DrawListBuilder::bodyMesh(const BodyView& b) {
+  // A shape's mesh is closed and wound outward (validateClosedMesh), and so is its creased
+  // copy: DrawMesh::closed.
   if (!b.smoothDegrees) {
-    return DrawMesh{b.shape.get(), std::shared_ptr<const TriMesh>(b.shape, &b.shape->mesh), {}};
+    return DrawMesh{
+        b.shape.get(), std::shared_ptr<const TriMesh>(b.shape, &b.shape->mesh), {}, false, true};
   }
   auto& creased = creased_[{b.shape.get(), *b.smoothDegrees}];
   if (!creased)
     creased = std::make_shared<const CreasedMesh>(creasedNormals(b.shape->mesh, *b.smoothDegrees));
   return DrawMesh{creased.get(), std::shared_ptr<const TriMesh>(creased, &creased->mesh),
-                  std::shared_ptr<const std::vector<Vec3>>(creased, &creased->normals)};
+                  std::shared_ptr<const std::vector<Vec3>>(creased, &creased->normals), false,
+                  true};
 }
 
 void DrawListBuilder::include(std::span<const BodyView> bodies) {
@@ -501,7 +505,9 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
     list.instances.push_back(inst);
   }
   if (terrainSides_ && !terrainSides_->triangles.empty()) {
-    list.meshes.push_back(DrawMesh{terrainSides_.get(), terrainSides_, nullptr});
+    // Walls and base face outward, and their insides lie under the surface: seen from outside
+    // the solid (or from above its surface) every back face is hidden, so they are culled.
+    list.meshes.push_back(DrawMesh{terrainSides_.get(), terrainSides_, nullptr, false, true});
     DrawInstance inst;
     inst.mesh = static_cast<int>(list.meshes.size()) - 1;
     inst.color = kTerrainSideColor;

@@ -27,6 +27,11 @@ struct DrawMesh {
   std::shared_ptr<const TriMesh> mesh;  // body frame (centre of mass at the origin) or world
   std::shared_ptr<const std::vector<Vec3>> normals;  // per-vertex smooth normals; null: faceted
   bool transient = false;  // made for this frame only (trails): uploaded, drawn, dropped
+  // Back faces never seen, so they are culled: a closed surface wound outward (a body's shape)
+  // seen from outside, or a terrain's walls and base, wound outward, whose insides lie under
+  // its surface. llvmpipe shades every rasterised fragment, hidden or not, so they would cost
+  // as much as the faces seen.
+  bool closed = false;
 };
 
 // How an instance is shaded.

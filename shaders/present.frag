@@ -18,6 +18,7 @@ uniform int uSupersample;     // scene pixels per output pixel along each axis (
 uniform int uDither;          // 1: add the ordered dither
 uniform mat4 uInverseViewProjection;  // of projection * view rotation (no translation)
 uniform vec2 uSceneSize;              // scene target size in pixels
+noperspective in vec3 vRay;           // view ray through the pixel's centre (fullscreen.vert)
 
 out vec4 fragColor;
 
@@ -55,6 +56,9 @@ vec3 skyAt(vec2 at) {
   vec4 p = uInverseViewProjection * vec4(at / uSceneSize * 2.0 - 1.0, 1.0, 1.0);
   return roundToHalf(skyColor(normalize(p.xyz / p.w)));
 }
+
+// The sky behind this output pixel's centre: skyAt(gl_FragCoord.xy) up to rounding.
+vec3 skyHere() { return roundToHalf(skyColor(normalize(vRay))); }
 
 #ifdef VF_ALPHA
 // A transparent background (RenderSettings::alpha): no sky; alpha is the pixel's coverage,
@@ -110,7 +114,7 @@ void main() {
     // Every sample of a pixel sees the sky along the pixel centre's ray, as a full-screen
     // pass shaded once per pixel would have written it.
 #ifndef VF_NO_SKY
-    vec3 sky = skyAt(gl_FragCoord.xy);
+    vec3 sky = skyHere();
 #endif
     for (int i = 0; i < uSamples; ++i) {
       vec4 c = texelFetch(uScene, pixel, i);

@@ -17,6 +17,7 @@ namespace vf::gl {
   X(PFNGLGETERRORPROC, GetError)                                             \
   X(PFNGLENABLEPROC, Enable)                                                 \
   X(PFNGLDISABLEPROC, Disable)                                               \
+  X(PFNGLCULLFACEPROC, CullFace)                                             \
   X(PFNGLVIEWPORTPROC, Viewport)                                             \
   X(PFNGLSCISSORPROC, Scissor)                                               \
   X(PFNGLCLEARPROC, Clear)                                                   \

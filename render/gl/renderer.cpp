@@ -1,6 +1,7 @@
 #include "render/gl/renderer.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <unordered_map>
@@ -115,6 +116,9 @@ struct Renderer::Impl {
   // Of the last frame: pixels whose floor was shaded without shadow lookups, and pixels
   // presented without working out the sky (skipHiddenWork).
   long long unshadowedFloor = 0, skyFree = 0;
+  // RenderSettings::timePasses: what each part took, and when the last timed part ended.
+  PassTimes passTimes;
+  std::chrono::steady_clock::time_point lapStart;
 
   Impl(Context& c, const RenderSettings& s)
       : context(c), gl(c.api()), settings(s), tracker(s.width, s.height, s.shadowMapSize) {}
@@ -133,6 +137,8 @@ struct Renderer::Impl {
   // `region`: as scenePass's (the scissor is set by the caller).
   void presentPass(const DrawList& list, const std::optional<PixelRect>& region);
   void scissor(const std::optional<PixelRect>& region, int scale);
+  // With timePasses: waits for the GL and adds the time since the last lap to `slot`.
+  void lap(double PassTimes::*slot);
   PixelRect wholeFrame() const { return PixelRect{0, 0, settings.width, settings.height}; }
 };
 
@@ -304,6 +310,14 @@ void Renderer::Impl::shadowPass(const DrawList& list, const ShadowProjection& sh
   shadowCasters = std::move(casters);
 }
 
+void Renderer::Impl::lap(double PassTimes::*slot) {
+  if (!settings.timePasses) return;
+  gl.Finish();
+  const auto now = std::chrono::steady_clock::now();
+  passTimes.*slot += std::chrono::duration<double>(now - lapStart).count();
+  lapStart = now;
+}
+
 // Restricts drawing and clearing to `region` (output pixels) times `scale` scene pixels each;
 // none: everything.
 void Renderer::Impl::scissor(const std::optional<PixelRect>& region, int scale) {
@@ -371,6 +385,7 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
   }
   setCommon(*sceneProgram);
   ShaderProgram* current = sceneProgram.get();
+  bool culling = false;
   for (std::size_t i = 0; i < list.instances.size(); ++i) {
     const DrawInstance& inst = list.instances[i];
     // Wholly outside the scissor, or, drawing the whole frame, out of view.
@@ -387,8 +402,20 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
     setMatrix3(gl, program->uniform("uNormalMatrix"), transform.normal);
     gl.Uniform3f(program->uniform("uColor"), inst.color[0], inst.color[1], inst.color[2]);
     gl.Uniform1i(program->uniform("uSurface"), static_cast<int>(inst.surface));
-    mesh(list.meshes[static_cast<std::size_t>(inst.mesh)]).draw();
+    const DrawMesh& drawn = list.meshes[static_cast<std::size_t>(inst.mesh)];
+    if (drawn.closed != culling) {
+      culling = drawn.closed;
+      if (culling) {
+        gl.Enable(GL_CULL_FACE);
+        gl.CullFace(GL_BACK);  // counter-clockwise in front: outward triangles seen from outside
+      } else {
+        gl.Disable(GL_CULL_FACE);
+      }
+    }
+    mesh(drawn).draw();
   }
+  gl.Disable(GL_CULL_FACE);
+  lap(&PassTimes::scene);
 
   gl.BindVertexArray(emptyVao);
   if (list.groundHeight) {
@@ -429,6 +456,7 @@ void Renderer::Impl::scenePass(const DrawList& list, const ShadowProjection& sha
     }
     gl.Disable(GL_POLYGON_OFFSET_FILL);
   }
+  lap(&PassTimes::floor);
 }
 
 void Renderer::Impl::presentPass(const DrawList& list, const std::optional<PixelRect>& region) {
@@ -461,6 +489,7 @@ void Renderer::Impl::presentPass(const DrawList& list, const std::optional<Pixel
   gl.Uniform1i(presentProgram.uniform("uDither"), settings.dither ? 1 : 0);
   gl.BindVertexArray(emptyVao);
   gl.DrawArrays(GL_TRIANGLES, 0, 3);
+  lap(&PassTimes::present);
 }
 
 Renderer::Renderer(Context& context, const RenderSettings& settings)
@@ -527,7 +556,12 @@ void Renderer::render(const DrawList& list, Image& out) {
   r.unshadowedFloor = r.skyFree = 0;
 
   r.frameMeshes.clear();  // last frame's trails
+  if (r.settings.timePasses) {
+    gl.Finish();
+    r.lapStart = std::chrono::steady_clock::now();
+  }
   r.shadowPass(list, shadow, regions ? &r.tracker.shadowMapRegion() : nullptr);
+  r.lap(&PassTimes::shadow);
   r.readback.resize(static_cast<std::size_t>(w) * h * 4);
   // Draw the regions (none: all), then read back the rows they span; the other rows keep the
   // last frame's.
@@ -573,6 +607,7 @@ void Renderer::render(const DrawList& list, Image& out) {
       for (int x = 0; x < w; ++x) a[x] = src[4 * x + 3];
     }
   }
+  r.lap(&PassTimes::readback);
 }
 
 Image Renderer::render(const DrawList& list) {
@@ -588,6 +623,8 @@ std::string Renderer::antialiasing() const {
 }
 
 const RenderSettings& Renderer::settings() const { return impl_->settings; }
+
+const PassTimes& Renderer::passTimes() const { return impl_->passTimes; }
 
 double Renderer::redrawnFraction() const { return impl_->redrawn; }
 

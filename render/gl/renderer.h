@@ -42,7 +42,21 @@ struct RenderSettings {
   // shadow darkens the floor (a shadow catcher); bodies and terrain are opaque, and
   // anti-aliased edges partly so. The frame then has an alpha plane (Image::alpha).
   bool alpha = false;
+  // Wait for the GL after each pass and add its time to Renderer::passTimes() (benchmarks:
+  // the waits cost llvmpipe some overlap between passes, so frames draw a little slower).
+  bool timePasses = false;
   std::string shaderDir;  // from findShaderDir()
+};
+
+// Wall time of each part of the frames drawn since the renderer was made, with
+// RenderSettings::timePasses, s.
+struct PassTimes {
+  double shadow = 0;    // the shadow map
+  double scene = 0;     // clearing the scene target and drawing bodies, terrain and trails
+  double floor = 0;     // the floor
+  double present = 0;   // samples averaged, sky, shoulder, sRGB, dither
+  double readback = 0;  // glReadPixels and the copy into the Image
+  double total() const { return shadow + scene + floor + present + readback; }
 };
 
 class Renderer {
@@ -68,6 +82,8 @@ class Renderer {
   // were presented without working out the sky (RenderSettings::skipHiddenWork).
   double unshadowedFloorFraction() const;
   double skyFreeFraction() const;
+  // All zero unless RenderSettings::timePasses.
+  const PassTimes& passTimes() const;
   const RenderSettings& settings() const;
 
  private:

@@ -11,8 +11,10 @@
 #
 # --only GROUPS runs some groups, comma-separated, and writes only their files: sim
 # (sim_bench_*.csv), ensemble (ensemble_bench.csv), bullet (bullet_compare_*.csv), commands
-# (commands.csv) and outputs (png_bench.csv, render_outputs.csv: PNG compression of a frame,
-# and the cubes clip rendered to PNG frames and to an MP4 in one run). Default: all.
+# (commands.csv), outputs (png_bench.csv, render_outputs.csv: PNG compression of a frame,
+# and the cubes clip rendered to PNG frames and to an MP4 in one run) and camera
+# (render_bench.csv: clips with a moving camera drawn and encoded at 1280x720, each pass
+# timed; built as tests/bench/render_bench). Default: all.
 #
 # --quick runs a reduced set in a few minutes: the sim_bench rows of every paper scene at
 # Lv 4 (paper's method and extensions) plus a few rows for levels, threads, the clearance step
@@ -40,7 +42,7 @@ usage() {
 
 quick=0
 build=""
-groups="sim,ensemble,bullet,commands,outputs"
+groups="sim,ensemble,bullet,commands,outputs,camera"
 expect_groups=0
 for arg in "$@"; do
   if ((expect_groups)); then groups=$arg; expect_groups=0; continue; fi
@@ -60,8 +62,8 @@ done
 if ((expect_groups)); then echo "record_results.sh: --only needs a list of groups" >&2; exit 2; fi
 for g in ${groups//,/ }; do
   case "$g" in
-    sim | ensemble | bullet | commands | outputs) ;;
-    *) echo "record_results.sh: unknown group '$g' (sim, ensemble, bullet, commands, outputs)" >&2; exit 2 ;;
+    sim | ensemble | bullet | commands | outputs | camera) ;;
+    *) echo "record_results.sh: unknown group '$g' (sim, ensemble, bullet, commands, outputs, camera)" >&2; exit 2 ;;
   esac
 done
 want() { [[ ",$groups," == *",$1,"* ]]; }
@@ -73,7 +75,12 @@ voxfall=""
 for candidate in "$build/voxfall" "$build/render/voxfall"; do
   if [[ -x "$candidate" ]]; then voxfall=$candidate; break; fi
 done
-for program in "$bench/sim_bench" "$bench/ensemble_bench" "$bench/png_bench" "$voxfall"; do
+needed=("$voxfall")
+if want sim; then needed+=("$bench/sim_bench"); fi
+if want ensemble; then needed+=("$bench/ensemble_bench"); fi
+if want outputs; then needed+=("$bench/png_bench"); fi
+if want camera; then needed+=("$bench/render_bench"); fi
+for program in "${needed[@]}"; do
   if [[ ! -x "$program" ]]; then
     echo "record_results.sh: ${program:-voxfall} not found in $build: build the benchmarks" \
       "(e.g. cmake --build build) or name the build folder" >&2
@@ -172,6 +179,11 @@ if want ensemble; then gbench ensemble_bench.csv "$bench/ensemble_bench" '.' 3; 
 
 # PNG compression of one rendered frame.
 if want outputs; then gbench png_bench.csv "$bench/png_bench" '.' "$reps"; fi
+
+# Moving-camera clips (one run each: a row draws its clip four times and takes a minute).
+if want camera; then
+  gbench render_bench.csv "$bench/render_bench" '.' 1
+fi
 
 # bullet_compare: four markdown tables on stdout, one CSV file each. A cell holding several
 # values ("15.7, 0.6") becomes several columns; a ratio loses its "x".

@@ -1,6 +1,7 @@
 // The look in rendered pixels, each against geometry worked out here: shadows stay where the
 // sun puts them in the world while the camera orbits; a terrain seen from the side shows its
-// wall; a draped picture lands on the cells it covers.
+// wall; a draped picture lands on the cells it covers; culling the back faces of bodies
+// leaves their pictures as they were.
 //
 // Pixel oracles: world points projected with the frame's own camera matrices
 // (projectToPixel), shadow regions by a ray-box test towards the sun, texel rectangles from the
@@ -19,6 +20,8 @@
 #include "render/gl/gl_context.h"
 #include "render/gl/renderer.h"
 #include "render/gl/shader_program.h"
+#include "render/output/image_diff.h"
+#include "render/scene_playback.h"
 #include "render_test_util.h"
 #include "sim/core/error.h"
 #include "sim/shape/drape_import.h"
@@ -307,6 +310,29 @@ TEST(Drape, RasterThatIsNotOneIsAnErrorNamingIt) {
     EXPECT_EQ(e.where(), dir.file("bad.tif"));
     EXPECT_NE(e.message().find("cannot read the texture raster"), std::string::npos) << e.what();
   }
+}
+
+// Bodies' back faces are culled (DrawMesh::closed): from outside a closed, outward mesh they
+// lie behind its front faces, so the frame is the one drawn with them. The oracle is the same
+// frame with every mesh drawn whole. Where a back face's interpolated depth came out in front
+// of the front face's at a silhouette, the whole draw shaded that sample from behind: a pixel
+// or two per frame may differ, within the golden suite's tolerance (0.05 %). Culling the
+// wrong side shows the insides of the bodies instead: thousands of pixels.
+TEST_F(LookRender, CullingTheBackFacesOfBodiesLeavesTheFrameAsDrawnWhole) {
+  SceneSpec spec = loadScene(std::string(VOXFALL_SOURCE_DIR) + "/scenes/cubes.toml");
+  spec.output.width = 320;
+  spec.output.height = 180;
+  const std::string shaders = gl::findShaderDir();
+  int closedMeshes = 0;
+  const Image culled = renderSceneFrames(spec, {6}, *context_, shaders, [&](DrawList& list) {
+                         for (const DrawMesh& m : list.meshes) closedMeshes += m.closed ? 1 : 0;
+                       }).images.at(0);
+  ASSERT_GT(closedMeshes, 0);  // the bodies' meshes are marked closed, so culling happens
+  const Image whole = renderSceneFrames(spec, {6}, *context_, shaders, [](DrawList& list) {
+                        for (DrawMesh& m : list.meshes) m.closed = false;
+                      }).images.at(0);
+  const DiffMetrics d = compareImages(whole, culled, 8);
+  EXPECT_LE(d.differingFraction, 0.0005) << describe(d, whole, culled);
 }
 
 }  // namespace
