@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cstdio>
@@ -63,8 +64,11 @@ std::string body(const Figure& f) {
     o << "set label 1000 " << gnuplotString(f.footnote)
       << " at screen 0.01, screen 0.03 font ',9'\n";
   const int n = static_cast<int>(f.panels.size());
-  o << "set multiplot layout 1," << n << " title " << gnuplotString(f.title)
-    << " font ',13' margins 0.08,0.98,0.2,0.86 spacing 0.09\n";
+  const int rows = std::max(1, f.rows), columns = (n + rows - 1) / rows;
+  // One row keeps its margins; a grid gives the rows the height the footnote and title leave.
+  o << "set multiplot layout " << rows << "," << columns << " title " << gnuplotString(f.title)
+    << " font ',13' margins 0.08,0.98," << (rows == 1 ? "0.2,0.86" : "0.08,0.93")
+    << " spacing 0.09\n";
   for (const Panel& p : f.panels) {
     o << "unset logscale\nunset xtics\nunset ytics\nset xtics nomirror\nset ytics nomirror\n"
       << "set grid lc rgb '#d0d0d0'\nset key top left box opaque\nset autoscale\n"

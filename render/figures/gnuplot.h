@@ -35,9 +35,10 @@ struct Panel {
 };
 
 struct Figure {
-  std::string title;               // above all panels
-  std::string footnote;            // small print under the panels (machine, threshold, ...)
-  std::vector<Panel> panels;       // drawn side by side
+  std::string title;          // above all panels
+  std::string footnote;       // small print under the panels (machine, threshold, ...)
+  std::vector<Panel> panels;  // drawn side by side, in `rows` rows
+  int rows = 1;
   int width = 1100, height = 480;  // px for PNG (points for SVG)
 };
 

@@ -112,14 +112,7 @@ double expectedWork(const RunConfig& c, double duration) {
 // --- helpers for files and text ---------------------------------------------------------------
 
 std::string machineName() {
-  std::ifstream cpu("/proc/cpuinfo");
-  std::string line, model = "unknown CPU";
-  while (std::getline(cpu, line))
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " logical cores";
+  return cpuModel() + ", " + std::to_string(std::thread::hardware_concurrency()) + " logical cores";
 }
 
 std::string fmt(const char* format, double v) {
@@ -691,6 +684,14 @@ void makePaperFigures(const std::vector<std::string>& requested, const PaperFigu
      << "\n\n";
   for (const Section& s : sections) md << s.markdown;
   writeText(readme, md.str());
+}
+
+std::string cpuModel() {
+  std::ifstream cpu("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpu, line))
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown CPU";
 }
 
 }  // namespace vf::fig

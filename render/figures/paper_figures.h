@@ -22,6 +22,9 @@ struct PaperFigureOptions {
 // frame (body-body or body-ground), m. The same threshold for both methods.
 constexpr double kInterpenetrationThreshold = 0.005;
 
+// The CPU model from /proc/cpuinfo ("unknown CPU" without one): timing figures name it.
+std::string cpuModel();
+
 // "fig10", "fig13", "fig14", "fig16".
 const std::vector<std::string>& paperFigureNames();
 
