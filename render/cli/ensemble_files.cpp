@@ -91,10 +91,16 @@ void EnsembleFiles::writeRasterFile(OutputFile& file, int format, const std::vec
 }
 
 void EnsembleFiles::writeRasters(const Ensemble& ens, const std::vector<StatLayer>& layers) {
+  const std::vector<double>& heights = ens.dem().z;
   for (std::size_t k = 0; k < layers.size(); ++k) {
     Files::Raster& r = files_->rasters[k];
-    writeRasterFile(*r.tif, static_cast<int>(RasterFormat::kGeoTiff), layers[k].values, ens);
-    writeRasterFile(*r.asc, static_cast<int>(RasterFormat::kEsriAscii), layers[k].values, ens);
+    // Where the DEM has no data no rock can be, and 0 passages there would claim a result:
+    // every statistic is NODATA, so a GIS sees the valid area as the DEM's own.
+    std::vector<double> values = layers[k].values;
+    for (std::size_t c = 0; c < values.size() && c < heights.size(); ++c)
+      if (std::isnan(heights[c])) values[c] = NAN;
+    writeRasterFile(*r.tif, static_cast<int>(RasterFormat::kGeoTiff), values, ens);
+    writeRasterFile(*r.asc, static_cast<int>(RasterFormat::kEsriAscii), values, ens);
     if (r.prj) {  // the ASCII grid's CRS: the DEM's own WKT
       std::fputs(ens.dem().crsWkt.c_str(), r.prj->stream());
       commit(*r.prj);

@@ -266,6 +266,49 @@ TEST_F(EnsembleCommandTest, ACrsGdalDoesNotKnowIsOneErrorAtItsLine) {
   }
 }
 
+// Band 1 of a raster, rows from the north, and its NODATA value.
+std::vector<double> readBand(const fs::path& path, double& noData) {
+  GDALAllRegister();
+  GDALDatasetH ds = GDALOpen(path.c_str(), GA_ReadOnly);
+  if (!ds) return {};
+  const int nx = GDALGetRasterXSize(ds), ny = GDALGetRasterYSize(ds);
+  std::vector<double> v(static_cast<std::size_t>(nx) * ny);
+  GDALRasterBandH band = GDALGetRasterBand(ds, 1);
+  int has = 0;
+  noData = GDALGetRasterNoDataValue(band, &has);
+  if (!has ||
+      GDALRasterIO(band, GF_Read, 0, 0, nx, ny, v.data(), nx, ny, GDT_Float64, 0, 0) != CE_None)
+    v.clear();
+  GDALClose(ds);
+  return v;
+}
+
+TEST_F(EnsembleCommandTest, EveryRasterIsNodataExactlyWhereTheDemIs) {
+  vf::test::ChuteDem holed;
+  holed.noDataCorner = 3;
+  ASSERT_TRUE(vf::test::writeChuteDem(dir_ / "chute.tif", holed));
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+  const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 4 -q -o holed");
+  ASSERT_EQ(r.code, 0) << r.err;
+  double demNoData = 0;
+  const std::vector<double> dem = readBand(dir_ / "chute.tif", demNoData);
+  ASSERT_EQ(dem.size(), static_cast<std::size_t>(holed.nx * holed.ny));
+  for (const char* name : {"passages.tif", "reach_probability.asc", "deposited.tif"}) {
+    double noData = 0;
+    const std::vector<double> v = readBand(dir_ / "holed" / name, noData);
+    ASSERT_EQ(v.size(), dem.size()) << name;
+    int holes = 0, zeros = 0;
+    for (std::size_t c = 0; c < v.size(); ++c) {
+      const bool demHole = dem[c] == demNoData;
+      EXPECT_EQ(v[c] == noData, demHole) << name << " sample " << c;
+      holes += demHole;
+      zeros += !demHole && v[c] == 0;
+    }
+    EXPECT_EQ(holes, 9) << name;
+    EXPECT_GT(zeros, 0) << name;  // cells with data that no rock reached still hold 0
+  }
+}
+
 TEST_F(EnsembleCommandTest, ReachProbabilityEqualsAnIndependentCountFromThePaths) {
   vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
   const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 8 --jobs 2 --paths -q -o p");

@@ -20,8 +20,9 @@ struct ChuteDem {
   double cell = 2.0;
   double west = 1000.0, north = 5024.0;  // outer corner of the north-west pixel, file coords
   double slopeDegrees = 35.0;
-  double top = 100.0;  // height of the western column, m
-  bool crs = true;     // false: a file that names no CRS
+  double top = 100.0;    // height of the western column, m
+  bool crs = true;       // false: a file that names no CRS
+  int noDataCorner = 0;  // the k x k samples of the north-east corner are NODATA (-9999)
 };
 
 // Writes the chute as a Float64 GeoTIFF in EPSG:31287 (MGI / Austria Lambert), or in no CRS;
@@ -45,7 +46,10 @@ inline bool writeChuteDem(const std::filesystem::path& path, const ChuteDem& c =
   std::vector<double> z(static_cast<std::size_t>(c.nx) * c.ny);
   const double drop = std::tan(c.slopeDegrees * M_PI / 180.0) * c.cell;
   for (int row = 0; row < c.ny; ++row)
-    for (int i = 0; i < c.nx; ++i) z[static_cast<std::size_t>(row) * c.nx + i] = c.top - drop * i;
+    for (int i = 0; i < c.nx; ++i)
+      z[static_cast<std::size_t>(row) * c.nx + i] =
+          row < c.noDataCorner && i >= c.nx - c.noDataCorner ? -9999.0 : c.top - drop * i;
+  if (c.noDataCorner > 0) GDALSetRasterNoDataValue(GDALGetRasterBand(ds, 1), -9999.0);
   const bool ok = GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Write, 0, 0, c.nx, c.ny, z.data(), c.nx,
                                c.ny, GDT_Float64, 0, 0) == CE_None;
   GDALClose(ds);
