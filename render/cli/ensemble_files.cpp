@@ -135,13 +135,10 @@ void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>&
     areas.emplace_back();
     for (const Point2& p : area) areas.back().emplace_back(p[0], p[1]);
   }
-  // A cell no realisation reached has no value on a map (the rasters say 0 passages there):
-  // it shows the hillshade, so the reached area stands out.
   const std::vector<double>& passages = layers[0].values;
   for (std::size_t k = 0; k < layers.size(); ++k) {
-    MapLayer layer{layers[k].name, layers[k].title, layers[k].units, layers[k].values};
-    for (std::size_t c = 0; c < passages.size(); ++c)
-      if (passages[c] == 0) layer.values[c] = NAN;
+    MapLayer layer{layers[k].name, layers[k].title, layers[k].units,
+                   mappedValues(layers[k].name, layers[k].values, passages)};
     writeHazardMap(ens.dem(), layer, areas, files_->maps[k].string(), rules_);
     written_ += ", " + files_->maps[k].filename().string();
   }

@@ -154,6 +154,15 @@ MapFrame hazardMapFrame(const Heightfield& dem) {
   return f;
 }
 
+std::vector<double> mappedValues(const std::string& name, const std::vector<double>& values,
+                                 const std::vector<double>& passages) {
+  std::vector<double> out = values;
+  const bool deposits = name == "deposited";
+  for (std::size_t c = 0; c < out.size(); ++c)
+    if ((c < passages.size() && passages[c] == 0) || (deposits && out[c] == 0)) out[c] = NAN;
+  return out;
+}
+
 void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
                     const std::vector<std::vector<Vec2>>& releaseAreas, const std::string& pngPath,
                     const OutputRules& rules) {

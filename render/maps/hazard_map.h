@@ -60,6 +60,14 @@ MapFrame hazardMapFrame(const Heightfield& dem);
 // a line. `rules` as for every output (output_file.h). Throws InputError (naming the file) if
 // values has the wrong size, the path cannot be written under `rules`, or gnuplot fails; a file
 // already at pngPath is then left as it was, and no temporary file remains.
+// The values a map shows of one statistic (`name`, as kLayerNames of the ensemble) given its
+// raster values and the passages per cell: a cell no realisation passed has no value, so it
+// shows the hillshade and the reached area stands out; and on the deposits map a passed cell
+// where no rock stopped has none either, so the few cells that hold deposits are not lost among
+// the many a rock only crossed.
+std::vector<double> mappedValues(const std::string& name, const std::vector<double>& values,
+                                 const std::vector<double>& passages);
+
 void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
                     const std::vector<std::vector<Vec2>>& releaseAreas, const std::string& pngPath,
                     const OutputRules& rules = replaceOutputs());

@@ -162,6 +162,24 @@ bool colourNear(const Image& im, double column, double row, int r, const Rgb8& c
   return false;
 }
 
+TEST(HazardMap, UnpassedCellsAndCellsWithoutDepositsHaveNoValueOnTheMap) {
+  const std::vector<double> passages{0, 3, 1, 2};
+  const std::vector<double> deposited{0, 2, 0, 1};
+  const std::vector<double> energy{NAN, 40.0, 5.0, 0.0};
+  const std::vector<double> d = vf::mappedValues("deposited", deposited, passages);
+  EXPECT_TRUE(std::isnan(d[0]));  // not passed
+  EXPECT_EQ(d[1], 2.0);
+  EXPECT_TRUE(std::isnan(d[2]));  // passed, nothing stopped there
+  EXPECT_EQ(d[3], 1.0);
+  const std::vector<double> p = vf::mappedValues("passages", passages, passages);
+  EXPECT_TRUE(std::isnan(p[0]));
+  EXPECT_EQ(p[2], 1.0);
+  // Other statistics keep a 0 where a rock passed: an energy of 0 is a value.
+  const std::vector<double> e = vf::mappedValues("energy_mean", energy, passages);
+  EXPECT_TRUE(std::isnan(e[0]));
+  EXPECT_EQ(e[3], 0.0);
+}
+
 TEST(HazardMap, ValuesHillshadeAndReleaseAreasLandWhereTheLayoutSays) {
   test::ScratchDir dir("hazard_map");
   const TestMap m;
