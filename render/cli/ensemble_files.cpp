@@ -136,10 +136,12 @@ void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>&
     for (const Point2& p : area) areas.back().emplace_back(p[0], p[1]);
   }
   const std::vector<double>& passages = layers[0].values;
+  // Every map shows the same window: the reached area and the release areas, with a margin.
+  const MapWindow window = affectedWindow(ens.dem(), passages, areas);
   for (std::size_t k = 0; k < layers.size(); ++k) {
     MapLayer layer{layers[k].name, layers[k].title, layers[k].units,
                    mappedValues(layers[k].name, layers[k].values, passages)};
-    writeHazardMap(ens.dem(), layer, areas, files_->maps[k].string(), rules_);
+    writeHazardMap(ens.dem(), layer, areas, files_->maps[k].string(), rules_, window);
     written_ += ", " + files_->maps[k].filename().string();
   }
   std::vector<double> runouts, reach;

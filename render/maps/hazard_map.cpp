@@ -77,15 +77,15 @@ std::vector<SampleSpan> sampleSpans(int pixels, double pixelSize, int samples, d
 std::vector<std::uint8_t> mapPixels(const Heightfield& dem, const MapLayer& layer,
                                     const MapFrame& f, double lo, double hi) {
   std::vector<std::uint8_t> rgba(static_cast<std::size_t>(f.plotWidth) * f.plotHeight * 4, 0);
-  const auto columns = sampleSpans(f.plotWidth, (f.xMax - f.xMin) / f.plotWidth, dem.nx, dem.cell);
-  const auto rows = sampleSpans(f.plotHeight, (f.yMax - f.yMin) / f.plotHeight, dem.ny, dem.cell);
+  const auto columns = sampleSpans(f.plotWidth, (f.xMax - f.xMin) / f.plotWidth, f.ni, dem.cell);
+  const auto rows = sampleSpans(f.plotHeight, (f.yMax - f.yMin) / f.plotHeight, f.nj, dem.cell);
   for (int v = 0; v < f.plotHeight; ++v) {
     const SampleSpan& row = rows[static_cast<std::size_t>(v)];
     for (int u = 0; u < f.plotWidth; ++u) {
       const SampleSpan& col = columns[static_cast<std::size_t>(u)];
       double value = std::nan("");
-      for (int j = row.first; j <= row.last; ++j)
-        for (int i = col.first; i <= col.last; ++i) {
+      for (int j = f.j0 + row.first; j <= f.j0 + row.last; ++j)
+        for (int i = f.i0 + col.first; i <= f.i0 + col.last; ++i) {
           const double x = layer.values[static_cast<std::size_t>(j) * dem.nx + i];
           if (std::isfinite(x) && !(x <= value)) value = x;  // the first finite, then larger
         }
@@ -93,7 +93,7 @@ std::vector<std::uint8_t> mapPixels(const Heightfield& dem, const MapLayer& laye
       if (std::isfinite(value)) {
         const Rgb8 c = viridis(hi > lo ? (value - lo) / (hi - lo) : 0.5);
         p[0] = c.r, p[1] = c.g, p[2] = c.b, p[3] = 255;
-      } else if (const double shade = hillshadeAt(dem, col.nearest, row.nearest);
+      } else if (const double shade = hillshadeAt(dem, f.i0 + col.nearest, f.j0 + row.nearest);
                  !std::isnan(shade)) {
         const auto g = static_cast<std::uint8_t>(
             std::lround(255 * (kHillshadeFloor + (1 - kHillshadeFloor) * shade)));
@@ -134,15 +134,45 @@ std::string screenY(const MapFrame& f, double px) { return "screen " + number(px
 
 }  // namespace
 
-MapFrame hazardMapFrame(const Heightfield& dem) {
+MapWindow affectedWindow(const Heightfield& dem, const std::vector<double>& passages,
+                         const std::vector<std::vector<Vec2>>& releaseAreas) {
+  int iLo = dem.nx, iHi = -1, jLo = dem.ny, jHi = -1;
+  const auto take = [&](int i, int j) {
+    iLo = std::min(iLo, i), iHi = std::max(iHi, i), jLo = std::min(jLo, j), jHi = std::max(jHi, j);
+  };
+  for (int j = 0; j < dem.ny; ++j)
+    for (int i = 0; i < dem.nx; ++i) {
+      const std::size_t c = static_cast<std::size_t>(j) * dem.nx + i;
+      if (c < passages.size() && passages[c] > 0) take(i, j);
+    }
+  for (const auto& area : releaseAreas)
+    for (const Vec2& p : area)
+      take(std::clamp(static_cast<int>(std::lround((p.x() - dem.x0) / dem.cell)), 0, dem.nx - 1),
+           std::clamp(static_cast<int>(std::lround((p.y() - dem.y0) / dem.cell)), 0, dem.ny - 1));
+  if (iHi < 0) return {};
+  const int margin = std::max(kMapMarginCells, (std::max(iHi - iLo, jHi - jLo) + 1) / 10);
+  MapWindow w;
+  w.i0 = std::max(0, iLo - margin);
+  w.j0 = std::max(0, jLo - margin);
+  w.ni = std::min(dem.nx - 1, iHi + margin) - w.i0 + 1;
+  w.nj = std::min(dem.ny - 1, jHi + margin) - w.j0 + 1;
+  return w;
+}
+
+MapFrame hazardMapFrame(const Heightfield& dem, const MapWindow& window) {
   MapFrame f;
   f.fileCoordinates = !dem.crsWkt.empty();
   if (f.fileCoordinates) f.shiftX = dem.shift.x(), f.shiftY = dem.shift.y();
-  f.xMin = dem.x0 - f.shiftX - dem.cell / 2;
-  f.xMax = f.xMin + dem.nx * dem.cell;
-  f.yMin = dem.y0 - f.shiftY - dem.cell / 2;
-  f.yMax = f.yMin + dem.ny * dem.cell;
-  const double aspect = static_cast<double>(dem.ny) / dem.nx;  // height over width
+  const bool whole = window.ni <= 0 || window.nj <= 0;
+  f.i0 = whole ? 0 : window.i0;
+  f.j0 = whole ? 0 : window.j0;
+  f.ni = whole ? dem.nx : window.ni;
+  f.nj = whole ? dem.ny : window.nj;
+  f.xMin = dem.x0 + f.i0 * dem.cell - f.shiftX - dem.cell / 2;
+  f.xMax = f.xMin + f.ni * dem.cell;
+  f.yMin = dem.y0 + f.j0 * dem.cell - f.shiftY - dem.cell / 2;
+  f.yMax = f.yMin + f.nj * dem.cell;
+  const double aspect = static_cast<double>(f.nj) / f.ni;  // height over width
   f.plotWidth =
       aspect <= 1 ? kMapLongSidePx : std::max(1, int(std::lround(kMapLongSidePx / aspect)));
   f.plotHeight =
@@ -165,7 +195,7 @@ std::vector<double> mappedValues(const std::string& name, const std::vector<doub
 
 void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
                     const std::vector<std::vector<Vec2>>& releaseAreas, const std::string& pngPath,
-                    const OutputRules& rules) {
+                    const OutputRules& rules, const MapWindow& window) {
   if (dem.nx < 1 || dem.ny < 1 || dem.z.size() != static_cast<std::size_t>(dem.nx) * dem.ny)
     throw InputError(pngPath, "hazard map: the DEM has no samples");
   if (layer.values.size() != dem.z.size())
@@ -183,7 +213,7 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
   const double cbLo = !anyValue ? 0 : hi > lo ? lo : lo - 1;
   const double cbHi = !anyValue ? 1 : hi > lo ? hi : hi + 1;
 
-  const MapFrame f = hazardMapFrame(dem);
+  const MapFrame f = hazardMapFrame(dem, window);
   const fig::ScratchFolder scratch;
   const std::string image = scratch.file("map.rgba");
   {

@@ -31,7 +31,8 @@ struct MapFrame {
   int plotWidth = 0, plotHeight = 0;              // the map area, px (same scale along x and y)
   double xMin = 0, xMax = 0, yMin = 0, yMax = 0;  // map coordinates of its edges, m
   double shiftX = 0, shiftY = 0;                  // map coordinates = world - shift, m
-  bool fileCoordinates = false;  // axes in the DEM file's coordinates (it has a CRS)
+  bool fileCoordinates = false;        // axes in the DEM file's coordinates (it has a CRS)
+  int i0 = 0, j0 = 0, ni = 0, nj = 0;  // the samples shown (MapWindow, resolved)
 
   // The pixel (column, row from the top; fractional, pixel centres at .5) of world (x, y).
   double columnOf(double x) const { return left + (x - shiftX - xMin) / (xMax - xMin) * plotWidth; }
@@ -42,11 +43,33 @@ struct MapFrame {
 // hillshade), so shadows stay mid-grey and never compete with the colour map's dark end.
 inline constexpr double kHillshadeFloor = 0.4;
 
-// The layout writeHazardMap uses for `dem`: the map's longer side is kMapLongSidePx pixels and
-// covers the grid's cells (each sample at the centre of its square), with room left for the
-// axes, the title and the legend.
+// The part of the grid a map shows: samples i0 .. i0 + ni - 1 (west to east) and j0 .. j0 + nj - 1
+// (south to north); ni = 0 means the whole grid.
+struct MapWindow {
+  int i0 = 0, j0 = 0, ni = 0, nj = 0;
+};
+
+// The window an ensemble's maps show: the cells some realisation passed (passages > 0) and the
+// release areas' points (world x, y), widened on every side by a margin of a tenth of the
+// window's longer side and at least kMapMarginCells cells, within the grid. The whole grid when
+// nothing was passed and there is no release area.
+inline constexpr int kMapMarginCells = 10;
+MapWindow affectedWindow(const Heightfield& dem, const std::vector<double>& passages,
+                         const std::vector<std::vector<Vec2>>& releaseAreas);
+
+// The layout writeHazardMap uses for `window` of `dem`: the map's longer side is kMapLongSidePx
+// pixels and covers the window's cells (each sample at the centre of its square), with room left
+// for the axes, the title and the legend.
 inline constexpr int kMapLongSidePx = 800;
-MapFrame hazardMapFrame(const Heightfield& dem);
+MapFrame hazardMapFrame(const Heightfield& dem, const MapWindow& window = {});
+
+// The values a map shows of one statistic (`name`, as kLayerNames of the ensemble) given its
+// raster values and the passages per cell: a cell no realisation passed has no value, so it
+// shows the hillshade and the reached area stands out; and on the deposits map a passed cell
+// where no rock stopped has none either, so the few cells that hold deposits are not lost among
+// the many a rock only crossed.
+std::vector<double> mappedValues(const std::string& name, const std::vector<double>& values,
+                                 const std::vector<double>& passages);
 
 // Writes a PNG map of `layer` over a hillshade of `dem` (hillshade.h: Horn's slope and aspect,
 // sun at azimuth 315 deg, altitude 45 deg): each map pixel shows the largest value of the
@@ -60,17 +83,10 @@ MapFrame hazardMapFrame(const Heightfield& dem);
 // a line. `rules` as for every output (output_file.h). Throws InputError (naming the file) if
 // values has the wrong size, the path cannot be written under `rules`, or gnuplot fails; a file
 // already at pngPath is then left as it was, and no temporary file remains.
-// The values a map shows of one statistic (`name`, as kLayerNames of the ensemble) given its
-// raster values and the passages per cell: a cell no realisation passed has no value, so it
-// shows the hillshade and the reached area stands out; and on the deposits map a passed cell
-// where no rock stopped has none either, so the few cells that hold deposits are not lost among
-// the many a rock only crossed.
-std::vector<double> mappedValues(const std::string& name, const std::vector<double>& values,
-                                 const std::vector<double>& passages);
-
+// `window` chooses the part of the grid shown (default: all of it).
 void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
                     const std::vector<std::vector<Vec2>>& releaseAreas, const std::string& pngPath,
-                    const OutputRules& rules = replaceOutputs());
+                    const OutputRules& rules = replaceOutputs(), const MapWindow& window = {});
 
 // Size of the runout plot's PNG, px.
 inline constexpr int kRunoutPlotWidthPx = 1000, kRunoutPlotHeightPx = 450;

@@ -222,6 +222,53 @@ TEST(HazardMap, ValuesHillshadeAndReleaseAreasLandWhereTheLayoutSays) {
   EXPECT_FALSE(colourNear(im, hx, hy, 10, kRed));
 }
 
+TEST(HazardMap, TheAffectedWindowHoldsThePassedCellsAndReleasesWithAMargin) {
+  const Heightfield dem = plane(100, 80, 1.0, -0.5, 0);
+  std::vector<double> passages(dem.z.size(), 0.0);
+  const auto cell = [&](int i, int j) -> double& {
+    return passages[static_cast<std::size_t>(j) * dem.nx + i];
+  };
+  cell(40, 30) = cell(50, 35) = 2;
+  // Box 40..50 x 30..35, a margin of 10 cells (a tenth of 11 is less).
+  MapWindow w = affectedWindow(dem, passages, {});
+  EXPECT_EQ(w.i0, 30);
+  EXPECT_EQ(w.ni, 31);
+  EXPECT_EQ(w.j0, 20);
+  EXPECT_EQ(w.nj, 26);
+  // A release point widens it (world x, y = sample index here: x0 = y0 = 0, 1 m cells).
+  w = affectedWindow(dem, passages, {{Vec2(70.2, 60.4)}});
+  EXPECT_EQ(w.i0 + w.ni - 1, 80);
+  EXPECT_EQ(w.j0 + w.nj - 1, 70);
+  // Within the grid.
+  cell(2, 3) = cell(95, 78) = 1;
+  w = affectedWindow(dem, passages, {});
+  EXPECT_EQ(w.i0, 0);
+  EXPECT_EQ(w.ni, 100);
+  EXPECT_EQ(w.j0, 0);
+  EXPECT_EQ(w.nj, 80);
+  // Nothing passed, no release: the whole grid.
+  EXPECT_EQ(affectedWindow(dem, std::vector<double>(dem.z.size(), 0.0), {}).ni, 0);
+}
+
+TEST(HazardMap, AWindowedMapPutsItsValuesWhereItsLayoutSays) {
+  test::ScratchDir dir("hazard_map_window");
+  const TestMap m;
+  const MapWindow window{8, 4, 8, 10};  // samples 8..15 x 4..13: both marked cells
+  const std::string path = (dir.path() / "window.png").string();
+  writeHazardMap(m.dem, m.layer, {}, path, replaceOutputs(), window);
+  const Image im = readPng(path);
+  const MapFrame f = hazardMapFrame(m.dem, window);
+  ASSERT_EQ(im.width, f.width);
+  EXPECT_EQ(f.plotHeight, kMapLongSidePx);  // 8 x 10 samples: 640 x 800 px, 80 px a sample
+  EXPECT_EQ(f.plotWidth, 640);
+  EXPECT_DOUBLE_EQ(f.xMin, m.dem.x0 + 7.5 * m.dem.cell);
+  const auto at = [&](int i, int j) {
+    return pixelAt(im, f.columnOf(m.dem.x0 + i * m.dem.cell), f.rowOf(m.dem.y0 + j * m.dem.cell));
+  };
+  EXPECT_EQ(at(TestMap::kHiI, TestMap::kHiJ), viridis(1.0));
+  EXPECT_EQ(at(TestMap::kLoI, TestMap::kLoJ), viridis(0.0));
+}
+
 TEST(HazardMap, AMapSmallerThanItsGridKeepsANarrowTrack) {
   // 1600 x 1200 samples on an 800 x 600 px map: two samples a pixel each way. A track one sample
   // wide (column 800, an even one: the sample under pixel 400's centre is 801) must still show,
