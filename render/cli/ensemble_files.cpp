@@ -140,7 +140,8 @@ void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>&
   const MapWindow window = affectedWindow(ens.dem(), passages, areas);
   for (std::size_t k = 0; k < layers.size(); ++k) {
     MapLayer layer{layers[k].name, layers[k].title, layers[k].units,
-                   mappedValues(layers[k].name, layers[k].values, passages)};
+                   mappedValues(layers[k].name, layers[k].values, passages),
+                   mappedOnLogScale(layers[k].name)};
     writeHazardMap(ens.dem(), layer, areas, files_->maps[k].string(), rules_, window);
     written_ += ", " + files_->maps[k].filename().string();
   }

@@ -91,7 +91,10 @@ std::vector<std::uint8_t> mapPixels(const Heightfield& dem, const MapLayer& laye
         }
       std::uint8_t* p = &rgba[(static_cast<std::size_t>(v) * f.plotWidth + u) * 4];
       if (std::isfinite(value)) {
-        const Rgb8 c = viridis(hi > lo ? (value - lo) / (hi - lo) : 0.5);
+        const Rgb8 c =
+            viridis(hi <= lo         ? 0.5
+                    : layer.logScale ? std::log(std::max(value, lo) / lo) / std::log(hi / lo)
+                                     : (value - lo) / (hi - lo));
         p[0] = c.r, p[1] = c.g, p[2] = c.b, p[3] = 255;
       } else if (const double shade = hillshadeAt(dem, f.i0 + col.nearest, f.j0 + row.nearest);
                  !std::isnan(shade)) {
@@ -184,6 +187,10 @@ MapFrame hazardMapFrame(const Heightfield& dem, const MapWindow& window) {
   return f;
 }
 
+bool mappedOnLogScale(const std::string& name) {
+  return name == "passages" || name == "reach_probability" || name.rfind("energy_", 0) == 0;
+}
+
 std::vector<double> mappedValues(const std::string& name, const std::vector<double>& values,
                                  const std::vector<double>& passages) {
   std::vector<double> out = values;
@@ -207,7 +214,7 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
 
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (double v : layer.values)
-    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+    if (std::isfinite(v) && (!layer.logScale || v > 0)) lo = std::min(lo, v), hi = std::max(hi, v);
   const bool anyValue = lo <= hi;
   // The colour box needs a range: an empty layer shows 0..1, a constant one its value +- 1.
   const double cbLo = !anyValue ? 0 : hi > lo ? lo : lo - 1;
@@ -254,7 +261,10 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
     std::snprintf(hex, sizeof hex, "#%02x%02x%02x", table[k].r, table[k].g, table[k].b);
     s << (k ? ", " : "") << k << " '" << hex << "'";
   }
-  s << ")\nset cbrange [" << number(cbLo) << ":" << number(cbHi) << "]\n"
+  s << ")\n";
+  // gnuplot maps the colour box's palette by log10 too, so the legend reads as the pixels do.
+  if (layer.logScale && anyValue && hi > lo) s << "set logscale cb\n";
+  s << "set cbrange [" << number(cbLo) << ":" << number(cbHi) << "]\n"
     << "set colorbox user origin " << screenX(f, f.left + f.plotWidth + 30) << ", "
     << screenY(f, legendBottom) << " size " << screenX(f, 22) << ", " << screenY(f, legendPx)
     << "\nset cbtics out\nset format cb '%g'\n"

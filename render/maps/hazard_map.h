@@ -21,7 +21,15 @@ struct MapLayer {
   std::string units;           // e.g. "kJ"; empty for a dimensionless number
   std::vector<double> values;  // dem.nx * dem.ny, laid out as Heightfield::z (z[j * nx + i],
                                // j from the south); NaN = no value
+  // Colours by log10 of the value between the smallest positive value and the largest (values
+  // at or below that smallest take the bottom colour), with a logarithmic legend.
+  bool logScale = false;
 };
+
+// Whether the ensemble's statistic `name` is mapped on a logarithmic scale: the reach
+// probability, the passages and the kinetic energies span orders of magnitude between the
+// track's core and its fringe, and on a linear scale every fringe cell is the darkest colour.
+bool mappedOnLogScale(const std::string& name);
 
 // Where a hazard map of a DEM lands in its PNG. Map coordinates are the DEM file's (easting,
 // northing: world minus dem.shift) when the DEM has a CRS, else world x, y; metres.

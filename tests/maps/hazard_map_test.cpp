@@ -269,6 +269,32 @@ TEST(HazardMap, AWindowedMapPutsItsValuesWhereItsLayoutSays) {
   EXPECT_EQ(at(TestMap::kLoI, TestMap::kLoJ), viridis(0.0));
 }
 
+TEST(HazardMap, ALogScaledLayerColoursByTheLogarithmOfItsValue) {
+  test::ScratchDir dir("hazard_map_log");
+  TestMap m;
+  m.layer.logScale = true;
+  // 4 .. 250 with 100 between: linear would put 100 at 0.39 of the map, log at 0.77; a value
+  // of 0 or below takes the bottom colour and does not set the range.
+  const std::size_t zeroCell = 2 * 20 + 2;
+  m.layer.values[zeroCell] = 0;
+  const std::string path = (dir.path() / "log.png").string();
+  writeHazardMap(m.dem, m.layer, {}, path);
+  const Image im = readPng(path);
+  const MapFrame f = hazardMapFrame(m.dem);
+  const auto at = [&](int i, int j) {
+    return pixelAt(im, f.columnOf(m.dem.x0 + i * m.dem.cell), f.rowOf(m.dem.y0 + j * m.dem.cell));
+  };
+  EXPECT_EQ(at(TestMap::kHiI, TestMap::kHiJ), viridis(1.0));
+  EXPECT_EQ(at(TestMap::kLoI, TestMap::kLoJ), viridis(0.0));
+  EXPECT_EQ(at(TestMap::kLoI + 1, TestMap::kLoJ),
+            viridis(std::log(100.0 / 4) / std::log(250.0 / 4)));
+  EXPECT_EQ(at(2, 2), viridis(0.0));
+  EXPECT_TRUE(mappedOnLogScale("reach_probability"));
+  EXPECT_TRUE(mappedOnLogScale("energy_p95"));
+  EXPECT_FALSE(mappedOnLogScale("height_p95"));
+  EXPECT_FALSE(mappedOnLogScale("deposited"));
+}
+
 TEST(HazardMap, AMapSmallerThanItsGridKeepsANarrowTrack) {
   // 1600 x 1200 samples on an 800 x 600 px map: two samples a pixel each way. A track one sample
   // wide (column 800, an even one: the sample under pixel 400's centre is 801) must still show,
