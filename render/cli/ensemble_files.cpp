@@ -1,8 +1,10 @@
 // The reduced outputs of an ensemble (see ensemble_files.h).
 #include "render/cli/ensemble_files.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 
 #include "render/cli/commands.h"
 #include "render/cli/ensemble_output.h"
@@ -33,7 +35,7 @@ struct EnsembleFiles::Files {
   };
   std::vector<Raster> rasters;  // per layer, in cellStatistics' order
   std::unique_ptr<OutputFile> runs, summary, converge, paths, bake;
-  std::vector<fs::path> maps;  // --maps: per layer NAME.png, then runout.png
+  std::vector<fs::path> maps;  // --maps: per layer NAME.png, intensity.png, then runout.png
 };
 
 EnsembleFiles::EnsembleFiles(const EnsembleFileOptions& o, const OutputRules& rules, bool hasCrs)
@@ -62,6 +64,7 @@ EnsembleFiles::EnsembleFiles(const EnsembleFileOptions& o, const OutputRules& ru
     // The maps are written by render/maps (each through its own OutputFile); -y/-n and the
     // inputs are checked here, before any realisation runs.
     for (const char* name : kLayerNames) files_->maps.push_back(dir / (std::string(name) + ".png"));
+    files_->maps.push_back(dir / "intensity.png");
     files_->maps.push_back(dir / "runout.png");
     for (const fs::path& png : files_->maps) checkOutputPath(png.string(), rules);
   }
@@ -145,6 +148,16 @@ void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>&
     writeHazardMap(ens.dem(), layer, areas, files_->maps[k].string(), rules_, window);
     written_ += ", " + files_->maps[k].filename().string();
   }
+  // The energy's 95th percentile in the Swiss intensity classes.
+  const std::size_t p95 = static_cast<std::size_t>(
+      std::find(std::begin(kLayerNames), std::end(kLayerNames), std::string("energy_p95")) -
+      std::begin(kLayerNames));
+  MapLayer intensity{"intensity", "Intensity: energy p95 low < 30, medium 30-300, high > 300 kJ",
+                     "", mappedValues("energy_p95", layers[p95].values, passages)};
+  intensity.classes = swissRockfallIntensity();
+  writeHazardMap(ens.dem(), intensity, areas, files_->maps[layers.size()].string(), rules_, window);
+  written_ += ", " + files_->maps[layers.size()].filename().string();
+
   std::vector<double> runouts, reach;
   for (const RealisationResult& r : runs) {
     runouts.push_back(r.runout);

@@ -70,6 +70,17 @@ std::vector<SampleSpan> sampleSpans(int pixels, double pixelSize, int samples, d
   return spans;
 }
 
+// The colour of a value: its class's, or viridis between lo and hi (linear or by log10).
+Rgb8 colourOf(const MapLayer& layer, double value, double lo, double hi) {
+  const MapClasses& k = layer.classes;
+  if (!k.edges.empty())
+    return k.colours[static_cast<std::size_t>(
+        std::upper_bound(k.edges.begin(), k.edges.end(), value) - k.edges.begin())];
+  if (hi <= lo) return viridis(0.5);
+  return viridis(layer.logScale ? std::log(std::max(value, lo) / lo) / std::log(hi / lo)
+                                : (value - lo) / (hi - lo));
+}
+
 // The map area as RGBA, rows from the bottom (gnuplot's image order). A pixel shows the largest
 // value among the samples it covers (a map smaller than its grid never hides a narrow track of
 // high values between pixels), else the hillshade grey of the sample under its centre, else
@@ -91,10 +102,7 @@ std::vector<std::uint8_t> mapPixels(const Heightfield& dem, const MapLayer& laye
         }
       std::uint8_t* p = &rgba[(static_cast<std::size_t>(v) * f.plotWidth + u) * 4];
       if (std::isfinite(value)) {
-        const Rgb8 c =
-            viridis(hi <= lo         ? 0.5
-                    : layer.logScale ? std::log(std::max(value, lo) / lo) / std::log(hi / lo)
-                                     : (value - lo) / (hi - lo));
+        const Rgb8 c = colourOf(layer, value, lo, hi);
         p[0] = c.r, p[1] = c.g, p[2] = c.b, p[3] = 255;
       } else if (const double shade = hillshadeAt(dem, f.i0 + col.nearest, f.j0 + row.nearest);
                  !std::isnan(shade)) {
@@ -129,6 +137,33 @@ std::pair<bool, bool> writeReleaseAreas(const std::vector<std::vector<Vec2>>& ar
     anyLine = true;
   }
   return {anyLine, anyPoint};
+}
+
+std::string hexColour(const Rgb8& c) {
+  char hex[8];
+  std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c.r, c.g, c.b);
+  return hex;
+}
+
+// The colour box's palette: viridis, 256 steps.
+void writeViridisPalette(std::ostream& s) {
+  s << "set palette maxcolors 256\nset palette defined (";
+  const auto& table = viridisTable();
+  for (int k = 0; k < 256; ++k) s << (k ? ", " : "") << k << " '" << hexColour(table[k]) << "'";
+  s << ")\n";
+}
+
+// The colour box of a classed map: one step per class over 0 .. N, each labelled at its middle.
+void writeClassLegend(std::ostream& s, const MapClasses& classes) {
+  const std::size_t n = classes.colours.size();
+  s << "set palette maxcolors " << n << "\nset palette defined (";
+  for (std::size_t k = 0; k < n; ++k)
+    s << (k ? ", " : "") << k << " '" << hexColour(classes.colours[k]) << "', " << k + 1 << " '"
+      << hexColour(classes.colours[k]) << "'";
+  s << ")\nset cbrange [0:" << n << "]\nset cbtics (";
+  for (std::size_t k = 0; k < n; ++k)
+    s << (k ? ", " : "") << gnuplotString(classes.labels[k]) << " " << k + 0.5;
+  s << ")\n";
 }
 
 // Screen fraction of a pixel position (x from the left, y from the bottom).
@@ -185,6 +220,13 @@ MapFrame hazardMapFrame(const Heightfield& dem, const MapWindow& window) {
   f.width = kLeftPx + f.plotWidth + kRightPx;
   f.height = kTopPx + std::max(f.plotHeight, kMinLegendPx) + kBottomPx;
   return f;
+}
+
+MapClasses swissRockfallIntensity() {
+  // Yellow, orange, brown (ColorBrewer's YlOrBr): ordered, and none is the release areas' red.
+  return {{30.0, 300.0},
+          {"low", "medium", "high"},
+          {{0xfe, 0xe3, 0x91}, {0xfe, 0x99, 0x29}, {0x99, 0x34, 0x04}}};
 }
 
 bool mappedOnLogScale(const std::string& name) {
@@ -254,21 +296,19 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
   // Legend: the colour box beside the map, as tall as the map (at least kMinLegendPx).
   const int legendPx = std::max(f.plotHeight, kMinLegendPx);
   const int legendBottom = f.height - f.top - legendPx;
-  s << "set palette maxcolors 256\nset palette defined (";
-  const auto& table = viridisTable();
-  for (int k = 0; k < 256; ++k) {
-    char hex[8];
-    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", table[k].r, table[k].g, table[k].b);
-    s << (k ? ", " : "") << k << " '" << hex << "'";
+  const bool classed = !layer.classes.edges.empty();
+  if (classed) {
+    writeClassLegend(s, layer.classes);
+  } else {
+    writeViridisPalette(s);
+    // gnuplot maps the colour box's palette by log10 too, so the legend reads as the pixels do.
+    if (layer.logScale && anyValue && hi > lo) s << "set logscale cb\n";
+    s << "set cbrange [" << number(cbLo) << ":" << number(cbHi) << "]\nset format cb '%g'\n";
   }
-  s << ")\n";
-  // gnuplot maps the colour box's palette by log10 too, so the legend reads as the pixels do.
-  if (layer.logScale && anyValue && hi > lo) s << "set logscale cb\n";
-  s << "set cbrange [" << number(cbLo) << ":" << number(cbHi) << "]\n"
-    << "set colorbox user origin " << screenX(f, f.left + f.plotWidth + 30) << ", "
+  s << "set colorbox user origin " << screenX(f, f.left + f.plotWidth + 30) << ", "
     << screenY(f, legendBottom) << " size " << screenX(f, 22) << ", " << screenY(f, legendPx)
-    << "\nset cbtics out\nset format cb '%g'\n"
-    << "set cblabel offset 1.5,0 "
+    << "\nset cbtics out\n"
+    << "set cblabel offset " << (classed ? "3.5" : "1.5") << ",0 "
     << gnuplotString(layer.title + (layer.units.empty() ? "" : " (" + layer.units + ")") +
                      (anyValue ? "" : ": no values"))
     << "\n";

@@ -8,11 +8,27 @@
 #include <string>
 #include <vector>
 
+#include "render/maps/colour_map.h"
 #include "render/output/output_file.h"
 #include "sim/core/math.h"
 #include "sim/shape/heightfield.h"
 
 namespace vf {
+
+// Classes instead of a colour scale: class k holds the values in [edges[k - 1], edges[k])
+// (edges ascending; the first class reaches down to -infinity, the last up to +infinity), drawn
+// in colours[k] and named labels[k] in the legend. edges.size() + 1 labels and colours.
+struct MapClasses {
+  std::vector<double> edges;
+  std::vector<std::string> labels;
+  std::vector<Rgb8> colours;
+};
+
+// The rock-fall intensity classes of Swiss hazard mapping, labelled "low", "medium" and "high"
+// (the map's title should give the limits): low below 30 kJ, medium 30 to 300 kJ, high above
+// 300 kJ of kinetic energy (the federal recommendations for mass movements,
+// BRP/BWW/BUWAL 1997, as the cantons apply them).
+MapClasses swissRockfallIntensity();
 
 // One per-cell statistic to map.
 struct MapLayer {
@@ -24,6 +40,7 @@ struct MapLayer {
   // Colours by log10 of the value between the smallest positive value and the largest (values
   // at or below that smallest take the bottom colour), with a logarithmic legend.
   bool logScale = false;
+  MapClasses classes;  // no edges: the continuous colour map
 };
 
 // Whether the ensemble's statistic `name` is mapped on a logarithmic scale: the reach

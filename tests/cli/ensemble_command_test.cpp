@@ -86,8 +86,8 @@ TEST_F(EnsembleCommandTest, OutputsAreTheSameBytesForOneAndTwoThreads) {
   ASSERT_EQ(two.code, 0) << two.err;
   const auto a = files("j1"), b = files("j2");
   // 9 statistics x (GeoTIFF, ASCII, .prj, map PNG) + runs.csv, summary.json, converge.csv,
-  // paths.csv, runout.png.
-  EXPECT_EQ(a.size(), 9u * 4 + 5);
+  // paths.csv, intensity.png, runout.png.
+  EXPECT_EQ(a.size(), 9u * 4 + 6);
   EXPECT_TRUE(a.count("reach_probability.png") && a.count("runout.png"));
   // Cells no realisation reached show the grey hillshade, not the colour map's low end: on the
   // chute most of the map is unreached, so mid-grey pixels (R = G = B, 60..240, which viridis

@@ -295,6 +295,28 @@ TEST(HazardMap, ALogScaledLayerColoursByTheLogarithmOfItsValue) {
   EXPECT_FALSE(mappedOnLogScale("deposited"));
 }
 
+TEST(HazardMap, AClassedLayerColoursEachValueByItsClass) {
+  test::ScratchDir dir("hazard_map_classes");
+  TestMap m;  // 250 kJ, 4 kJ and 100 kJ
+  m.layer.classes = swissRockfallIntensity();
+  m.layer.values[2 * 20 + 2] = 300;  // on an edge: the class above
+  m.layer.values[3 * 20 + 2] = 301;
+  const std::string path = (dir.path() / "classes.png").string();
+  writeHazardMap(m.dem, m.layer, {}, path);
+  const Image im = readPng(path);
+  const MapFrame f = hazardMapFrame(m.dem);
+  const auto at = [&](int i, int j) {
+    return pixelAt(im, f.columnOf(m.dem.x0 + i * m.dem.cell), f.rowOf(m.dem.y0 + j * m.dem.cell));
+  };
+  const MapClasses& k = m.layer.classes;
+  EXPECT_EQ(at(TestMap::kLoI, TestMap::kLoJ), k.colours[0]);      // 4 kJ: low
+  EXPECT_EQ(at(TestMap::kLoI + 1, TestMap::kLoJ), k.colours[1]);  // 100 kJ: medium
+  EXPECT_EQ(at(TestMap::kHiI, TestMap::kHiJ), k.colours[1]);      // 250 kJ: medium
+  EXPECT_EQ(at(2, 2), k.colours[2]);                              // 300 kJ: high
+  EXPECT_EQ(at(2, 3), k.colours[2]);
+  EXPECT_EQ(k.edges, (std::vector<double>{30.0, 300.0}));
+}
+
 TEST(HazardMap, AMapSmallerThanItsGridKeepsANarrowTrack) {
   // 1600 x 1200 samples on an 800 x 600 px map: two samples a pixel each way. A track one sample
   // wide (column 800, an even one: the sample under pixel 400's centre is 801) must still show,
