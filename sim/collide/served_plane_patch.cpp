@@ -64,154 +64,226 @@ inline void linearRange(double h0, const Vec3& m, const Vec3& lo, const Vec3& hi
   }
 }
 
+// One call of servePlanePatch: the body, the plane, the candidates and the frames their
+// heights and plane coordinates are taken in.
+class PlaneServe {
+ public:
+  PlaneServe(const Collider& a, const Collider& p, const PairCandidates& memo, double h0,
+             const Vec3& m, double slack, PlaneServeScratch& s)
+      : a_(a),
+        p_(p),
+        memo_(memo),
+        h0_(h0),
+        m_(m),
+        slack_(slack),
+        s_(s),
+        centers_(a.tree->leaves().centers),
+        r_(a.tree->leaves().radius),
+        n_(p.normal) {
+    const SphereTree& tree = *a.tree;
+    patchPlaneBasis(n_, t1_, t2_);
+    u1_ = a.R.transpose() * t1_;
+    u2_ = a.R.transpose() * t2_;
+    o1_ = a.x.dot(t1_);
+    o2_ = a.x.dot(t2_);
+    flatSlack_ =
+        1e-9 * (1 + a.x.norm() + 2 * tree.boundingRadius + std::abs(p.offset) + std::abs(h0));
+  }
+
+  // Sorts the candidates' groups into those without contacts (dropped), those whose every
+  // candidate is one and the mixed ones, whose contacts are listed; bounds each kept group's
+  // plane coordinates. Returns the number of contacts; lowestUpper: at least the lowest
+  // body-frame height of a contact.
+  std::size_t classifyGroups(double& lowestUpper) {
+    const std::size_t candidates = memo_.leaves.size();
+    s_.groups.clear();
+    s_.member.clear();
+    s_.boxes.clear();
+    std::size_t count = 0;
+    lowestUpper = INFINITY;
+    for (std::size_t g = 0; g * kPatchGroup < candidates; ++g) {
+      // Written in place and dropped where it holds no contact: built on the stack and copied,
+      // it costs the copy's loads a stalled store forwarding each (perf annotate).
+      PlaneServeScratch::Group& G = s_.groups.emplace_back();
+      G.begin = g * kPatchGroup;
+      G.end = std::min(candidates, (g + 1) * kPatchGroup);
+      G.first = count;
+      G.members = s_.member.size();
+      G.all = true;
+      linearRange(h0_, m_, memo_.groupLo[g], memo_.groupHi[g], G.lo, G.hi);
+      G.lo -= slack_, G.hi += slack_;  // the rounding of the range itself
+      if (G.lo >= r_ + slack_) {
+        s_.groups.pop_back();
+        continue;
+      }
+      if (G.hi < r_ - slack_) {
+        count += G.end - G.begin;
+        lowestUpper = std::min(lowestUpper, G.hi);
+      } else if (!listMembers(G, count, lowestUpper)) {
+        s_.groups.pop_back();
+        continue;
+      }
+      double f1lo, f1hi, f2lo, f2hi;
+      linearRange(o1_, u1_, memo_.groupLo[g], memo_.groupHi[g], f1lo, f1hi);
+      linearRange(o2_, u2_, memo_.groupLo[g], memo_.groupHi[g], f2lo, f2hi);
+      PatchBox box;
+      box.extend(Eigen::Vector2d(f1lo - flatSlack_, f2lo - flatSlack_));
+      box.extend(Eigen::Vector2d(f1hi + flatSlack_, f2hi + flatSlack_));
+      s_.boxes.push_back(box);
+    }
+    return count;
+  }
+
+  // Sizes the per-contact lists for `count` contacts and marks every group unfilled.
+  void prepare(std::size_t count) {
+    if (s_.flat.size() < count) {  // grown, never shrunk: no clearing per call
+      s_.flat.resize(count);
+      s_.point.resize(count);
+      s_.depth.resize(count);
+      s_.leaf.resize(count);
+    }
+    s_.groupBegin.resize(s_.groups.size() + 1);
+    for (std::size_t g = 0; g < s_.groups.size(); ++g) s_.groupBegin[g] = s_.groups[g].first;
+    s_.groupBegin[s_.groups.size()] = count;
+    s_.filled.assign(s_.groups.size(), 0);
+  }
+
+  // A patch of at most kContactsPerPatch contacts: all of them, deepest first.
+  void emitWhole(std::size_t count, std::vector<Contact>& out) {
+    for (std::size_t g = 0; g < s_.groups.size(); ++g) fill(g);
+    std::size_t order[kContactsPerPatch];
+    deepestFirst(s_.depth.data(), count, order);
+    for (std::size_t j = 0; j < count; ++j) contact(order[j], out);
+  }
+
+  // A larger patch: its representatives, from the deepest contact and the groups' boxes.
+  void emitRepresentatives(std::size_t count, double lowestUpper, std::vector<Contact>& out) {
+    const std::size_t deepest = findDeepest(count, lowestUpper);
+    std::size_t keep[kContactsPerPatch];
+    // (A std::function holding only a pointer stays in its small buffer: no allocation.)
+    PlaneServe* self = this;
+    const int kept = chooseRepresentatives(
+        count, deepest, s_.flat.data(), s_.boxes.data(), s_.groupBegin.data(), s_.groups.size(),
+        [self](std::size_t g) { self->fill(g); }, keep);
+    for (int k = 0; k < kept; ++k) contact(keep[k], out);
+  }
+
+ private:
+  // Group G, whose body-frame heights straddle r: each candidate decides, by its body-frame
+  // height, and by its exact test where that lies within slack of r. Lists its contacts in
+  // member; returns whether it has any.
+  bool listMembers(PlaneServeScratch::Group& G, std::size_t& count, double& lowestUpper) {
+    G.all = false;
+    for (std::size_t k = G.begin; k < G.end; ++k) {
+      const double hb = bodyHeight(k);
+      if (!(hb < r_ - slack_)) {
+        if (hb >= r_ + slack_) continue;
+        Vec3 point;
+        double h;
+        exact(memo_.leaves[k], point, h);
+        if (!(h < r_)) continue;
+      }
+      s_.member.push_back(k);
+      lowestUpper = std::min(lowestUpper, hb);
+      ++count;
+    }
+    return count != G.first;
+  }
+
+  // The deepest contact: the lowest body-frame height of a contact, in the groups that may
+  // hold it, then the exact depths of the contacts within 3 slack of it, the first of the
+  // largest.
+  std::size_t findDeepest(std::size_t count, double lowestUpper) {
+    const double reach = lowestUpper + 3 * slack_;
+    double lowest = INFINITY;
+    for (std::size_t g = 0; g < s_.groups.size(); ++g) {
+      const PlaneServeScratch::Group& G = s_.groups[g];
+      if (G.lo > reach) continue;
+      for (std::size_t j = G.first; j < s_.groupBegin[g + 1]; ++j)
+        lowest = std::min(lowest, bodyHeight(candidateOf(G, j)));
+    }
+    std::size_t deepest = count;
+    for (std::size_t g = 0; g < s_.groups.size(); ++g) {
+      const PlaneServeScratch::Group& G = s_.groups[g];
+      if (G.lo > lowest + 3 * slack_) continue;
+      for (std::size_t j = G.first; j < s_.groupBegin[g + 1]; ++j) {
+        if (bodyHeight(candidateOf(G, j)) > lowest + 3 * slack_) continue;
+        fill(g);
+        if (deepest == count || s_.depth[j] > s_.depth[deepest]) deepest = j;
+      }
+    }
+    return deepest;
+  }
+
+  // The exact values of leaf i, by treePlaneDescent's expressions.
+  void exact(std::uint32_t i, Vec3& point, double& h) const {
+    const Vec3 center = leafWorldCenter(a_, i);
+    h = planeHeight(p_, center);
+    point = center - h * n_;
+  }
+  double bodyHeight(std::size_t k) const { return h0_ + m_.dot(centers_[memo_.leaves[k]]); }
+  // The candidate index of contact j of group G.
+  std::size_t candidateOf(const PlaneServeScratch::Group& G, std::size_t j) const {
+    return G.all ? G.begin + (j - G.first) : s_.member[G.members + (j - G.first)];
+  }
+  // Group g's contacts' exact values, once.
+  void fill(std::size_t g) {
+    if (s_.filled[g]) return;
+    s_.filled[g] = 1;
+    const PlaneServeScratch::Group& G = s_.groups[g];
+    for (std::size_t j = G.first; j < s_.groupBegin[g + 1]; ++j) {
+      const std::uint32_t i = memo_.leaves[candidateOf(G, j)];
+      double h;
+      exact(i, s_.point[j], h);
+      s_.leaf[j] = i;
+      s_.depth[j] = r_ - h;
+      s_.flat[j] = Eigen::Vector2d(s_.point[j].dot(t1_), s_.point[j].dot(t2_));
+    }
+  }
+  void contact(std::size_t j, std::vector<Contact>& out) const {
+    Contact c;
+    c.a = a_.body;
+    c.b = p_.body;
+    c.point = s_.point[j];
+    c.normal = n_;
+    c.depth = s_.depth[j];
+    c.leafA = s_.leaf[j];
+    out.push_back(c);
+  }
+
+  const Collider& a_;
+  const Collider& p_;
+  const PairCandidates& memo_;
+  const double h0_;
+  const Vec3& m_;
+  const double slack_;
+  PlaneServeScratch& s_;
+  const std::vector<Vec3>& centers_;  // the leaves' body-frame centres
+  const double r_;                    // the leaf radius
+  const Vec3& n_;                     // the plane's normal
+  Vec3 t1_, t2_;                      // the patch plane's basis (patchPlaneBasis)
+  Vec3 u1_, u2_;                      // t1_, t2_ in the body frame
+  double o1_ = 0, o2_ = 0;            // the body origin's plane coordinates
+  double flatSlack_ = 0;              // the bound on the rounding of o + u.c
+};
+
 }  // namespace
 
 std::uint64_t servePlanePatch(const Collider& a, const Collider& p, const PairCandidates& memo,
                               double h0, const Vec3& m, double slack, std::vector<Contact>& out,
                               std::uint64_t& leafContacts) {
   static thread_local PlaneServeScratch s;
-  const SphereTree& tree = *a.tree;
-  const std::vector<Vec3>& centers = tree.leaves().centers;
-  const double r = tree.leaves().radius;
-  const Vec3& n = p.normal;
-  Vec3 t1, t2;
-  patchPlaneBasis(n, t1, t2);
-  const Vec3 u1 = a.R.transpose() * t1, u2 = a.R.transpose() * t2;
-  const double o1 = a.x.dot(t1), o2 = a.x.dot(t2);
-  const double flatSlack =
-      1e-9 * (1 + a.x.norm() + 2 * tree.boundingRadius + std::abs(p.offset) + std::abs(h0));
-  // The exact values of leaf i, by treePlaneDescent's expressions.
-  auto exact = [&](std::uint32_t i, Vec3& point, double& h) {
-    const Vec3 center = leafWorldCenter(a, i);
-    h = planeHeight(p, center);
-    point = center - h * n;
-  };
-  auto bodyHeight = [&](std::size_t k) { return h0 + m.dot(centers[memo.leaves[k]]); };
-  const std::size_t candidates = memo.leaves.size();
-  s.groups.clear();
-  s.member.clear();
-  s.boxes.clear();
-  std::size_t count = 0;
-  double lowestUpper = INFINITY;  // at least the lowest body-frame height of a contact
-  for (std::size_t g = 0; g * kPatchGroup < candidates; ++g) {
-    // Written in place and dropped where it holds no contact: built on the stack and copied,
-    // it costs the copy's loads a stalled store forwarding each (perf annotate).
-    PlaneServeScratch::Group& G = s.groups.emplace_back();
-    G.begin = g * kPatchGroup;
-    G.end = std::min(candidates, (g + 1) * kPatchGroup);
-    G.first = count;
-    G.members = s.member.size();
-    G.all = true;
-    linearRange(h0, m, memo.groupLo[g], memo.groupHi[g], G.lo, G.hi);
-    G.lo -= slack, G.hi += slack;  // the rounding of the range itself
-    if (G.lo >= r + slack) {
-      s.groups.pop_back();
-      continue;
-    }
-    if (G.hi < r - slack) {
-      count += G.end - G.begin;
-      lowestUpper = std::min(lowestUpper, G.hi);
-    } else {  // each candidate decides
-      G.all = false;
-      for (std::size_t k = G.begin; k < G.end; ++k) {
-        const double hb = bodyHeight(k);
-        if (!(hb < r - slack)) {
-          if (hb >= r + slack) continue;
-          Vec3 point;
-          double h;
-          exact(memo.leaves[k], point, h);
-          if (!(h < r)) continue;
-        }
-        s.member.push_back(k);
-        lowestUpper = std::min(lowestUpper, hb);
-        ++count;
-      }
-      if (count == G.first) {
-        s.groups.pop_back();
-        continue;
-      }
-    }
-    double f1lo, f1hi, f2lo, f2hi;
-    linearRange(o1, u1, memo.groupLo[g], memo.groupHi[g], f1lo, f1hi);
-    linearRange(o2, u2, memo.groupLo[g], memo.groupHi[g], f2lo, f2hi);
-    PatchBox box;
-    box.extend(Eigen::Vector2d(f1lo - flatSlack, f2lo - flatSlack));
-    box.extend(Eigen::Vector2d(f1hi + flatSlack, f2hi + flatSlack));
-    s.boxes.push_back(box);
-  }
+  PlaneServe serve(a, p, memo, h0, m, slack, s);
+  double lowestUpper;
+  const std::size_t count = serve.classifyGroups(lowestUpper);
   leafContacts += count;
+  const std::size_t candidates = memo.leaves.size();
   if (count == 0) return candidates;
-  if (s.flat.size() < count) {  // grown, never shrunk: no clearing per call
-    s.flat.resize(count);
-    s.point.resize(count);
-    s.depth.resize(count);
-    s.leaf.resize(count);
-  }
-  s.groupBegin.resize(s.groups.size() + 1);
-  for (std::size_t g = 0; g < s.groups.size(); ++g) s.groupBegin[g] = s.groups[g].first;
-  s.groupBegin[s.groups.size()] = count;
-  s.filled.assign(s.groups.size(), 0);
-  // The candidate index of contact j of group G.
-  auto candidateOf = [&](const PlaneServeScratch::Group& G, std::size_t j) {
-    return G.all ? G.begin + (j - G.first) : s.member[G.members + (j - G.first)];
-  };
-  auto fill = [&](std::size_t g) {
-    if (s.filled[g]) return;
-    s.filled[g] = 1;
-    const PlaneServeScratch::Group& G = s.groups[g];
-    for (std::size_t j = G.first; j < s.groupBegin[g + 1]; ++j) {
-      const std::uint32_t i = memo.leaves[candidateOf(G, j)];
-      double h;
-      exact(i, s.point[j], h);
-      s.leaf[j] = i;
-      s.depth[j] = r - h;
-      s.flat[j] = Eigen::Vector2d(s.point[j].dot(t1), s.point[j].dot(t2));
-    }
-  };
-  auto contact = [&](std::size_t j) {
-    Contact c;
-    c.a = a.body;
-    c.b = p.body;
-    c.point = s.point[j];
-    c.normal = n;
-    c.depth = s.depth[j];
-    c.leafA = s.leaf[j];
-    out.push_back(c);
-  };
-  if (count <= static_cast<std::size_t>(kContactsPerPatch)) {  // as they are, deepest first
-    for (std::size_t g = 0; g < s.groups.size(); ++g) fill(g);
-    std::size_t order[kContactsPerPatch];
-    deepestFirst(s.depth.data(), count, order);
-    for (std::size_t j = 0; j < count; ++j) contact(order[j]);
-    return candidates;
-  }
-  // The lowest body-frame height of a contact: in the groups that may hold it.
-  const double reach = lowestUpper + 3 * slack;
-  double lowest = INFINITY;
-  for (std::size_t g = 0; g < s.groups.size(); ++g) {
-    const PlaneServeScratch::Group& G = s.groups[g];
-    if (G.lo > reach) continue;
-    for (std::size_t j = G.first; j < s.groupBegin[g + 1]; ++j)
-      lowest = std::min(lowest, bodyHeight(candidateOf(G, j)));
-  }
-  // The deepest: exact depths of the contacts within 3 slack of it, the first of the largest.
-  std::size_t deepest = count;
-  for (std::size_t g = 0; g < s.groups.size(); ++g) {
-    const PlaneServeScratch::Group& G = s.groups[g];
-    if (G.lo > lowest + 3 * slack) continue;
-    for (std::size_t j = G.first; j < s.groupBegin[g + 1]; ++j) {
-      if (bodyHeight(candidateOf(G, j)) > lowest + 3 * slack) continue;
-      fill(g);
-      if (deepest == count || s.depth[j] > s.depth[deepest]) deepest = j;
-    }
-  }
-  std::size_t keep[kContactsPerPatch];
-  // (A std::function holding only a pointer stays in its small buffer: no allocation.)
-  const auto* fillGroup = &fill;
-  const int kept = chooseRepresentatives(
-      count, deepest, s.flat.data(), s.boxes.data(), s.groupBegin.data(), s.groups.size(),
-      [fillGroup](std::size_t g) { (*fillGroup)(g); }, keep);
-  for (int k = 0; k < kept; ++k) contact(keep[k]);
+  serve.prepare(count);
+  if (count <= static_cast<std::size_t>(kContactsPerPatch))
+    serve.emitWhole(count, out);
+  else
+    serve.emitRepresentatives(count, lowestUpper, out);
   return candidates;
 }
 

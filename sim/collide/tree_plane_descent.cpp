@@ -12,6 +12,20 @@
 namespace vf {
 namespace {
 
+// Freshly built candidates' groups' bounds, for servePlanePatch: the body-frame box of the
+// centres of each group of kPatchGroup consecutive candidates.
+void boundCandidateGroups(const SphereTree& tree, PairCandidates& memo) {
+  const std::vector<Vec3>& centers = tree.leaves().centers;
+  const std::size_t groups = (memo.leaves.size() + kPatchGroup - 1) / kPatchGroup;
+  memo.groupLo.assign(groups, Vec3::Constant(INFINITY));
+  memo.groupHi.assign(groups, Vec3::Constant(-INFINITY));
+  for (std::size_t k = 0; k < memo.leaves.size(); ++k) {
+    const Vec3& c = centers[memo.leaves[k]];
+    memo.groupLo[k / kPatchGroup] = memo.groupLo[k / kPatchGroup].cwiseMin(c);
+    memo.groupHi[k / kPatchGroup] = memo.groupHi[k / kPatchGroup].cwiseMax(c);
+  }
+}
+
 // Sphere tree against a plane: a sphere touches when its centre is less than its radius above
 // the plane (exact). Contact point: the centre projected onto the plane. Inner nodes are tested
 // in the body frame (height = n.x - offset + (R^T n).c, no centre transform), widened by
@@ -100,17 +114,7 @@ std::uint64_t treePlaneDescent(const Collider& a, const Collider& p, PairCandida
     }
   };
   visit(visit, 0, 0);
-  if (margin > 0) {  // candidates built: their groups' bounds (servePlanePatch)
-    const std::vector<Vec3>& centers = tree.leaves().centers;
-    const std::size_t groups = (memo->leaves.size() + kPatchGroup - 1) / kPatchGroup;
-    memo->groupLo.assign(groups, Vec3::Constant(INFINITY));
-    memo->groupHi.assign(groups, Vec3::Constant(-INFINITY));
-    for (std::size_t k = 0; k < memo->leaves.size(); ++k) {
-      const Vec3& c = centers[memo->leaves[k]];
-      memo->groupLo[k / kPatchGroup] = memo->groupLo[k / kPatchGroup].cwiseMin(c);
-      memo->groupHi[k / kPatchGroup] = memo->groupHi[k / kPatchGroup].cwiseMax(c);
-    }
-  }
+  if (margin > 0) boundCandidateGroups(tree, *memo);
   return tests;
 }
 

@@ -61,6 +61,76 @@ Contact groundContact(const Collider& a, const Collider& ground, const NodeRef& 
   return c;
 }
 
+// The surface point nearest to c, closer than r, among the triangles of the cells within r of c:
+// whether there is one, and if so the point and its squared distance.
+bool nearestSurfacePoint(const Heightfield& field, const Vec3& c, double r, Vec3& nearest,
+                         double& best) {
+  int i0, i1, j0, j1;
+  field.cellRange(c.x(), c.y(), r, i0, i1, j0, j1);
+  best = r * r;
+  bool found = false;
+  Vec3 tri[2][3];
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      if (!field.hasCell(i, j)) continue;
+      field.cellTriangles(i, j, tri);
+      for (const auto& tr : tri) {
+        // The triangle lies in its plane, so it holds no point nearer than the plane: a
+        // triangle whose plane is farther than sqrt(best) is skipped (4 of 5 with 1,000
+        // rocks, whose leaf tests mostly find nothing). The comparison allows a relative
+        // 1e-9 for rounding, so it never skips a triangle that would have won: the same
+        // nearest point, bit for bit.
+        const Vec3 normal = (tr[1] - tr[0]).cross(tr[2] - tr[0]);
+        const double s = normal.dot(c - tr[0]);
+        if (s * s > best * normal.squaredNorm() * (1 + 1e-9)) continue;
+        const Vec3 q = closestPointOnTriangle(c, tr[0], tr[1], tr[2]);
+        const double d2 = (c - q).squaredNorm();
+        if (d2 < best) best = d2, nearest = q, found = true;
+      }
+    }
+  return found;
+}
+
+// The leaf test: the contact of leaf sphere n (radius r) of a with terrain t, appended to out if
+// the sphere collides (see collideTreeHeightfield). xEnd, yEnd: the grid's far borders.
+void terrainLeaf(const Collider& a, const Collider& t, double xEnd, double yEnd, const NodeRef& n,
+                 double r, std::vector<Contact>& out) {
+  const Heightfield& field = *t.terrain;
+  const Vec3& c = n.center;
+  Contact k = groundContact(a, t, n);
+  const double h = field.heightAt(c.x(), c.y());
+  if (!std::isnan(h) && c.z() < h) {  // centre inside the terrain
+    k.normal = field.normalAt(c.x(), c.y());
+    k.point = Vec3(c.x(), c.y(), h);
+    k.depth = r + (h - c.z()) * k.normal.z();
+    out.push_back(k);
+    return;
+  }
+  const Vec3 border(std::clamp(c.x(), field.x0, xEnd), std::clamp(c.y(), field.y0, yEnd), c.z());
+  if (border.x() != c.x() || border.y() != c.y()) {  // centre outside the grid
+    const double hb = field.heightAt(border.x(), border.y());
+    const double d = (c - border).norm();  // horizontal: same z
+    if (!std::isnan(hb) && c.z() < hb) {   // beside the wall, below its top
+      if (d < r) {
+        k.normal = (c - border) / d;
+        k.point = border;
+        k.depth = r - d;
+        out.push_back(k);
+      }
+      return;  // the wall is nearer than the surface above it
+    }
+  }
+  Vec3 nearest;
+  double best;
+  if (!nearestSurfacePoint(field, c, r, nearest, best)) return;
+  const double d = std::sqrt(best);
+  if (d == 0.0) return;  // centre exactly on the surface: no defined normal (measure zero)
+  k.normal = (c - nearest) / d;
+  k.point = nearest;
+  k.depth = r - d;
+  out.push_back(k);
+}
+
 }  // namespace
 
 // Sphere tree against terrain. A node may touch unless its sphere lies entirely above the
@@ -118,63 +188,7 @@ std::uint64_t collideTreeHeightfield(const Collider& a, const Collider& t,
     if (clear || c.z() - r >= bound) return false;
     return !inner || !field.sphereAbove(c, r);
   };
-  auto leaf = [&](const NodeRef& n, double r) {
-    const Vec3& c = n.center;
-    Contact k = groundContact(a, t, n);
-    const double h = field.heightAt(c.x(), c.y());
-    if (!std::isnan(h) && c.z() < h) {  // centre inside the terrain
-      k.normal = field.normalAt(c.x(), c.y());
-      k.point = Vec3(c.x(), c.y(), h);
-      k.depth = r + (h - c.z()) * k.normal.z();
-      out.push_back(k);
-      return;
-    }
-    const Vec3 border(std::clamp(c.x(), field.x0, xEnd), std::clamp(c.y(), field.y0, yEnd), c.z());
-    if (border.x() != c.x() || border.y() != c.y()) {  // centre outside the grid
-      const double hb = field.heightAt(border.x(), border.y());
-      const double d = (c - border).norm();  // horizontal: same z
-      if (!std::isnan(hb) && c.z() < hb) {   // beside the wall, below its top
-        if (d < r) {
-          k.normal = (c - border) / d;
-          k.point = border;
-          k.depth = r - d;
-          out.push_back(k);
-        }
-        return;  // the wall is nearer than the surface above it
-      }
-    }
-    int i0, i1, j0, j1;
-    field.cellRange(c.x(), c.y(), r, i0, i1, j0, j1);
-    double best = r * r;
-    Vec3 nearest;
-    bool found = false;
-    Vec3 tri[2][3];
-    for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i) {
-        if (!field.hasCell(i, j)) continue;
-        field.cellTriangles(i, j, tri);
-        for (const auto& tr : tri) {
-          // The triangle lies in its plane, so it holds no point nearer than the plane: a
-          // triangle whose plane is farther than sqrt(best) is skipped (4 of 5 with 1,000
-          // rocks, whose leaf tests mostly find nothing). The comparison allows a relative
-          // 1e-9 for rounding, so it never skips a triangle that would have won: the same
-          // nearest point, bit for bit.
-          const Vec3 normal = (tr[1] - tr[0]).cross(tr[2] - tr[0]);
-          const double s = normal.dot(c - tr[0]);
-          if (s * s > best * normal.squaredNorm() * (1 + 1e-9)) continue;
-          const Vec3 q = closestPointOnTriangle(c, tr[0], tr[1], tr[2]);
-          const double d2 = (c - q).squaredNorm();
-          if (d2 < best) best = d2, nearest = q, found = true;
-        }
-      }
-    if (!found) return;
-    const double d = std::sqrt(best);
-    if (d == 0.0) return;  // centre exactly on the surface: no defined normal (measure zero)
-    k.normal = (c - nearest) / d;
-    k.point = nearest;
-    k.depth = r - d;
-    out.push_back(k);
-  };
+  auto leaf = [&](const NodeRef& n, double r) { terrainLeaf(a, t, xEnd, yEnd, n, r, out); };
   if (!memo) return descendAlone(a, mayTouch, leaf);
 
   const int leafLevel = tree.leafLevel();
