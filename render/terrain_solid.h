@@ -1,4 +1,4 @@
-// A terrain drawn as the solid the physics treats it as (sim/collide/narrow_phase.cpp: the
+// A terrain drawn as the solid the physics treats it as (sim/collide/tree_terrain_descent.cpp: the
 // ground is solid below the surface, and where the data ends its border is a vertical wall):
 // the surface from the DEM, and here its sides and base, so that seen from the side or from
 // below a terrain is a block of ground instead of a sheet with the floor showing through.

@@ -31,7 +31,7 @@ void reduceContacts(std::vector<Contact>& contacts);
 void deepestFirst(const double* depths, std::size_t m, std::size_t order[kContactsPerPatch]);
 
 // The choice of a large patch's representatives, shared by the reductions above and the narrow
-// phase's reduction of a body's plane contacts from its candidates (narrow_phase.cpp).
+// phase's reduction of a body's plane contacts from its candidates (served_plane_patch.cpp).
 // Coordinates in the patch plane are taken in the basis patchPlaneBasis gives for the normal.
 void patchPlaneBasis(const Vec3& n, Vec3& t1, Vec3& t2);
 // A box in the patch plane bounding the coordinates of a group of points (groups of kPatchGroup

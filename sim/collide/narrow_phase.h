@@ -84,7 +84,7 @@ ContactCounts findContacts(const std::vector<BodyInfo>& bodies,
 // (bounded from the change of the relative rotation and translation), every touching leaf pair
 // is among them, so the next steps test only the candidates, exactly as the descent tests
 // leaves and in its order: the same contacts, bit for bit, for the cost of one leaf test per
-// candidate (against the terrain, why: collideTreeHeightfield in narrow_phase.cpp).
+// candidate (against the terrain, why: collideTreeHeightfield in tree_terrain_descent.cpp).
 // Depends on the states only (never on timing or threads), like everything in a step.
 struct PairCandidates {
   bool served = false;  // the current call tested only the candidates

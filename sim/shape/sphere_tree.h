@@ -30,7 +30,7 @@ struct SphereTreeLevel {
   // The centres again in single precision, as structure of arrays: x of every node, then y,
   // then z, each block floatStride() = centers.size() + kFloatPad long and zero-padded, so that
   // the children of any node (at most 8, contiguous) load as 8 lanes. Only for pruning tests
-  // that are widened by their rounding (the tree-tree descent, narrow_phase.cpp). Filled by
+  // that are widened by their rounding (the tree-tree descent, tree_tree_descent.cpp). Filled by
   // finishSphereTree.
   static constexpr std::size_t kFloatPad = 8;
   std::vector<float> floatCenters;

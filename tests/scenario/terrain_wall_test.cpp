@@ -1,6 +1,6 @@
 // Rocks piled against the border of the terrain grid. The terrain is solid below its surface,
 // so where a raised grid ends above the floor plane its border is a vertical wall
-// (sim/collide/narrow_phase.cpp, collideTreeHeightfield). Oracle: the true-mesh check
+// (sim/collide/tree_terrain_descent.cpp, collideTreeHeightfield). Oracle: the true-mesh check
 // (World::measure, through the Recorder at every frame) finds no rock inside another, inside
 // the terrain, or below the floor by more than one leaf-voxel edge, as eq. 20 promises for every
 // other contact (a leaf sphere moves less than its radius per step, so it is caught within one

@@ -264,7 +264,7 @@ TEST(ContactReduction, NarrowPhaseReducesEachPairAsTheStoredContactsWouldBe) {
 }
 
 // A body on the floor whose candidates hold is reduced from them without computing every contact
-// (servePlanePatch, narrow_phase.cpp): from body-frame heights and the bounds of groups of
+// (servePlanePatch, served_plane_patch.cpp): from body-frame heights and the bounds of groups of
 // candidates, with exact values only where they decide. It must give the reduction of the
 // stored contacts bit for bit, step after step, in every case its shortcuts treat apart: a face
 // exactly level (every bottom leaf ties for deepest: the first must win), slightly tilted (one
