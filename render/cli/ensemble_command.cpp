@@ -99,6 +99,7 @@ void openJournal(RootState& root, const EnsembleOptions& o, const JournalHeader&
 // writes its journal only; --only writes no journal).
 void openRoot(RootState& root, const EnsembleOptions& o, const SceneSpec& spec, const Ensemble& ens,
               std::uint64_t seed, const std::optional<Shard>& shard) {
+  if (!o.files.extent.empty()) mapExtent(o.files.extent, ens.dem());  // before any file
   OutputRules rules = runOutputRules(spec, o.scene, o.files.overwrite, o.files.neverOverwrite);
   if (!spec.ensemble->cellsPath.empty()) rules.inputs.push_back(spec.ensemble->cellsPath);
   if (!spec.groundClassesPath.empty()) rules.inputs.push_back(spec.groundClassesPath);
@@ -115,7 +116,7 @@ void openRoot(RootState& root, const EnsembleOptions& o, const SceneSpec& spec, 
   }
   // A resumed run replaces the outputs its journal's run wrote: they are made from the journal.
   if (o.resume) rules.overwrite = Overwrite::always;
-  if (!shard) root.files.emplace(o.files, rules, !ens.dem().crsWkt.empty());
+  if (!shard) root.files.emplace(o.files, rules, ens.dem());
 }
 
 // The realisations this process runs: rank r takes every size-th of those still to run (round
@@ -360,6 +361,7 @@ void addEnsembleCommand(CLI::App& app, int& exitCode) {
   sub->add_flag("--maps", o->files.maps,
                 "also draw a hazard map PNG per statistic (over a hillshade of the DEM, with the "
                 "release areas) and runout.png (runout and reach-angle distributions)");
+  addMapExtentOption(*sub, o->files.extent);
   addPhysicsOptions(*sub, o->overrides);
   sub->add_flag("--quiet,-q", o->files.quiet, "no progress line on stderr");
   addOverwriteFlags(*sub, o->files.overwrite, o->files.neverOverwrite);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iterator>
+#include <stdexcept>
 
 #include "render/cli/commands.h"
 #include "render/cli/ensemble_output.h"
@@ -38,8 +39,20 @@ struct EnsembleFiles::Files {
   std::vector<fs::path> maps;  // --maps: per layer NAME.png, intensity.png, then runout.png
 };
 
-EnsembleFiles::EnsembleFiles(const EnsembleFileOptions& o, const OutputRules& rules, bool hasCrs)
+MapWindow mapExtent(const std::vector<double>& extent, const Heightfield& dem) {
+  if (extent.size() != 4) throw InputError("--extent", "give four numbers: XMIN,YMIN,XMAX,YMAX");
+  try {
+    return extentWindow(dem, extent[0], extent[1], extent[2], extent[3]);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("--extent", e.what());
+  }
+}
+
+EnsembleFiles::EnsembleFiles(const EnsembleFileOptions& o, const OutputRules& rules,
+                             const Heightfield& dem)
     : options_(o), rules_(rules), files_(std::make_unique<Files>()) {
+  if (!o.extent.empty()) extent_ = mapExtent(o.extent, dem);
+  const bool hasCrs = !dem.crsWkt.empty();
   const fs::path dir(o.outDir);
   auto open = [&](const std::string& name) {
     return std::make_unique<OutputFile>((dir / name).string(), rules);
@@ -139,8 +152,9 @@ void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>&
     for (const Point2& p : area) areas.back().emplace_back(p[0], p[1]);
   }
   const std::vector<double>& passages = layers[0].values;
-  // Every map shows the same window: the reached area and the release areas, with a margin.
-  const MapWindow window = affectedWindow(ens.dem(), passages, areas);
+  // Every map shows the same window: --extent, or the reached area and the release areas with
+  // a margin.
+  const MapWindow window = extent_ ? *extent_ : affectedWindow(ens.dem(), passages, areas);
   for (std::size_t k = 0; k < layers.size(); ++k) {
     MapLayer layer{layers[k].name, layers[k].title, layers[k].units,
                    mappedValues(layers[k].name, layers[k].values, passages),

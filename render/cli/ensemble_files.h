@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "render/maps/hazard_map.h"
 #include "render/output/output_file.h"
 #include "sim/ensemble/ensemble.h"
 #include "sim/ensemble/ensemble_stats.h"
@@ -20,12 +21,17 @@ namespace vf::cli {
 // What to write, and how (the options of the command).
 struct EnsembleFileOptions {
   std::string outDir;
-  bool converge = false;  // converge.csv
-  bool paths = false;     // paths.csv
-  bool maps = false;      // a PNG per statistic and runout.png
-  int videoRuns = 0;      // ensemble_subset.bake and trajectories.mp4
+  bool converge = false;       // converge.csv
+  bool paths = false;          // paths.csv
+  bool maps = false;           // a PNG per statistic and runout.png
+  std::vector<double> extent;  // --extent XMIN,YMIN,XMAX,YMAX of the maps; empty: the reached area
+  int videoRuns = 0;           // ensemble_subset.bake and trajectories.mp4
   bool overwrite = false, neverOverwrite = false, quiet = false;
 };
+
+// The maps' window of --extent (four numbers, DEM file coordinates) on `dem`; throws an
+// InputError naming --extent when it is malformed or holds no sample of the DEM.
+MapWindow mapExtent(const std::vector<double>& extent, const Heightfield& dem);
 
 // What the outputs hold, for summary.json.
 struct EnsembleRunInfo {
@@ -37,8 +43,10 @@ struct EnsembleRunInfo {
 
 class EnsembleFiles {
  public:
-  // Checks every output path and creates its temporary file, before any realisation runs.
-  EnsembleFiles(const EnsembleFileOptions& options, const OutputRules& rules, bool hasCrs);
+  // Checks every output path and the maps' extent against `dem` (an InputError names
+  // --extent) and creates each temporary file, before any realisation runs.
+  EnsembleFiles(const EnsembleFileOptions& options, const OutputRules& rules,
+                const Heightfield& dem);
   ~EnsembleFiles();
   // Reduces `runs` (complete, in index order) into every file; returns 0, or the video's
   // render's exit code (130/143 when it was interrupted).
@@ -58,6 +66,7 @@ class EnsembleFiles {
   void writeMaps(const Ensemble& ensemble, const std::vector<StatLayer>& layers,
                  const std::vector<RealisationResult>& runs);
   void commit(OutputFile& file);
+  std::optional<MapWindow> extent_;  // --extent as samples of the DEM
 
   EnsembleFileOptions options_;
   OutputRules rules_;

@@ -87,7 +87,7 @@ int runMerge(const MergeOptions& o) {
   const Ensemble ensemble(spec);
   EnsembleFileOptions files = o.files;
   files.paths = header.paths;
-  EnsembleFiles outputs(files, rules, !ensemble.dem().crsWkt.empty());
+  EnsembleFiles outputs(files, rules, ensemble.dem());
   const std::string journalPath = (fs::path(o.files.outDir) / kJournalName).string();
   checkOutputPath(journalPath, rules);
 
@@ -117,6 +117,7 @@ void addEnsembleMergeCommand(CLI::App& app, int& exitCode) {
   sub->add_flag("--converge", o->files.converge, "also write converge.csv (as ensemble does)");
   sub->add_flag("--maps", o->files.maps,
                 "also draw a hazard map PNG per statistic and runout.png (as ensemble does)");
+  addMapExtentOption(*sub, o->files.extent);
   sub->add_option("--video-runs", o->files.videoRuns,
                   "also write the first K realisations as ensemble_subset.bake and render it to "
                   "trajectories.mp4 (as ensemble does)")

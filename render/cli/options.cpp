@@ -29,6 +29,16 @@ void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite)
   yes->excludes(no);
 }
 
+void addMapExtentOption(CLI::App& command, std::vector<double>& extent) {
+  command
+      .add_option("--extent", extent,
+                  "with --maps: the maps' extent in the DEM file's coordinates, m (default: the "
+                  "reached area and the release areas with a margin)")
+      ->delimiter(',')
+      ->expected(4)
+      ->type_name("XMIN,YMIN,XMAX,YMAX");
+}
+
 namespace {
 
 // [begin, end) read whole as a T by from_chars; nothing for anything else (an empty text, "5x",

@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace vf {
 struct SceneOverrides;
@@ -30,6 +31,8 @@ CLI::Validator integerIn(std::uint64_t lo, std::uint64_t hi);
 
 // -y (overwrite existing outputs) and -n (never overwrite, exit instead), ffmpeg's flags.
 void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite);
+// --extent XMIN,YMIN,XMAX,YMAX of an ensemble's maps (ensemble, ensemble-merge).
+void addMapExtentOption(CLI::App& command, std::vector<double>& extent);
 
 // --level N, --step S|auto|clearance, --collider voxel|polygon, --max-steps N, --max-speed V and
 // --repair (sim/scene/scene.h's SceneOverrides), for the commands that simulate; `what` ends

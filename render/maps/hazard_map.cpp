@@ -12,6 +12,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "render/figures/gnuplot.h"
 #include "render/maps/colour_map.h"
@@ -195,6 +196,27 @@ MapWindow affectedWindow(const Heightfield& dem, const std::vector<double>& pass
   w.ni = std::min(dem.nx - 1, iHi + margin) - w.i0 + 1;
   w.nj = std::min(dem.ny - 1, jHi + margin) - w.j0 + 1;
   return w;
+}
+
+MapWindow extentWindow(const Heightfield& dem, double xMin, double yMin, double xMax, double yMax) {
+  if (!(xMin < xMax && yMin < yMax))
+    throw std::invalid_argument(
+        "the extent must be XMIN,YMIN,XMAX,YMAX with XMIN < XMAX and "
+        "YMIN < YMAX");
+  // Sample i sits at file x = x0 - shift + i cell.
+  const double fx0 = dem.x0 - dem.shift.x(), fy0 = dem.y0 - dem.shift.y();
+  const int i0 = std::max(0, static_cast<int>(std::ceil((xMin - fx0) / dem.cell)));
+  const int i1 = std::min(dem.nx - 1, static_cast<int>(std::floor((xMax - fx0) / dem.cell)));
+  const int j0 = std::max(0, static_cast<int>(std::ceil((yMin - fy0) / dem.cell)));
+  const int j1 = std::min(dem.ny - 1, static_cast<int>(std::floor((yMax - fy0) / dem.cell)));
+  if (i0 > i1 || j0 > j1) {
+    std::ostringstream m;
+    m << "the extent holds no sample of the DEM, whose samples span x " << fx0 << " .. "
+      << fx0 + (dem.nx - 1) * dem.cell << ", y " << fy0 << " .. " << fy0 + (dem.ny - 1) * dem.cell
+      << " (the DEM file's coordinates)";
+    throw std::invalid_argument(m.str());
+  }
+  return {i0, j0, i1 - i0 + 1, j1 - j0 + 1};
 }
 
 MapFrame hazardMapFrame(const Heightfield& dem, const MapWindow& window) {

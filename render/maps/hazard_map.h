@@ -82,6 +82,11 @@ inline constexpr int kMapMarginCells = 10;
 MapWindow affectedWindow(const Heightfield& dem, const std::vector<double>& passages,
                          const std::vector<std::vector<Vec2>>& releaseAreas);
 
+// The window of the samples whose centres lie in [xMin, xMax] x [yMin, yMax], in the DEM
+// file's coordinates (world minus dem.shift), m. Throws std::invalid_argument when the box is
+// empty or holds no sample of the grid.
+MapWindow extentWindow(const Heightfield& dem, double xMin, double yMin, double xMax, double yMax);
+
 // The layout writeHazardMap uses for `window` of `dem`: the map's longer side is kMapLongSidePx
 // pixels and covers the window's cells (each sample at the centre of its square), with room left
 // for the axes, the title and the legend.

@@ -23,6 +23,7 @@
 #include <thread>
 #include <vector>
 
+#include "render/maps/hazard_map.h"
 #include "render/output/png_writer.h"
 #include "tests/support/chute_dem.h"
 #include "tests/support/segment_square.h"
@@ -306,6 +307,37 @@ TEST_F(EnsembleCommandTest, EveryRasterIsNodataExactlyWhereTheDemIs) {
     }
     EXPECT_EQ(holes, 9) << name;
     EXPECT_GT(zeros, 0) << name;  // cells with data that no rock reached still hold 0
+  }
+}
+
+TEST_F(EnsembleCommandTest, ExtentChoosesTheMapsWindowAndABadOneWritesNothing) {
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+  // File coordinates: samples at x = 1001 + 2 i, y = 5001 + 2 j; this box holds i 5..24, j 1..9.
+  auto r = runVoxfall(kExe, dir_,
+                      "ensemble scene.toml --runs 4 --maps --extent 1010,5002,1050,5020 -q -o ext");
+  ASSERT_EQ(r.code, 0) << r.err;
+  vf::Heightfield dem = vf::loadDem((dir_ / "chute.tif").string());
+  vf::shiftHeightfield(dem, vf::Vec3(-1000, -5000, 0));
+  const vf::MapWindow w = vf::extentWindow(dem, 1010, 5002, 1050, 5020);
+  EXPECT_EQ(w.i0, 5);
+  EXPECT_EQ(w.ni, 20);
+  EXPECT_EQ(w.j0, 1);
+  EXPECT_EQ(w.nj, 9);
+  const vf::MapFrame f = vf::hazardMapFrame(dem, w);
+  for (const char* name : {"reach_probability.png", "intensity.png"}) {
+    const vf::Image map = vf::readPng((dir_ / "ext" / name).string());
+    EXPECT_EQ(map.width, f.width) << name;
+    EXPECT_EQ(map.height, f.height) << name;
+  }
+  EXPECT_NE(vf::hazardMapFrame(dem).plotHeight, f.plotHeight);  // the whole grid would differ
+  // A box off the DEM, or inverted: one error naming --extent, and no folder.
+  for (const char* bad : {"0,0,10,10", "1050,5002,1010,5020"}) {
+    r = runVoxfall(
+        kExe, dir_,
+        std::string("ensemble scene.toml --runs 4 --maps --extent ") + bad + " -q -o bad");
+    EXPECT_EQ(r.code, 1) << bad;
+    EXPECT_NE(r.err.find("--extent"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "bad")) << bad;
   }
 }
 
