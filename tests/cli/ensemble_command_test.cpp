@@ -1,7 +1,7 @@
 // voxfall ensemble end to end on a small synthetic chute (tests/support/chute_dem.h): the
-// outputs do not depend on --jobs, a realisation rerun alone is the same trajectory, the rasters
-// carry the input DEM's georeference and CRS, the reach probability agrees with an independent
-// count from the written paths, and bad [ensemble] input is one clear error.
+// outputs do not depend on --jobs, a realisation rerun alone is the same trajectory, the reach
+// probability agrees with an independent count from the written paths, and bad [ensemble] input
+// is one clear error. The rasters' georeference and the maps' window: ensemble_georef_test.
 #include <fcntl.h>
 #include <gdal.h>
 #include <gtest/gtest.h>
@@ -23,7 +23,6 @@
 #include <thread>
 #include <vector>
 
-#include "render/maps/hazard_map.h"
 #include "render/output/png_writer.h"
 #include "tests/support/chute_dem.h"
 #include "tests/support/segment_square.h"
@@ -52,18 +51,8 @@ std::vector<std::string> split(const std::string& line) {
   return out;
 }
 
-class EnsembleCommandTest : public ::testing::Test {
+class EnsembleCommandTest : public vf::test::ChuteFolderTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("voxfall_ensemble_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    ASSERT_TRUE(vf::test::writeChuteDem(dir_ / "chute.tif"));
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   // Every output file of an output folder, by name: all but the journal, whose records are in
   // the order the realisations finished.
   std::map<std::string, std::string> files(const std::string& folder) const {
@@ -73,8 +62,6 @@ class EnsembleCommandTest : public ::testing::Test {
         out[e.path().filename().string()] = readFile(e.path());
     return out;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(EnsembleCommandTest, OutputsAreTheSameBytesForOneAndTwoThreads) {
@@ -172,173 +159,6 @@ TEST_F(EnsembleCommandTest, RealisationAloneEqualsItsRunInsideTheEnsemble) {
   const auto bad = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 8 --only 8 -q -o bad");
   EXPECT_EQ(bad.code, 1);
   EXPECT_NE(bad.err.find("--only 8"), std::string::npos) << bad.err;
-}
-
-TEST_F(EnsembleCommandTest, RastersCarryTheInputGeoreferenceAndCrs) {
-  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
-  const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 4 -q -o geo");
-  ASSERT_EQ(r.code, 0) << r.err;
-  GDALAllRegister();
-  GDALDatasetH in = GDALOpen((dir_ / "chute.tif").c_str(), GA_ReadOnly);
-  ASSERT_NE(in, nullptr);
-  double gtIn[6];
-  ASSERT_EQ(GDALGetGeoTransform(in, gtIn), CE_None);
-  OGRSpatialReferenceH srsIn = OSRNewSpatialReference(GDALGetProjectionRef(in));
-  for (const char* name : {"energy_p95.tif", "energy_p95.asc", "reach_probability.tif"}) {
-    GDALDatasetH out = GDALOpen((dir_ / "geo" / name).c_str(), GA_ReadOnly);
-    ASSERT_NE(out, nullptr) << name;
-    EXPECT_EQ(GDALGetRasterXSize(out), GDALGetRasterXSize(in)) << name;
-    EXPECT_EQ(GDALGetRasterYSize(out), GDALGetRasterYSize(in)) << name;
-    double gt[6];
-    ASSERT_EQ(GDALGetGeoTransform(out, gt), CE_None) << name;
-    // ESRI ASCII stores corner and cell size as decimal text: equal to the last digit GDAL
-    // prints (1e-9 m on kilometre coordinates); GeoTIFF stores the doubles.
-    const double tol = std::string(name).ends_with(".asc") ? 1e-9 : 0.0;
-    for (int k = 0; k < 6; ++k) EXPECT_NEAR(gt[k], gtIn[k], tol) << name << " gt[" << k << "]";
-    OGRSpatialReferenceH srs = OSRNewSpatialReference(GDALGetProjectionRef(out));
-    // The ASCII grid's CRS is GDAL's ESRI .prj, which spells datum names the ESRI way: the same
-    // CRS by definition (projection, parameters, datum, units), not by name.
-    const char* const criterion[] = {"CRITERION=EQUIVALENT", nullptr};
-    EXPECT_TRUE(OSRIsSameEx(srs, srsIn, criterion)) << name << ": " << GDALGetProjectionRef(out);
-    OSRDestroySpatialReference(srs);
-    GDALClose(out);
-  }
-  OSRDestroySpatialReference(srsIn);
-  GDALClose(in);
-}
-
-// True if the raster `path` (its .prj for an ASCII grid) is in EPSG:31287.
-bool inAustriaLambert(const fs::path& path) {
-  GDALAllRegister();
-  GDALDatasetH ds = GDALOpen(path.c_str(), GA_ReadOnly);
-  if (!ds) return false;
-  OGRSpatialReferenceH got = OSRNewSpatialReference(GDALGetProjectionRef(ds));
-  OGRSpatialReferenceH want = OSRNewSpatialReference(nullptr);
-  OSRImportFromEPSG(want, 31287);
-  const char* const criterion[] = {"CRITERION=EQUIVALENT", nullptr};
-  const bool same = got && *GDALGetProjectionRef(ds) && OSRIsSameEx(got, want, criterion);
-  OSRDestroySpatialReference(got);
-  OSRDestroySpatialReference(want);
-  GDALClose(ds);
-  return same;
-}
-
-TEST_F(EnsembleCommandTest, ASceneGivesItsCrsToADemThatHasNone) {
-  vf::test::ChuteDem bare;
-  bare.crs = false;
-  ASSERT_TRUE(vf::test::writeChuteDem(dir_ / "chute.tif", bare));
-  // Without the key the rasters have no CRS (the control: the check below can fail).
-  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
-  auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o none");
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_FALSE(inAustriaLambert(dir_ / "none" / "energy_p95.tif"));
-  EXPECT_FALSE(fs::exists(dir_ / "none" / "energy_p95.prj"));
-  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 3.0, "crs = \"EPSG:31287\"\n");
-  r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o crs");
-  ASSERT_EQ(r.code, 0) << r.err;
-  for (const char* name : {"energy_p95.tif", "energy_p95.asc", "reach_probability.tif"})
-    EXPECT_TRUE(inAustriaLambert(dir_ / "crs" / name)) << name;
-  EXPECT_TRUE(fs::exists(dir_ / "crs" / "energy_p95.prj"));
-  EXPECT_NE(readFile(dir_ / "crs" / "summary.json").find("EPSG:31287"), std::string::npos);
-}
-
-TEST_F(EnsembleCommandTest, ACrsOtherThanTheDemsOwnIsRefusedAndWritesNothing) {
-  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 3.0, "crs = \"EPSG:4326\"\n");
-  const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o out");
-  EXPECT_NE(r.code, 0);
-  EXPECT_NE(r.err.find("chute.tif"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("EPSG:31287"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("EPSG:4326"), std::string::npos) << r.err;
-  EXPECT_FALSE(fs::exists(dir_ / "out" / "runs.csv"));
-  // The DEM's own CRS, given again, is accepted.
-  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 3.0, "crs = \"EPSG:31287\"\n");
-  EXPECT_EQ(runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o same").code, 0);
-}
-
-TEST_F(EnsembleCommandTest, ACrsGdalDoesNotKnowIsOneErrorAtItsLine) {
-  for (const char* bad : {"EPSG:0", "LOCAL_CS[\\\"site\\\"]"}) {
-    vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 3.0,
-                              std::string("crs = \"") + bad + "\"\n");
-    const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 -q -o out");
-    EXPECT_EQ(r.code, 1) << bad;
-    EXPECT_NE(r.err.find("scene.toml:9"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("crs"), std::string::npos) << r.err;
-    EXPECT_FALSE(fs::exists(dir_ / "out"));
-  }
-}
-
-// Band 1 of a raster, rows from the north, and its NODATA value.
-std::vector<double> readBand(const fs::path& path, double& noData) {
-  GDALAllRegister();
-  GDALDatasetH ds = GDALOpen(path.c_str(), GA_ReadOnly);
-  if (!ds) return {};
-  const int nx = GDALGetRasterXSize(ds), ny = GDALGetRasterYSize(ds);
-  std::vector<double> v(static_cast<std::size_t>(nx) * ny);
-  GDALRasterBandH band = GDALGetRasterBand(ds, 1);
-  int has = 0;
-  noData = GDALGetRasterNoDataValue(band, &has);
-  if (!has ||
-      GDALRasterIO(band, GF_Read, 0, 0, nx, ny, v.data(), nx, ny, GDT_Float64, 0, 0) != CE_None)
-    v.clear();
-  GDALClose(ds);
-  return v;
-}
-
-TEST_F(EnsembleCommandTest, EveryRasterIsNodataExactlyWhereTheDemIs) {
-  vf::test::ChuteDem holed;
-  holed.noDataCorner = 3;
-  ASSERT_TRUE(vf::test::writeChuteDem(dir_ / "chute.tif", holed));
-  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
-  const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 4 -q -o holed");
-  ASSERT_EQ(r.code, 0) << r.err;
-  double demNoData = 0;
-  const std::vector<double> dem = readBand(dir_ / "chute.tif", demNoData);
-  ASSERT_EQ(dem.size(), static_cast<std::size_t>(holed.nx * holed.ny));
-  for (const char* name : {"passages.tif", "reach_probability.asc", "deposited.tif"}) {
-    double noData = 0;
-    const std::vector<double> v = readBand(dir_ / "holed" / name, noData);
-    ASSERT_EQ(v.size(), dem.size()) << name;
-    int holes = 0, zeros = 0;
-    for (std::size_t c = 0; c < v.size(); ++c) {
-      const bool demHole = dem[c] == demNoData;
-      EXPECT_EQ(v[c] == noData, demHole) << name << " sample " << c;
-      holes += demHole;
-      zeros += !demHole && v[c] == 0;
-    }
-    EXPECT_EQ(holes, 9) << name;
-    EXPECT_GT(zeros, 0) << name;  // cells with data that no rock reached still hold 0
-  }
-}
-
-TEST_F(EnsembleCommandTest, ExtentChoosesTheMapsWindowAndABadOneWritesNothing) {
-  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
-  // File coordinates: samples at x = 1001 + 2 i, y = 5001 + 2 j; this box holds i 5..24, j 1..9.
-  auto r = runVoxfall(kExe, dir_,
-                      "ensemble scene.toml --runs 4 --maps --extent 1010,5002,1050,5020 -q -o ext");
-  ASSERT_EQ(r.code, 0) << r.err;
-  vf::Heightfield dem = vf::loadDem((dir_ / "chute.tif").string());
-  vf::shiftHeightfield(dem, vf::Vec3(-1000, -5000, 0));
-  const vf::MapWindow w = vf::extentWindow(dem, 1010, 5002, 1050, 5020);
-  EXPECT_EQ(w.i0, 5);
-  EXPECT_EQ(w.ni, 20);
-  EXPECT_EQ(w.j0, 1);
-  EXPECT_EQ(w.nj, 9);
-  const vf::MapFrame f = vf::hazardMapFrame(dem, w);
-  for (const char* name : {"reach_probability.png", "intensity.png"}) {
-    const vf::Image map = vf::readPng((dir_ / "ext" / name).string());
-    EXPECT_EQ(map.width, f.width) << name;
-    EXPECT_EQ(map.height, f.height) << name;
-  }
-  EXPECT_NE(vf::hazardMapFrame(dem).plotHeight, f.plotHeight);  // the whole grid would differ
-  // A box off the DEM, or inverted: one error naming --extent, and no folder.
-  for (const char* bad : {"0,0,10,10", "1050,5002,1010,5020"}) {
-    r = runVoxfall(
-        kExe, dir_,
-        std::string("ensemble scene.toml --runs 4 --maps --extent ") + bad + " -q -o bad");
-    EXPECT_EQ(r.code, 1) << bad;
-    EXPECT_NE(r.err.find("--extent"), std::string::npos) << r.err;
-    EXPECT_FALSE(fs::exists(dir_ / "bad")) << bad;
-  }
 }
 
 TEST_F(EnsembleCommandTest, ReachProbabilityEqualsAnIndependentCountFromThePaths) {

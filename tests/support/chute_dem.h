@@ -5,7 +5,9 @@
 
 #include <cpl_conv.h>
 #include <gdal.h>
+#include <gtest/gtest.h>
 #include <ogr_srs_api.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -78,5 +80,21 @@ inline const char* kChuteEnsemble =
     "release = { line = [[5.0, 6.3], [5.0, 17.7]] }\n"
     "velocity = { min = [1.0, -0.5, 0.0], max = [3.0, 0.5, 0.0] }\n"
     "restitution = [0.3, 0.4]\n";
+
+// A test in a fresh folder of its own holding chute.tif; the folder is removed after the test.
+class ChuteFolderTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() /
+           ("voxfall_ensemble_test_" + std::to_string(::getpid()) + "_" + info->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    ASSERT_TRUE(writeChuteDem(dir_ / "chute.tif"));
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  std::filesystem::path dir_;
+};
 
 }  // namespace vf::test
