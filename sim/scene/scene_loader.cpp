@@ -1122,12 +1122,12 @@ void readLight(const Reader& r, const toml::table& t, SceneSpec& spec) {
     l.elevationDegrees = e;
   }
   if (date || time) {
-    if (!date) r.fail(*time, "'time' needs 'date' too, e.g. date = 2024-06-21");
+    if (!date) r.fail(*time, "'time' needs 'date' too (a TOML date, YYYY-MM-DD)");
     if (!time) r.fail(*date, "'date' needs 'time' too (UTC), e.g. time = 10:30:00");
     const auto* d = date->as_date();
     if (d == nullptr)
       r.fail(*date,
-             "'date' must be a TOML date such as 2024-06-21 (no quotes), got " + typeName(*date));
+             "'date' must be a TOML date, YYYY-MM-DD without quotes, got " + typeName(*date));
     const auto* clock = time->as_time();
     if (clock == nullptr)
       r.fail(*time, "'time' must be a TOML time of day in UTC such as 10:30:00 (no quotes), got " +

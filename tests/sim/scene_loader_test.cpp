@@ -271,7 +271,7 @@ TEST_F(SceneTest, LightErrorsNameTheKey) {
   expectError("[light]\ndate = 2024-06-21\ntime = 12:00:00\n", "2024",
               "give [ground] heightfield (a georeferenced DEM)");
   expectError("[light]\ndate = \"2024-06-21\"\ntime = 12:00:00\n", "\"2024",
-              "'date' must be a TOML date such as 2024-06-21 (no quotes), got string");
+              "'date' must be a TOML date, YYYY-MM-DD without quotes, got string");
   expectError("[light]\ndate = 2024-06-21\n", "2024", "'date' needs 'time' too (UTC)");
   expectError("[light]\ntime = 12:00:00\n", "12:", "'time' needs 'date' too");
   expectError("[light]\ndate = 1700-06-21\ntime = 12:00:00\n", "1700",
