@@ -250,45 +250,50 @@ TEST(HazardMap, TheAffectedWindowHoldsThePassedCellsAndReleasesWithAMargin) {
   EXPECT_EQ(affectedWindow(dem, std::vector<double>(dem.z.size(), 0.0), {}).ni, 0);
 }
 
+// A test map drawn: its picture, its layout, and the colour at the centre of sample (i, j).
+struct DrawnMap {
+  Image image;
+  MapFrame frame;
+  const Heightfield* dem = nullptr;
+  Rgb8 at(int i, int j) const {
+    return pixelAt(image, frame.columnOf(dem->x0 + i * dem->cell),
+                   frame.rowOf(dem->y0 + j * dem->cell));
+  }
+};
+
+DrawnMap draw(const TestMap& m, const std::string& name, const MapWindow& window = {}) {
+  test::ScratchDir dir("hazard_map_" + name);
+  const std::string path = (dir.path() / (name + ".png")).string();
+  writeHazardMap(m.dem, m.layer, {}, path, replaceOutputs(), window);
+  return {readPng(path), hazardMapFrame(m.dem, window), &m.dem};
+}
+
 TEST(HazardMap, AWindowedMapPutsItsValuesWhereItsLayoutSays) {
-  test::ScratchDir dir("hazard_map_window");
   const TestMap m;
   const MapWindow window{8, 4, 8, 10};  // samples 8..15 x 4..13: both marked cells
-  const std::string path = (dir.path() / "window.png").string();
-  writeHazardMap(m.dem, m.layer, {}, path, replaceOutputs(), window);
-  const Image im = readPng(path);
-  const MapFrame f = hazardMapFrame(m.dem, window);
-  ASSERT_EQ(im.width, f.width);
+  const DrawnMap d = draw(m, "window", window);
+  const MapFrame& f = d.frame;
+  ASSERT_EQ(d.image.width, f.width);
   EXPECT_EQ(f.plotHeight, kMapLongSidePx);  // 8 x 10 samples: 640 x 800 px, 80 px a sample
   EXPECT_EQ(f.plotWidth, 640);
   EXPECT_DOUBLE_EQ(f.xMin, m.dem.x0 + 7.5 * m.dem.cell);
-  const auto at = [&](int i, int j) {
-    return pixelAt(im, f.columnOf(m.dem.x0 + i * m.dem.cell), f.rowOf(m.dem.y0 + j * m.dem.cell));
-  };
-  EXPECT_EQ(at(TestMap::kHiI, TestMap::kHiJ), viridis(1.0));
-  EXPECT_EQ(at(TestMap::kLoI, TestMap::kLoJ), viridis(0.0));
+  EXPECT_EQ(d.at(TestMap::kHiI, TestMap::kHiJ), viridis(1.0));
+  EXPECT_EQ(d.at(TestMap::kLoI, TestMap::kLoJ), viridis(0.0));
 }
 
 TEST(HazardMap, ALogScaledLayerColoursByTheLogarithmOfItsValue) {
-  test::ScratchDir dir("hazard_map_log");
   TestMap m;
   m.layer.logScale = true;
   // 4 .. 250 with 100 between: linear would put 100 at 0.39 of the map, log at 0.77; a value
   // of 0 or below takes the bottom colour and does not set the range.
   const std::size_t zeroCell = 2 * 20 + 2;
   m.layer.values[zeroCell] = 0;
-  const std::string path = (dir.path() / "log.png").string();
-  writeHazardMap(m.dem, m.layer, {}, path);
-  const Image im = readPng(path);
-  const MapFrame f = hazardMapFrame(m.dem);
-  const auto at = [&](int i, int j) {
-    return pixelAt(im, f.columnOf(m.dem.x0 + i * m.dem.cell), f.rowOf(m.dem.y0 + j * m.dem.cell));
-  };
-  EXPECT_EQ(at(TestMap::kHiI, TestMap::kHiJ), viridis(1.0));
-  EXPECT_EQ(at(TestMap::kLoI, TestMap::kLoJ), viridis(0.0));
-  EXPECT_EQ(at(TestMap::kLoI + 1, TestMap::kLoJ),
+  const DrawnMap d = draw(m, "log");
+  EXPECT_EQ(d.at(TestMap::kHiI, TestMap::kHiJ), viridis(1.0));
+  EXPECT_EQ(d.at(TestMap::kLoI, TestMap::kLoJ), viridis(0.0));
+  EXPECT_EQ(d.at(TestMap::kLoI + 1, TestMap::kLoJ),
             viridis(std::log(100.0 / 4) / std::log(250.0 / 4)));
-  EXPECT_EQ(at(2, 2), viridis(0.0));
+  EXPECT_EQ(d.at(2, 2), viridis(0.0));
   EXPECT_TRUE(mappedOnLogScale("reach_probability"));
   EXPECT_TRUE(mappedOnLogScale("energy_p95"));
   EXPECT_FALSE(mappedOnLogScale("height_p95"));
@@ -296,24 +301,17 @@ TEST(HazardMap, ALogScaledLayerColoursByTheLogarithmOfItsValue) {
 }
 
 TEST(HazardMap, AClassedLayerColoursEachValueByItsClass) {
-  test::ScratchDir dir("hazard_map_classes");
   TestMap m;  // 250 kJ, 4 kJ and 100 kJ
   m.layer.classes = swissRockfallIntensity();
   m.layer.values[2 * 20 + 2] = 300;  // on an edge: the class above
   m.layer.values[3 * 20 + 2] = 301;
-  const std::string path = (dir.path() / "classes.png").string();
-  writeHazardMap(m.dem, m.layer, {}, path);
-  const Image im = readPng(path);
-  const MapFrame f = hazardMapFrame(m.dem);
-  const auto at = [&](int i, int j) {
-    return pixelAt(im, f.columnOf(m.dem.x0 + i * m.dem.cell), f.rowOf(m.dem.y0 + j * m.dem.cell));
-  };
+  const DrawnMap d = draw(m, "classes");
   const MapClasses& k = m.layer.classes;
-  EXPECT_EQ(at(TestMap::kLoI, TestMap::kLoJ), k.colours[0]);      // 4 kJ: low
-  EXPECT_EQ(at(TestMap::kLoI + 1, TestMap::kLoJ), k.colours[1]);  // 100 kJ: medium
-  EXPECT_EQ(at(TestMap::kHiI, TestMap::kHiJ), k.colours[1]);      // 250 kJ: medium
-  EXPECT_EQ(at(2, 2), k.colours[2]);                              // 300 kJ: high
-  EXPECT_EQ(at(2, 3), k.colours[2]);
+  EXPECT_EQ(d.at(TestMap::kLoI, TestMap::kLoJ), k.colours[0]);      // 4 kJ: low
+  EXPECT_EQ(d.at(TestMap::kLoI + 1, TestMap::kLoJ), k.colours[1]);  // 100 kJ: medium
+  EXPECT_EQ(d.at(TestMap::kHiI, TestMap::kHiJ), k.colours[1]);      // 250 kJ: medium
+  EXPECT_EQ(d.at(2, 2), k.colours[2]);                              // 300 kJ: high
+  EXPECT_EQ(d.at(2, 3), k.colours[2]);
   EXPECT_EQ(k.edges, (std::vector<double>{30.0, 300.0}));
 }
 
