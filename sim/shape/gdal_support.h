@@ -1,6 +1,7 @@
 // GDAL helpers shared by the files that talk to GDAL (sim/shape/dem_import.cpp reads DEMs,
 // sim/shape/drape_import.cpp drapes textures on them, sim/shape/geo_location.cpp places them on
-// the Earth, sim/shape/crs.cpp reads a scene's CRS, sim/ensemble/raster_output.cpp writes
+// the Earth, sim/shape/crs.cpp reads a scene's CRS,
+// sim/shape/vector_import.cpp reads vector files, sim/ensemble/raster_output.cpp writes
 // rasters). A private header: it includes GDAL, so no voxfall header may include it; only those
 // .cpp files do.
 #pragma once
