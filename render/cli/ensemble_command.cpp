@@ -101,7 +101,8 @@ void openRoot(RootState& root, const EnsembleOptions& o, const SceneSpec& spec, 
               std::uint64_t seed, const std::optional<Shard>& shard) {
   if (!o.files.extent.empty()) mapExtent(o.files.extent, ens.dem());  // before any file
   OutputRules rules = runOutputRules(spec, o.scene, o.files.overwrite, o.files.neverOverwrite);
-  if (!spec.ensemble->cellsPath.empty()) rules.inputs.push_back(spec.ensemble->cellsPath);
+  for (const ReleaseSpec& r : spec.ensemble->releases)
+    if (!r.path.empty()) rules.inputs.push_back(r.path);
   if (!spec.groundClassesPath.empty()) rules.inputs.push_back(spec.groundClassesPath);
   if (!o.only) {
     std::error_code ec;

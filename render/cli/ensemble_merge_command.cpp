@@ -81,7 +81,8 @@ int runMerge(const MergeOptions& o) {
 
   OutputRules rules =
       runOutputRules(spec, header.scenePath, o.files.overwrite, o.files.neverOverwrite);
-  if (!spec.ensemble->cellsPath.empty()) rules.inputs.push_back(spec.ensemble->cellsPath);
+  for (const ReleaseSpec& r : spec.ensemble->releases)
+    if (!r.path.empty()) rules.inputs.push_back(r.path);
   if (!spec.groundClassesPath.empty()) rules.inputs.push_back(spec.groundClassesPath);
   for (const std::string& j : journals) rules.inputs.push_back(j);
   const Ensemble ensemble(spec);

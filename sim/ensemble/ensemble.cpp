@@ -23,32 +23,11 @@
 
 #include "sim/core/error.h"
 #include "sim/core/prng.h"
+#include "sim/ensemble/block_size.h"
 #include "sim/run_guard.h"
 
 namespace vf {
 namespace {
-
-// Release points are drawn inside the area by rejection from its bounding box; an area whose
-// box is mostly outside it (or over NODATA) could take long, so give up with a message.
-constexpr int kMaxReleaseTries = 100000;
-
-bool insidePolygon(const std::vector<Point2>& poly, double x, double y) {
-  // Even-odd rule (crossings of a ray towards +x).
-  bool inside = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const Point2& a = poly[i];
-    const Point2& b = poly[j];
-    if ((a[1] > y) != (b[1] > y) && x < (b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]) + a[0])
-      inside = !inside;
-  }
-  return inside;
-}
-
-std::string formatPoint(double x, double y) {
-  char buf[96];
-  std::snprintf(buf, sizeof buf, "(%.3f, %.3f)", x, y);
-  return buf;
-}
 
 // Kinetic energy of body 0, J, and its lowest point's height above the ground under its centre.
 struct SampleValues {
@@ -121,94 +100,9 @@ Ensemble::Ensemble(const SceneSpec& spec) : spec_(spec) {
   base_ = sceneWorldDef(spec_);
   base_.threads = 1;                    // parallel over realisations instead
   VF_ASSERT(base_.terrain != nullptr);  // loadScene requires a heightfield with [ensemble]
-  const Heightfield& dem = *base_.terrain;
-  const auto outside = [&](const std::string& key, double x, double y) {
-    char range[160];
-    std::snprintf(range, sizeof range, "x %.3f .. %.3f, y %.3f .. %.3f", dem.x0,
-                  dem.x0 + (dem.nx - 1) * dem.cell, dem.y0, dem.y0 + (dem.ny - 1) * dem.cell);
-    return "'" + key + "' " + formatPoint(x, y) + " lies outside the DEM '" + spec_.terrainPath +
-           "' or over NODATA (the grid covers " + range +
-           " in world coordinates, after [ground] offset)";
-  };
-  for (std::size_t i = 0; i < e.releasePoints.size(); ++i) {
-    const Point2& p = e.releasePoints[i];
-    if (std::isnan(dem.heightAt(p[0], p[1])))
-      throw InputError(e.releasePointWhere[i],
-                       outside(e.releaseKey + "[" + std::to_string(i) + "]", p[0], p[1]));
-  }
-  if (e.release == ReleaseKind::kCells) {
-    const Heightfield cells = loadDem(e.cellsPath);
-    // The source raster lies on the DEM's file grid: compare before the scene's offset.
-    const double x0 = dem.x0 - dem.shift.x(), y0 = dem.y0 - dem.shift.y();
-    if (cells.nx != dem.nx || cells.ny != dem.ny || std::abs(cells.x0 - x0) > 1e-6 * dem.cell ||
-        std::abs(cells.y0 - y0) > 1e-6 * dem.cell ||
-        std::abs(cells.cell - dem.cell) > 1e-9 * dem.cell)
-      throw InputError(e.releaseWhere, "'release.cells' raster must lie on the DEM's grid (" +
-                                           std::to_string(dem.nx) + " x " + std::to_string(dem.ny) +
-                                           " samples, same origin and cell size), got " +
-                                           std::to_string(cells.nx) + " x " +
-                                           std::to_string(cells.ny));
-    for (std::size_t k = 0; k < cells.z.size(); ++k)
-      if (!std::isnan(cells.z[k]) && cells.z[k] != 0 && !std::isnan(dem.z[k]))
-        sourceCells_.push_back(static_cast<std::int32_t>(k));
-    if (sourceCells_.empty())
-      throw InputError(
-          e.releaseWhere,
-          "'release.cells' raster has no source cell (a non-zero value over DEM data)");
-  }
+  release_ = std::make_shared<const ReleaseSources>(e.releases, base_.terrain, spec_.terrainPath);
   const auto built = buildSceneShapes(spec_);
   for (const std::string& name : e.shapes) shapes_.push_back(built.at(name).shape);
-}
-
-Point2 Ensemble::drawRelease(std::uint64_t seed) const {
-  const EnsembleSpec& e = *spec_.ensemble;
-  const Heightfield& dem = *base_.terrain;
-  Prng rng(seed);
-  switch (e.release) {
-    case ReleaseKind::kPoints: {
-      const std::size_t n = e.releasePoints.size();
-      return e.releasePoints[std::min(n - 1, static_cast<std::size_t>(rng.uniform() * n))];
-    }
-    case ReleaseKind::kLine: {
-      double total = 0;
-      for (std::size_t i = 1; i < e.releasePoints.size(); ++i)
-        total += std::hypot(e.releasePoints[i][0] - e.releasePoints[i - 1][0],
-                            e.releasePoints[i][1] - e.releasePoints[i - 1][1]);
-      double along = rng.uniform() * total;
-      for (std::size_t i = 1; i < e.releasePoints.size(); ++i) {
-        const Point2& a = e.releasePoints[i - 1];
-        const Point2& b = e.releasePoints[i];
-        const double len = std::hypot(b[0] - a[0], b[1] - a[1]);
-        if (along <= len || i + 1 == e.releasePoints.size()) {
-          const double f = len > 0 ? std::min(1.0, along / len) : 0.0;
-          return {a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])};
-        }
-        along -= len;
-      }
-      return e.releasePoints.back();
-    }
-    case ReleaseKind::kArea: {
-      double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-      for (const Point2& p : e.releasePoints) {
-        x0 = std::min(x0, p[0]), x1 = std::max(x1, p[0]);
-        y0 = std::min(y0, p[1]), y1 = std::max(y1, p[1]);
-      }
-      for (int k = 0; k < kMaxReleaseTries; ++k) {
-        const double x = rng.uniform(x0, x1), y = rng.uniform(y0, y1);
-        if (insidePolygon(e.releasePoints, x, y) && !std::isnan(dem.heightAt(x, y))) return {x, y};
-      }
-      throw InputError(e.releaseWhere, "no point with DEM data found inside 'release.area' in " +
-                                           std::to_string(kMaxReleaseTries) + " tries");
-    }
-    case ReleaseKind::kCells: {
-      const std::size_t n = sourceCells_.size();
-      const std::int32_t c =
-          sourceCells_[std::min(n - 1, static_cast<std::size_t>(rng.uniform() * n))];
-      const double u = rng.uniform(-0.5, 0.5), v = rng.uniform(-0.5, 0.5);
-      return {dem.x0 + (c % dem.nx + u) * dem.cell, dem.y0 + (c / dem.nx + v) * dem.cell};
-    }
-  }
-  return e.releasePoints.front();
 }
 
 std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex) const {
@@ -225,6 +119,7 @@ std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex) 
   for (int k = 0; k < 3; ++k) uw[k] = rng.uniform();
   const double uRestitution = rng.uniform(), uFriction = rng.uniform(), uRolling = rng.uniform();
   const std::uint64_t groundSeed = rng.next();  // the per-cell variability's ([ground])
+  const std::uint64_t sizeSeed = rng.next();    // the rock's volume and density
 
   double totalWeight = 0;
   for (double w : e.weights) totalWeight += w;
@@ -260,9 +155,10 @@ std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex) 
     def.ground = std::move(ground);
   }
 
-  const Point2 xy = drawRelease(releaseSeed);
+  int source = 0;
+  const Point2 xy = release_->draw(releaseSeed, &source);
   BodyDef body;
-  body.shape = shapes_[static_cast<std::size_t>(shape)];
+  body.shape = sized(shapes_[static_cast<std::size_t>(shape)], source, sizeSeed);
   body.orientation = e.randomOrientation ? uniformRotation(u1, u2, u3) : Quat::Identity();
   // Placed on the surface at (x, y); addBody lifts it to drop_height above what lies below.
   body.position = Vec3(xy[0], xy[1], base_.terrain->heightAt(xy[0], xy[1]));
@@ -273,6 +169,21 @@ std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex) 
   auto world = std::make_unique<World>(std::move(def));
   world->addBody(body);
   return world;
+}
+
+std::shared_ptr<const Shape> Ensemble::sized(const std::shared_ptr<const Shape>& shape, int source,
+                                             std::uint64_t seed) const {
+  const EnsembleSpec& e = *spec_.ensemble;
+  const std::optional<VolumeSpec>& own = e.releases[static_cast<std::size_t>(source)].volume;
+  const std::optional<VolumeSpec>& volume = own ? own : e.volume;
+  if (!volume && !e.density) return shape;
+  Prng rng(seed);
+  const double uVolume = rng.uniform(), uDensity = rng.uniform();
+  const double v = volume ? volumeAt(*volume, uVolume) : shape->volume;
+  const double density = e.density
+                             ? (*e.density)[0] + ((*e.density)[1] - (*e.density)[0]) * uDensity
+                             : shape->mass / shape->volume;
+  return resizedShape(*shape, v, density);
 }
 
 RealisationResult Ensemble::run(std::int64_t index, std::uint64_t seed, bool keepPath,
@@ -342,23 +253,14 @@ RealisationResult Ensemble::run(std::int64_t index, std::uint64_t seed, bool kee
   r.reachAngle = o.reachAngleDegrees();
   r.maxSpeed = o.maxSpeed;
   r.maxJumpHeight = o.maxJumpHeight;
+  r.volume = w.shape(0).volume;
+  r.mass = w.shape(0).mass;
   r.steps = static_cast<std::int64_t>(w.totals().steps);
   r.checksum = w.stepsHash();
   return r;
 }
 
-std::vector<std::vector<Point2>> Ensemble::releaseAreas() const {
-  const EnsembleSpec& e = *spec_.ensemble;
-  if (e.release != ReleaseKind::kCells) return {e.releasePoints};
-  const Heightfield& dem = *base_.terrain;
-  std::vector<std::vector<Point2>> squares;
-  const double h = 0.5 * dem.cell;
-  for (std::int32_t c : sourceCells_) {
-    const double x = dem.x0 + (c % dem.nx) * dem.cell, y = dem.y0 + (c / dem.nx) * dem.cell;
-    squares.push_back({{x - h, y - h}, {x + h, y - h}, {x + h, y + h}, {x - h, y + h}});
-  }
-  return squares;
-}
+std::vector<std::vector<Point2>> Ensemble::releaseAreas() const { return release_->outlines(); }
 
 namespace {
 
@@ -485,7 +387,9 @@ void serializeResult(const RealisationResult& r, std::string& s) {
   putVec(s, r.end);
   put(s, r.endTime);
   put<std::int32_t>(s, static_cast<std::int32_t>(r.state));
-  for (double v : {r.runout, r.reachAngle, r.maxSpeed, r.maxEnergy, r.maxJumpHeight}) put(s, v);
+  for (double v :
+       {r.runout, r.reachAngle, r.maxSpeed, r.maxEnergy, r.maxJumpHeight, r.volume, r.mass})
+    put(s, v);
   put(s, r.steps);
   put(s, r.checksum);
   put<std::uint64_t>(s, r.cells.size());
@@ -517,6 +421,8 @@ RealisationResult deserializeResult(const std::string& s, std::size_t& pos) {
   r.maxSpeed = take<double>(s, pos);
   r.maxEnergy = take<double>(s, pos);
   r.maxJumpHeight = take<double>(s, pos);
+  r.volume = take<double>(s, pos);
+  r.mass = take<double>(s, pos);
   r.steps = take<std::int64_t>(s, pos);
   r.checksum = take<std::uint64_t>(s, pos);
   // Counts are checked against the bytes left before anything is allocated: a damaged count

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "sim/core/math.h"
+#include "sim/ensemble/release_sources.h"
 #include "sim/ground/rock_monitor.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/heightfield.h"
@@ -54,6 +55,8 @@ struct RealisationResult {
   double maxSpeed = 0;                   // m/s
   double maxEnergy = 0;                  // J, kinetic, translational + rotational
   double maxJumpHeight = 0;              // m (RockOutcome::maxJumpHeight)
+  double volume = 0;                     // m^3, of the rock as released
+  double mass = 0;                       // kg
   std::int64_t steps = 0;
   std::uint64_t checksum = 0;      // World::stepsHash(): the trajectory, bit for bit
   std::vector<CellPassage> cells;  // sorted by cell, each cell once
@@ -89,17 +92,19 @@ class Ensemble {
   const SceneSpec& spec() const { return spec_; }
   const EnsembleSpec& ensemble() const { return *spec_.ensemble; }
   const Heightfield& dem() const { return *base_.terrain; }
-  // The release as world x, y polygons for maps: the area (one polygon), the line (one open
-  // polyline), the points (one list), or each source cell's square.
+  // The release sources as world x, y outlines for maps (ReleaseSources::outlines).
   std::vector<std::vector<Point2>> releaseAreas() const;
 
  private:
-  Point2 drawRelease(std::uint64_t seed) const;
-
   SceneSpec spec_;
   WorldDef base_;
   std::vector<std::shared_ptr<const Shape>> shapes_;  // per EnsembleSpec::shapes entry
-  std::vector<std::int32_t> sourceCells_;             // release.cells: source cell indices
+  std::shared_ptr<const ReleaseSources> release_;
+
+  // `shape` at the volume and density realisation's size generator draws for release source
+  // `source` ([ensemble] volume and density), or `shape` itself without them.
+  std::shared_ptr<const Shape> sized(const std::shared_ptr<const Shape>& shape, int source,
+                                     std::uint64_t seed) const;
 };
 
 // Runs realisations `indices` of `ensemble` on `jobs` threads (each takes the next index in

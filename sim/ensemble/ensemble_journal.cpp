@@ -24,7 +24,7 @@ using Json = nlohmann::ordered_json;
 namespace {
 
 constexpr const char* kSignature = "VOXFALL-JOURNAL 1";
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;
 constexpr std::uint32_t kRecordMagic = 0x524a4656;  // "VFJR" little-endian
 constexpr std::uint32_t kKindRealisation = 1;
 constexpr std::uint32_t kKindRuns = 2;
@@ -153,7 +153,9 @@ JournalHeader makeJournalHeader(const SceneSpec& spec, const std::string& sceneF
     if (!s.meshPath.empty()) files.push_back(s.meshPath);
   if (!spec.terrainPath.empty()) files.push_back(spec.terrainPath);
   if (!spec.groundClassesPath.empty()) files.push_back(spec.groundClassesPath);
-  if (spec.ensemble && !spec.ensemble->cellsPath.empty()) files.push_back(spec.ensemble->cellsPath);
+  if (spec.ensemble)
+    for (const ReleaseSpec& r : spec.ensemble->releases)
+      if (!r.path.empty()) files.push_back(r.path);
   for (const std::string& f : files) {
     const std::string bytes = readBytes(f);
     h.inputs.push_back({f, hex(bytesHash(bytes.data(), bytes.size()))});

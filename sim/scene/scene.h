@@ -132,22 +132,47 @@ struct GroundMaterialSpec {
 // [ensemble]: what varies between the realisations of `voxfall ensemble` (README, "Ensembles
 // and hazard maps"). Each realisation is one rock in its own world; the scene's [[bodies]] and
 // [[emitters]] are not part of it (they serve `simulate` and `render` of the same file).
-enum class ReleaseKind { kArea, kLine, kPoints, kCells };
-using Point2 = std::array<double, 2>;  // world x, y (m)
+//
+// One release source of [ensemble.release] (a table, or an array of tables for several).
+// Coordinates are the DEM's own (its CRS, before [ground] offset), as a GIS shows them.
+enum class ReleaseKind { kArea, kLine, kPoints, kCells, kFile };
+using Point2 = std::array<double, 2>;  // x, y (m)
+
+// A rock-volume distribution ([ensemble] volume, or a source's own): each realisation's rock is
+// its drawn shape scaled to a volume drawn from it, between `min` and `max` (m^3).
+struct VolumeSpec {
+  enum class Law { kLogNormal, kPower };
+  Law law = Law::kLogNormal;
+  double median = 0, sigma = 0;  // log-normal: median volume (m^3) and sigma of ln V
+  double exponent = 0;           // power: b of the cumulative count N(> V) ~ V^-b
+  double min = 0, max = 0;       // m^3, 0 < min < max
+  std::string where;             // "file:line:column" of the table
+};
+
+struct ReleaseSpec {
+  ReleaseKind kind = ReleaseKind::kPoints;
+  std::vector<Point2> points;           // area polygon, line vertices or points, DEM x, y
+  std::vector<std::string> pointWhere;  // "file:line:column" of each point
+  // cells: a source raster on the DEM's grid (non-zero = source); file: a vector file (OGR).
+  std::string path;
+  std::string layer;        // file: the layer, empty for the first
+  std::string weightField;  // file: a numeric attribute weighting each feature; empty: by size
+  double weight = 1;        // this source's share of the realisations, relative to the others'
+  std::string key;          // "release.area", "release[1].file", ... for messages
+  std::string where;        // "file:line:column" of the form's key
+  std::optional<VolumeSpec> volume;  // this source's rock volumes; none: [ensemble]'s
+};
 
 struct EnsembleSpec {
   std::uint64_t seed = 1;  // `seed`; --seed overrides it
   // `shapes` (or `shape`), drawn with `weights`; a rock family's entry is replaced by its
   // variants (NAME#k), which share the entry's weight equally.
   std::vector<std::string> shapes;
-  std::vector<double> weights;  // one per entry of `shapes`, > 0; equal when not given
-  ReleaseKind release = ReleaseKind::kPoints;
-  std::vector<Point2> releasePoints;           // area polygon, line vertices or points, world x, y
-  std::vector<std::string> releasePointWhere;  // "file:line:column" of each point
-  std::string releaseWhere;                    // of the release table's key
-  std::string releaseKey;                      // "release.area", "release.line", ...
-  std::string cellsPath;    // release.cells: source raster on the DEM's grid (non-zero = source)
-  double dropHeight = 1.0;  // m, lowest point above the surface under the rock at release
+  std::vector<double> weights;        // one per entry of `shapes`, > 0; equal when not given
+  std::vector<ReleaseSpec> releases;  // at least one
+  std::optional<VolumeSpec> volume;   // rock volumes; none: the shapes' own sizes
+  std::optional<std::array<double, 2>> density;  // kg/m^3, [lo, hi]; none: the shapes' own
+  double dropHeight = 1.0;        // m, lowest point above the surface under the rock at release
   bool randomOrientation = true;  // `orientation = "random" | "fixed"` (fixed: identity)
   Vec3 velocityMin = Vec3::Zero(), velocityMax = Vec3::Zero();                // m/s, per component
   Vec3 angularVelocityMin = Vec3::Zero(), angularVelocityMax = Vec3::Zero();  // rad/s

@@ -43,10 +43,12 @@ const std::vector<SceneTableKeys>& sceneTableKeys() {
       {"output", {"width", "height", "crf", "speed", "alpha", "overlay"}},
       {"ensemble",
        {"seed", "shape", "shapes", "weights", "release", "drop_height", "orientation", "velocity",
-        "angular_velocity", "restitution", "friction", "rolling_resistance"}},
+        "angular_velocity", "restitution", "friction", "rolling_resistance", "volume", "density"}},
       {"ensemble.velocity", {"min", "max"}},
       {"ensemble.angular_velocity", {"min", "max"}},
-      {"ensemble.release", {"area", "line", "points", "cells"}},
+      {"ensemble.release",
+       {"area", "line", "points", "cells", "file", "layer", "weight_field", "weight", "volume"}},
+      {"ensemble.volume", {"distribution", "median", "sigma", "exponent", "min", "max"}},
   };
   return tables;
 }

@@ -1,5 +1,5 @@
-// [ensemble] and [ensemble.release]: where rocks are released and what is drawn per
-// realisation.
+// [ensemble] and [ensemble.release]: where rocks are released (one source or several, drawn by
+// weight) and what is drawn per realisation.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -41,66 +41,150 @@ void readVectorRange(const Reader& r, const toml::node& n, const std::string& na
       r.fail(*t.get("max"), "'" + name + ".max' must be >= '" + name + ".min' in every component");
 }
 
-void readRelease(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
-                 EnsembleSpec& e) {
-  r.checkKeys(t, sceneKeysOf("ensemble.release"), "[ensemble.release]");
-  const char* const kinds[] = {"area", "line", "points", "cells"};
+// `volume = { distribution = "lognormal", median, sigma, min, max }` or
+// `{ distribution = "power", exponent, min, max }` (m^3); `name` is "volume" or
+// "release[i].volume".
+VolumeSpec readVolume(const Reader& r, const toml::node& node, const std::string& name) {
+  const toml::table& t = r.table(node, name);
+  r.checkKeys(t, sceneKeysOf("ensemble.volume"), "'" + name + "'");
+  VolumeSpec v;
+  v.where = r.where(t);
+  const toml::node& law = r.require(t, "distribution", "'" + name + "'");
+  const std::string kind = r.string(law, name + ".distribution");
+  if (kind != "lognormal" && kind != "power")
+    r.fail(law,
+           "'" + name + ".distribution' must be \"lognormal\" or \"power\", got \"" + kind + "\"");
+  v.law = kind == "power" ? VolumeSpec::Law::kPower : VolumeSpec::Law::kLogNormal;
+  const auto need = [&](const char* key) -> const toml::node& {
+    return r.require(t, key, "'" + name + "' (distribution = \"" + kind + "\")");
+  };
+  const auto refuse = [&](const char* key) {
+    if (const auto* n = t.get(key))
+      r.fail(*n, "'" + name + "." + key + "' does not belong to distribution \"" + kind + "\"");
+  };
+  if (v.law == VolumeSpec::Law::kLogNormal) {
+    refuse("exponent");
+    v.median = r.positive(need("median"), name + ".median", " m^3");
+    v.sigma = r.positive(need("sigma"), name + ".sigma", "");
+  } else {
+    refuse("median");
+    refuse("sigma");
+    v.exponent = r.positive(need("exponent"), name + ".exponent", "");
+  }
+  v.min = r.positive(need("min"), name + ".min", " m^3");
+  const toml::node& maxNode = need("max");
+  v.max = r.positive(maxNode, name + ".max", " m^3");
+  if (!(v.max > v.min))
+    r.fail(maxNode, "'" + name + ".max' must be > '" + name + ".min' (" + formatNumber(v.min) +
+                        " m^3), got " + formatNumber(v.max));
+  return v;
+}
+
+// The one form a release source gives: exactly one of area, line, points, cells or file.
+const toml::node& releaseForm(const Reader& r, const toml::table& t, const std::string& label,
+                              std::string& form) {
+  const char* const kinds[] = {"area", "line", "points", "cells", "file"};
   const toml::node* given = nullptr;
-  std::string key;
   for (const char* k : kinds) {
     if (const auto* n = t.get(k)) {
       if (given != nullptr)
-        r.fail(*n,
-               "give one of 'area', 'line', 'points' or 'cells' in [ensemble.release], not "
-               "both '" +
-                   key + "' and '" + k + "'");
+        r.fail(*n, "give one of 'area', 'line', 'points', 'cells' or 'file' in " + label +
+                       ", not both '" + form + "' and '" + k + "'");
       given = n;
-      key = k;
+      form = k;
     }
   }
   if (given == nullptr)
-    r.fail(t,
-           "[ensemble.release] needs one of 'area' (polygon [[x, y], ...]), 'line' "
-           "([[x, y], ...]), 'points' ([[x, y], ...]) or 'cells' (a source raster)");
-  e.releaseKey = "release." + key;
-  e.releaseWhere = r.where(*given);
-  if (key == "cells") {
-    e.release = ReleaseKind::kCells;
-    e.cellsPath = existingFile(r, *given, e.releaseKey, sceneFolder, "source raster");
-    return;
-  }
-  e.release = key == "area"   ? ReleaseKind::kArea
-              : key == "line" ? ReleaseKind::kLine
-                              : ReleaseKind::kPoints;
-  const std::size_t least = key == "area" ? 3 : key == "line" ? 2 : 1;
-  const toml::array* a = given->as_array();
+    r.fail(t, label +
+                  " needs one of 'area' (polygon [[x, y], ...]), 'line' ([[x, y], ...]), "
+                  "'points' ([[x, y], ...]), 'cells' (a source raster) or 'file' (a vector "
+                  "file: GeoPackage, Shapefile, GeoJSON)");
+  return *given;
+}
+
+// The vertices of an area, line or points form, in the DEM's coordinates.
+void readReleasePoints(const Reader& r, const toml::node& given, ReleaseSpec& s) {
+  const std::size_t least = s.kind == ReleaseKind::kArea ? 3 : s.kind == ReleaseKind::kLine ? 2 : 1;
+  const toml::array* a = given.as_array();
   if (a == nullptr || a->size() < least)
-    r.fail(*given,
-           "'" + e.releaseKey + "' must be an array of at least " + std::to_string(least) +
-               " [x, y] points (world coordinates, m), got " +
-               (a == nullptr ? typeName(*given) : "an array of " + std::to_string(a->size())));
+    r.fail(given,
+           "'" + s.key + "' must be an array of at least " + std::to_string(least) +
+               " [x, y] points (the DEM's coordinates, m), got " +
+               (a == nullptr ? typeName(given) : "an array of " + std::to_string(a->size())));
   for (std::size_t i = 0; i < a->size(); ++i) {
-    const std::string name = e.releaseKey + "[" + std::to_string(i) + "]";
+    const std::string name = s.key + "[" + std::to_string(i) + "]";
     const auto v = r.numbers(*a->get(i), name, 2, "an array of 2 numbers [x, y]");
-    e.releasePoints.push_back({v[0], v[1]});
-    e.releasePointWhere.push_back(r.where(*a->get(i)));
+    s.points.push_back({v[0], v[1]});
+    s.pointWhere.push_back(r.where(*a->get(i)));
   }
-  if (e.release == ReleaseKind::kArea) {
+  if (s.kind == ReleaseKind::kArea) {
     double twiceArea = 0;  // shoelace
-    for (std::size_t i = 0; i < e.releasePoints.size(); ++i) {
-      const Point2& p = e.releasePoints[i];
-      const Point2& q = e.releasePoints[(i + 1) % e.releasePoints.size()];
+    for (std::size_t i = 0; i < s.points.size(); ++i) {
+      const Point2& p = s.points[i];
+      const Point2& q = s.points[(i + 1) % s.points.size()];
       twiceArea += p[0] * q[1] - q[0] * p[1];
     }
-    if (!(std::abs(twiceArea) > 0)) r.fail(*given, "'release.area' encloses no area");
+    if (!(std::abs(twiceArea) > 0)) r.fail(given, "'" + s.key + "' encloses no area");
   }
-  if (e.release == ReleaseKind::kLine) {
+  if (s.kind == ReleaseKind::kLine) {
     double length = 0;
-    for (std::size_t i = 1; i < e.releasePoints.size(); ++i)
-      length += std::hypot(e.releasePoints[i][0] - e.releasePoints[i - 1][0],
-                           e.releasePoints[i][1] - e.releasePoints[i - 1][1]);
-    if (!(length > 0)) r.fail(*given, "'release.line' has zero length");
+    for (std::size_t i = 1; i < s.points.size(); ++i)
+      length +=
+          std::hypot(s.points[i][0] - s.points[i - 1][0], s.points[i][1] - s.points[i - 1][1]);
+    if (!(length > 0)) r.fail(given, "'" + s.key + "' has zero length");
   }
+}
+
+// One source; `prefix` is "release" for a single table, "release[i]" in an array of them.
+ReleaseSpec readReleaseSource(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
+                              const std::string& prefix) {
+  const std::string label = "[ensemble." + prefix + "]";
+  r.checkKeys(t, sceneKeysOf("ensemble.release"), label);
+  ReleaseSpec s;
+  std::string form;
+  const toml::node& given = releaseForm(r, t, label, form);
+  s.key = prefix + "." + form;
+  s.where = r.where(given);
+  if (const auto* n = t.get("weight")) s.weight = r.positive(*n, prefix + ".weight", "");
+  if (const auto* n = t.get("volume")) s.volume = readVolume(r, *n, prefix + ".volume");
+  const bool fromFile = form == "file";
+  for (const char* k : {"layer", "weight_field"})
+    if (const auto* n = t.get(k); n != nullptr && !fromFile)
+      r.fail(*n, "'" + prefix + "." + k + "' belongs to a 'file' source, not to '" + s.key + "'");
+  if (form == "cells") {
+    s.kind = ReleaseKind::kCells;
+    s.path = existingFile(r, given, s.key, sceneFolder, "source raster");
+  } else if (fromFile) {
+    s.kind = ReleaseKind::kFile;
+    s.path = existingFile(r, given, s.key, sceneFolder, "release vector file");
+    if (const auto* n = t.get("layer")) s.layer = r.string(*n, prefix + ".layer");
+    if (const auto* n = t.get("weight_field"))
+      s.weightField = r.string(*n, prefix + ".weight_field");
+  } else {
+    s.kind = form == "area"   ? ReleaseKind::kArea
+             : form == "line" ? ReleaseKind::kLine
+                              : ReleaseKind::kPoints;
+    readReleasePoints(r, given, s);
+  }
+  return s;
+}
+
+// `release = { ... }` (one source) or `[[ensemble.release]]` tables (several, each drawn with
+// its `weight`).
+void readRelease(const Reader& r, const toml::node& n, const fs::path& sceneFolder,
+                 EnsembleSpec& e) {
+  if (const toml::array* a = n.as_array()) {
+    if (a->empty() || !a->is_array_of_tables())
+      r.fail(n,
+             "'release' must be a table ({ area = ... }) or release tables ([[ensemble.release]]), "
+             "got " +
+                 (a->empty() ? std::string("an empty array") : std::string("an array")));
+    for (std::size_t i = 0; i < a->size(); ++i)
+      e.releases.push_back(readReleaseSource(r, *a->get(i)->as_table(), sceneFolder,
+                                             "release[" + std::to_string(i) + "]"));
+    return;
+  }
+  e.releases.push_back(readReleaseSource(r, r.table(n, "release"), sceneFolder, "release"));
 }
 
 }  // namespace
@@ -160,7 +244,7 @@ void readEnsemble(const Reader& r, const toml::table& t, const fs::path& sceneFo
       e.shapes.push_back(name);
       e.weights.push_back(entryWeights[i] / static_cast<double>(entries[i].size()));
     }
-  readRelease(r, r.table(r.require(t, "release", "[ensemble]"), "release"), sceneFolder, e);
+  readRelease(r, r.require(t, "release", "[ensemble]"), sceneFolder, e);
   if (const auto* n = t.get("drop_height"))
     e.dropHeight = r.nonNegative(*n, "drop_height", " m (lowest point above the surface)");
   if (const auto* n = t.get("orientation")) {
@@ -178,6 +262,8 @@ void readEnsemble(const Reader& r, const toml::table& t, const fs::path& sceneFo
     readVectorRange(r, *n, "angular_velocity", e.angularVelocityMin, e.angularVelocityMax);
   if (const auto* n = t.get("restitution")) e.restitution = readRange(r, *n, "restitution", 0, 1);
   if (const auto* n = t.get("friction")) e.friction = readRange(r, *n, "friction", 0, 100);
+  if (const auto* n = t.get("volume")) e.volume = readVolume(r, *n, "volume");
+  if (const auto* n = t.get("density")) e.density = readRange(r, *n, "density", 1, 1e5);
   if (const auto* n = t.get("rolling_resistance")) {
     if (spec.groundMaterial.empty())
       r.fail(*n, "'rolling_resistance' varies the ground material's; give [ground] material");

@@ -110,7 +110,7 @@ TEST_F(EnsembleCommandTest, RockFamiliesGiveTheSameBytesForOneAndTwoThreads) {
          "[shapes.stones]\nrock = { class = \"elongated\", seeds = 4, volume = 0.1 }\n"
          "density = 2600\n"
          "[ensemble]\nshapes = [\"block\", \"stones\"]\nweights = [1, 2]\n"
-         "release = { line = [[5.0, 6.3], [5.0, 17.7]] }\n"
+         "release = { line = [[1005.0, 5006.3], [1005.0, 5017.7]] }\n"
          "velocity = { min = [1.0, -0.5, 0.0], max = [3.0, 0.5, 0.0] }\n";
   const std::string common = "ensemble scene.toml --runs 8 --seed 3 --paths -q";
   const auto one = runVoxfall(kExe, dir_, common + " --jobs 1 -o j1");
@@ -206,13 +206,14 @@ TEST_F(EnsembleCommandTest, ReachProbabilityEqualsAnIndependentCountFromThePaths
 }
 
 TEST_F(EnsembleCommandTest, ReleaseAreaOutsideTheDemIsAnErrorNamingTheKey) {
-  vf::test::writeChuteScene(dir_,
-                            "shape = \"rock\"\n"
-                            "release = { area = [[4.0, 6.0], [500.0, 6.0], [4.0, 18.0]] }\n");
+  vf::test::writeChuteScene(
+      dir_,
+      "shape = \"rock\"\n"
+      "release = { area = [[1004.0, 5006.0], [1500.0, 5006.0], [1004.0, 5018.0]] }\n");
   const auto r = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 4 -q -o bad");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("scene.toml:15:"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("'release.area[1]' (500.000, 6.000) lies outside the DEM"),
+  EXPECT_NE(r.err.find("'release.area[1]' (1500.000, 5006.000) lies outside the DEM"),
             std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "bad" / "runs.csv"));

@@ -152,7 +152,8 @@ class EnsembleRunTest : public ::testing::Test {
 TEST_F(EnsembleRunTest, ReleasesLieInTheAreaOnTheLineOrOnThePoints) {
   // Area: a triangle; every release's centre of mass (x, y) inside it.
   {
-    const Ensemble e(load("shape = \"rock\"\nrelease = { area = [[4, 4], [14, 4], [4, 20]] }\n"));
+    const Ensemble e(load(
+        "shape = \"rock\"\nrelease = { area = [[1004, 5004], [1014, 5004], [1004, 5020]] }\n"));
     for (int i = 0; i < 40; ++i) {
       const auto w = e.makeWorld(realisationSeed(1, i));
       const Vec3 x = w->state(0).x;
@@ -179,7 +180,8 @@ TEST_F(EnsembleRunTest, ReleasesLieInTheAreaOnTheLineOrOnThePoints) {
   }
   // Points: each release at one of them.
   {
-    const Ensemble e(load("shape = \"rock\"\nrelease = { points = [[5, 7], [9, 15]] }\n"));
+    const Ensemble e(
+        load("shape = \"rock\"\nrelease = { points = [[1005, 5007], [1009, 5015]] }\n"));
     int first = 0;
     for (int i = 0; i < 40; ++i) {
       const Vec3 x = e.makeWorld(realisationSeed(1, i))->state(0).x;

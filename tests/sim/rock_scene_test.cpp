@@ -161,7 +161,7 @@ std::string ensembleScene(const std::string& familyRock, const std::string& ense
          "[shapes.plain]\nrock = { class = \"eota_111\", size = 0.6 }\ndensity = 2600\n"
          "[shapes.fam]\nrock = " +
          familyRock + "\ndensity = 2600\n[ensemble]\n" + ensemble +
-         "release = { line = [[5.0, 6.3], [5.0, 17.7]] }\n";
+         "release = { line = [[1005.0, 5006.3], [1005.0, 5017.7]] }\n";
 }
 
 TEST_F(RockSceneTest, AnEnsembleEntryNamingAFamilySharesItsWeightAmongTheVariants) {

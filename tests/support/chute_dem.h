@@ -60,7 +60,8 @@ inline bool writeChuteDem(const std::filesystem::path& path, const ChuteDem& c =
 
 // A scene on chute.tif in `dir` whose [ensemble] table is `ensemble` (TOML lines), with
 // `ground` (TOML lines) added to its [ground] table. World coordinates are the DEM's minus
-// (1000, 5000): the chute spans x 0 .. 120, y 0 .. 24.
+// (1000, 5000): the chute spans x 0 .. 120, y 0 .. 24 in the world and x 1000 .. 1120,
+// y 5000 .. 5024 in the DEM's coordinates, in which releases are written.
 inline void writeChuteScene(const std::filesystem::path& dir, const std::string& ensemble,
                             double duration = 3.0, const std::string& ground = "") {
   std::ofstream f(dir / "scene.toml");
@@ -77,7 +78,7 @@ inline void writeChuteScene(const std::filesystem::path& dir, const std::string&
 // The default release of the tests: a line across the chute's top, a push downhill.
 inline const char* kChuteEnsemble =
     "shape = \"rock\"\n"
-    "release = { line = [[5.0, 6.3], [5.0, 17.7]] }\n"
+    "release = { line = [[1005.0, 5006.3], [1005.0, 5017.7]] }\n"
     "velocity = { min = [1.0, -0.5, 0.0], max = [3.0, 0.5, 0.0] }\n"
     "restitution = [0.3, 0.4]\n";
 
