@@ -350,4 +350,16 @@ Diagnostics World::measure(const std::vector<BodyState>& states) const {
   return measureDiagnostics(bodies_, states, def_.gravity, def_.groundHeight, def_.terrain.get());
 }
 
+Diagnostics World::measure(const std::vector<BodyState>& states,
+                           const std::vector<char>& active) const {
+  VF_ASSERT(active.size() == bodies_.size());
+  bool same = true;
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    same = same && bodies_[i].active == (active[i] != 0);
+  if (same) return measure(states);
+  std::vector<BodyInfo> bodies = bodies_;
+  for (std::size_t i = 0; i < bodies.size(); ++i) bodies[i].active = active[i] != 0;
+  return measureDiagnostics(bodies, states, def_.gravity, def_.groundHeight, def_.terrain.get());
+}
+
 }  // namespace vf
