@@ -147,11 +147,11 @@ void World::advanceTo(double t, const std::function<void()>& afterStep) {
   }
 }
 
-// Frames between steps (README: Frames and steps; frame k is the state at exactly t = k / fps, and
-// output never steers the simulation). The copy moves as the next step would move it with no
-// contacts (freeMotion: gravity's increment, then explicit Euler on x and q). So a body in flight
-// is exactly where a step of length t - time() would put it, and a body resting on the ground shows
-// at most gravity's sag |g| dt'^2 <= r (eq. 17).
+// Free motion between steps, for an ensemble bake's frames (sim/ensemble/ensemble_bake.cpp); the
+// recorder samples between two steps instead (sim/frame_interp.h). The copy moves as the next step
+// would move it with no contacts (freeMotion: gravity's increment, then explicit Euler on x and q).
+// So a body in flight is exactly where a step of length t - time() would put it, and a body resting
+// on the ground shows at most gravity's sag |g| dt'^2 <= r (eq. 17).
 std::vector<BodyState> World::statesAt(double t) const {
   std::vector<BodyState> states = states_;
   freeMotion(bodies_, states, def_.gravity, t - time_);
