@@ -28,13 +28,12 @@ struct BodyPose {
   bool active;
 };
 
-std::vector<BodyPose> capturePoses(const World& world, const std::vector<BodyState>& states) {
+std::vector<BodyPose> capturePoses(const std::vector<BodyState>& states,
+                                   const std::vector<char>& active) {
   std::vector<BodyPose> poses;
-  poses.reserve(static_cast<std::size_t>(world.bodyCount()));
-  for (int id = 0; id < world.bodyCount(); ++id) {
-    const BodyState& y = states[static_cast<std::size_t>(id)];
-    poses.push_back(BodyPose{y.x, y.q, world.isActive(id)});
-  }
+  poses.reserve(states.size());
+  for (std::size_t i = 0; i < states.size(); ++i)
+    poses.push_back(BodyPose{states[i].x, states[i].q, active[i] != 0});
   return poses;
 }
 
@@ -108,23 +107,20 @@ struct ScenePlayback::Impl {
   std::vector<BodyPose> sceneFramePoses(int j) {
     if (bake) return bakePoses(Recorder::frameTimeFor(j, spec.fps));
     recorder->advanceToFrame(j);
-    return capturePoses(*built->world, recorder->frameStates());
+    return capturePoses(recorder->frameStates(), recorder->frameActive());
   }
-  // The poses at a time between the scene's frames: the world's own steps up to t, then free
-  // motion to t, as the recorder takes a frame (World::statesAt), so the steps do not change.
+  // The poses at a time between the scene's frames, sampled between the world's own steps as
+  // the recorder samples a frame (Recorder::statesAt), so the steps do not change.
   std::vector<BodyPose> posesAt(double t) {
     if (bake) return bakePoses(t);
-    World& world = recorder->world();
-    world.advanceTo(t);
-    return capturePoses(world, world.statesAt(t));
+    std::vector<char> active;
+    const std::vector<BodyState> states = recorder->statesAt(t, active);
+    return capturePoses(states, active);
   }
   std::vector<BodyPose> bakePoses(double t) const {
     std::vector<char> active;
     const std::vector<BodyState> states = bake->statesAt(t, active);
-    std::vector<BodyPose> out;
-    for (std::size_t i = 0; i < states.size(); ++i)
-      out.push_back(BodyPose{states[i].x, states[i].q, active[i] != 0});
-    return out;
+    return capturePoses(states, active);
   }
   // Drawn frame k's poses, kept, and its trails and chase target.
   void keepDrawnFrame(int k, std::vector<BodyPose> at) {

@@ -21,7 +21,6 @@
 
 #include "sim/core/error.h"
 #include "sim/shape/sphere_tree.h"
-#include "sim/solve/integrate.h"
 
 namespace vf {
 namespace {
@@ -300,17 +299,8 @@ std::vector<BodyState> Bake::statesAt(double t, std::vector<char>& active) const
   auto after = std::upper_bound(records.begin(), records.end(), t + kTimeTolerance,
                                 [](double v, const BakeRecord& r) { return v < r.time; });
   const BakeRecord& r = after == records.begin() ? records.front() : *std::prev(after);
-  active = r.active;
-  std::vector<BodyInfo> info(bodies.size());
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    info[i].isStatic = bodies[i].isStatic;
-    info[i].active = r.active[i] != 0;
-    info[i].invMass = bodies[i].invMass;
-    info[i].inertiaBodyInv = bodies[i].inertiaBodyInv;
-  }
-  std::vector<BodyState> states = r.states;
-  freeMotion(info, states, scene.gravity, t - r.time);
-  return states;
+  return sampleSteps(r, after == records.end() || after == records.begin() ? nullptr : &*after, t,
+                     active);
 }
 
 void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/frame_interp.h"
 #include "sim/recorder.h"
 #include "sim/scene/scene.h"
 #include "sim/world.h"
@@ -28,11 +29,7 @@ struct BakeBody {
 };
 
 // The state of every body right after one step (the first record: before any step).
-struct BakeRecord {
-  double time = 0;                // s
-  std::vector<BodyState> states;  // per body id
-  std::vector<char> active;       // per body id: released
-};
+using BakeRecord = StepState;
 
 struct Bake {
   // The scene's drawing and timing data: path, name, duration, fps, gravity, ground plane,
@@ -46,9 +43,9 @@ struct Bake {
   // no run to summarise.
   std::optional<RunSummary> summary;
 
-  // Every body's state and active flag at time t, exactly as World::statesAt(t) after
-  // World::advanceTo(t) in the run that made the bake: the last record at or before t (within
-  // the world's 1e-9 s) moved by the same free motion.
+  // Every body's state and active flag at time t, exactly as the run that made the bake
+  // sampled it (Recorder): from the last record at or before t (within the world's 1e-9 s) and
+  // the next one (sampleSteps); past the last record, the last record.
   std::vector<BodyState> statesAt(double t, std::vector<char>& active) const;
 };
 

@@ -1,17 +1,23 @@
-// Reads a World at the output frames of a run: frame k is the state at exactly t = k / fps
-// (k = 0 .. floor(duration * fps)). The world takes its own steps (World::advanceTo never
-// shortens a step to meet a frame), and the frame is a copy of the last step's state moved by
-// free motion to t (World::statesAt), so the frame rate never changes the physics. At every
-// frame it measures the true-mesh diagnostics; the checksum is the world's hash over its
-// steps up to the scene's duration, the same at every fps. The simulation and the renderer
-// both read frames through it, so `simulate` and `render` report the same checksum.
+// Reads a World at the output frames of a run: frame k is the state at t = k / fps
+// (k = 0 .. floor(duration * fps)). The world takes its own steps (never shortened to meet a
+// frame), and the frame is taken from the two step states that bracket t (sim/frame_interp.h),
+// so the frame rate never changes the physics and a body at rest between two steps is at rest in
+// the frame. For that the recorder runs the world one step past the frame time, keeping the
+// state before that step: one extra copy of the body states. It never steps past the duration,
+// nor past a frame after which the run ends (setRunEnds): a frame after the run's last step
+// holds that step's state. At every frame it measures the true-mesh diagnostics; the checksum
+// is the world's hash over its steps up to the scene's duration, the same at every fps. The
+// simulation and the renderer both read frames through it, so `simulate` and `render` report
+// the same checksum.
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "sim/frame_interp.h"
 #include "sim/world.h"
 
 namespace vf {
@@ -53,15 +59,41 @@ class Recorder {
   // records frame k. The last frame also takes the steps up to the duration, so the summary's
   // step count and checksum do not depend on fps.
   void advanceToFrame(int k);
-  // Every body's state at the last recorded frame (body id order), see World::statesAt.
+  // Every body's state at the last recorded frame (body id order), and its released flags.
   const std::vector<BodyState>& frameStates() const { return frame_; }
+  const std::vector<char>& frameActive() const { return frameActive_; }
+  // Every body's state at t (no earlier than the last frame or time asked for), sampled as a
+  // frame is but neither measured nor counted: frames drawn between the recorder's frames.
+  std::vector<BodyState> statesAt(double t, std::vector<char>& active);
+  // Whether `runEnds` held after the last step at or before the last recorded frame.
+  bool runEnded() const { return !kept_.empty() && kept_.front().ends; }
   const RunSummary& summary() const { return summary_; }
   const Diagnostics& lastDiagnostics() const { return last_; }
   // Called after every step the recorder makes the world take (e.g. to record a bake).
   void setAfterStep(std::function<void()> afterStep) { afterStep_ = std::move(afterStep); }
+  // A run that may end early (`voxfall simulate`: a rock at a "stop" edge, every rock at
+  // rest) ends after the first frame whose last step satisfies `runEnds`, asked after each
+  // step. The world is not stepped past a frame time from such a step, so the run takes the
+  // steps it would take if frames were read without looking ahead (runEnded()).
+  void setRunEnds(std::function<bool()> runEnds);
   World& world() { return world_; }
 
  private:
+  // A step state kept for sampling, with what the run's summary and runEnds said after it.
+  struct Kept {
+    StepState step;
+    std::uint64_t checksum = 0;
+    RunStats totals;
+    bool ends = false;
+  };
+  // Takes the world's steps a sample at t needs: those ending at or before t, then the one
+  // crossing t unless the run ends before it; keeps the step states from the last at or
+  // before t on.
+  void stepFor(double t);
+  void takeStep(double t);
+  void keep();
+  std::vector<BodyState> sample(double t, std::vector<char>& active);
+
   World& world_;
   double fps_;
   double duration_;
@@ -70,7 +102,11 @@ class Recorder {
   RunSummary summary_;
   Diagnostics last_;
   std::vector<BodyState> frame_;
+  std::vector<char> frameActive_;
+  double sampled_ = 0;     // the latest time sampled, s
+  std::deque<Kept> kept_;  // step states from the last at or before sampled_ on (2 or 3)
   std::function<void()> afterStep_;
+  std::function<bool()> runEnds_;
 };
 
 }  // namespace vf

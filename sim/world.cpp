@@ -147,11 +147,11 @@ void World::advanceTo(double t, const std::function<void()>& afterStep) {
   }
 }
 
-// Frames between steps (README: Frames and steps; frame k is the state at exactly t = k / fps, and
-// output never steers the simulation). The copy moves as the next step would move it with no
-// contacts (freeMotion: gravity's increment, then explicit Euler on x and q). So a body in flight
-// is exactly where a step of length t - time() would put it, and a body resting on the ground shows
-// at most gravity's sag |g| dt'^2 <= r (eq. 17).
+// Free motion between steps, for an ensemble bake's frames (sim/ensemble/ensemble_bake.cpp); the
+// recorder samples between two steps instead (sim/frame_interp.h). The copy moves as the next step
+// would move it with no contacts (freeMotion: gravity's increment, then explicit Euler on x and q).
+// So a body in flight is exactly where a step of length t - time() would put it, and a body resting
+// on the ground shows at most gravity's sag |g| dt'^2 <= r (eq. 17).
 std::vector<BodyState> World::statesAt(double t) const {
   std::vector<BodyState> states = states_;
   freeMotion(bodies_, states, def_.gravity, t - time_);
@@ -348,6 +348,18 @@ Diagnostics World::measure() const { return measure(states_); }
 Diagnostics World::measure(const std::vector<BodyState>& states) const {
   VF_ASSERT(static_cast<int>(states.size()) == bodyCount());
   return measureDiagnostics(bodies_, states, def_.gravity, def_.groundHeight, def_.terrain.get());
+}
+
+Diagnostics World::measure(const std::vector<BodyState>& states,
+                           const std::vector<char>& active) const {
+  VF_ASSERT(active.size() == bodies_.size());
+  bool same = true;
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    same = same && bodies_[i].active == (active[i] != 0);
+  if (same) return measure(states);
+  std::vector<BodyInfo> bodies = bodies_;
+  for (std::size_t i = 0; i < bodies.size(); ++i) bodies[i].active = active[i] != 0;
+  return measureDiagnostics(bodies, states, def_.gravity, def_.groundHeight, def_.terrain.get());
 }
 
 }  // namespace vf

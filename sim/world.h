@@ -207,6 +207,8 @@ class World {
   Diagnostics measure() const;
   // The same for other states of these bodies (one per body, e.g. statesAt(t)).
   Diagnostics measure(const std::vector<BodyState>& states) const;
+  // The same with other released flags (one per body, e.g. a frame's: Recorder::frameActive).
+  Diagnostics measure(const std::vector<BodyState>& states, const std::vector<char>& active) const;
 
   // Rock fall on terrain (empty without terrain): per body, its outcome so far.
   const std::vector<RockOutcome>& outcomes() const { return monitor_.outcomes(); }

@@ -74,9 +74,9 @@ void writeCsvHeader(std::FILE* out) {
 }
 
 void writeCsvFrame(std::FILE* out, int frame, double time, const World& world,
-                   const std::vector<BodyState>& states) {
+                   const std::vector<BodyState>& states, const std::vector<char>& active) {
   for (int id = 0; id < world.bodyCount(); ++id) {
-    if (!world.isActive(id)) continue;
+    if (!active[static_cast<std::size_t>(id)]) continue;
     const BodyState& s = states[static_cast<std::size_t>(id)];
     const Vec3 v = world.velocity(id, s);
     const Vec3 w = world.angularVelocity(id, s);

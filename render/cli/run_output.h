@@ -21,9 +21,10 @@ namespace vf::cli {
 // q = orientation (w, x, y, z), v (m/s) and w (rad/s, world frame), numbers in %.17g so that
 // they read back bit-exact.
 void writeCsvHeader(std::FILE* out);
-// `states` are the frame's states (Recorder::frameStates()), one per body of `world`.
+// `states` and `active` are the frame's states and released flags (Recorder::frameStates(),
+// frameActive()), one per body of `world`.
 void writeCsvFrame(std::FILE* out, int frame, double time, const World& world,
-                   const std::vector<BodyState>& states);
+                   const std::vector<BodyState>& states, const std::vector<char>& active);
 
 // How a run was stopped early by a signal: the signal (0: it was not) and the time of the last
 // complete frame, s.

@@ -74,6 +74,11 @@ int runSimulate(const SimulateOptions& o) {
     addBakeRecord(*bake, *built.world);  // t = 0, before the first step
     recorder.setAfterStep([&] { addBakeRecord(*bake, *built.world); });
   }
+  // Decided on the last step at or before each frame (Recorder::setRunEnds).
+  recorder.setRunEnds([&] {
+    return !built.world->stopReason().empty() ||
+           (spec.stopWhenSettled && built.world->allSettled());
+  });
 
   // Frame by frame; a stop signal ends the run after the frame in hand (output_file.h).
   Progress progress(spec.name, recorder.frameCount(), !o.quiet);
@@ -88,13 +93,13 @@ int runSimulate(const SimulateOptions& o) {
       break;
     }
     if (csv)
-      writeCsvFrame(csv->stream(), k, recorder.frameTime(k), *built.world, recorder.frameStates());
+      writeCsvFrame(csv->stream(), k, recorder.frameTime(k), *built.world, recorder.frameStates(),
+                    recorder.frameActive());
     done = k + 1;
     progress.update(done, recorder.frameTime(k));
     // Rock fall: the run ends when every rock has stopped or left (`stop = "all_at_rest"`),
     // or when a rock reached a terrain edge whose policy is "stop".
-    if (!built.world->stopReason().empty() || (spec.stopWhenSettled && built.world->allSettled()))
-      break;
+    if (recorder.runEnded()) break;
   }
   progress.finish();
   if (!runaway.empty()) {

@@ -1,11 +1,13 @@
 // A subset of an ensemble as a bake (see ensemble_bake.h). Each realisation is stepped again in
 // its own world, frame by frame, exactly as Ensemble::run steps it (same seed, same step
-// sequence, same end), so the bake shows the trajectories the statistics were made from.
+// sequence, same end), so the bake shows the trajectories the statistics were made from. A frame
+// is sampled from the two steps that bracket it (frame_interp.h), as the recorder samples one.
 #include "sim/ensemble/ensemble_bake.h"
 
 #include <algorithm>
 
 #include "sim/core/error.h"
+#include "sim/frame_interp.h"
 #include "sim/recorder.h"
 
 namespace vf {
@@ -39,21 +41,36 @@ Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
     body.inertiaBodyInv = w.shape(0).inertiaBodyInv;
     bake.bodies.push_back(body);
 
+    // Released flag of the rock: off once it left the DEM or was buried.
+    auto present = [&w] {
+      const RockState s = w.outcomes()[0].state;
+      return static_cast<char>(s == RockState::kLeft || s == RockState::kBuried ? 0 : 1);
+    };
+    // The state after the last step taken and the one before it (frame_interp.h).
+    StepState now{w.time(), {w.state(0)}, {present()}}, before = now;
     bool ended = false;
     int endFrame = frames - 1;  // the first frame at which the realisation has ended
+    // Ensemble::run's loop: steps of the scene's own sequence, ending when the rock does or at
+    // the duration; a frame may take the next of them early, never one Ensemble::run does not.
+    auto step = [&] {
+      w.stepNext();
+      ended = w.outcomes()[0].state != RockState::kMoving;
+      before = std::move(now);
+      now = StepState{w.time(), {w.state(0)}, {present()}};
+    };
+    auto mayStep = [&] { return !ended && w.nextStepEnd() <= spec.duration + kTimeTolerance; };
     for (int k = 0; k < frames; ++k) {
       const double t = bake.records[static_cast<std::size_t>(k)].time;
-      // Ensemble::run's loop: steps of the scene's own sequence, ending when the rock does.
-      while (!ended && w.nextStepEnd() <= t + kTimeTolerance &&
-             w.nextStepEnd() <= spec.duration + kTimeTolerance) {
-        w.stepNext();
-        ended = w.outcomes()[0].state != RockState::kMoving;
-        if (ended) endFrame = k;
-      }
+      while (mayStep() && w.nextStepEnd() <= t + kTimeTolerance) step();
+      if (now.time < t - kTimeTolerance && mayStep()) step();  // the step crossing t
+      if (ended && endFrame == frames - 1 && now.time <= t + kTimeTolerance) endFrame = k;
+      std::vector<char> active;
+      const bool between = now.time > t + kTimeTolerance;
+      const BodyState y =
+          sampleSteps(between ? before : now, between ? &now : nullptr, t, active)[0];
       BakeRecord& r = bake.records[static_cast<std::size_t>(k)];
-      r.states.push_back(ended ? w.state(0) : w.statesAt(t)[0]);
-      const RockState s = w.outcomes()[0].state;
-      r.active.push_back(s == RockState::kLeft || s == RockState::kBuried ? 0 : 1);
+      r.states.push_back(y);
+      r.active.push_back(active[0]);
     }
     lastFrame = std::max(lastFrame, endFrame);
     if (checksums) {

@@ -11,8 +11,9 @@
 namespace vf {
 
 // One body per realisation of `indices` (in that order), a record at every frame time
-// t = k / fps holding each realisation's state at t as World::statesAt(t) gives it in that
-// realisation's own world (its own step sequence, the one Ensemble::run takes). A realisation
+// t = k / fps holding each realisation's state at t, sampled from the two steps of that
+// realisation's own world that bracket t (its own step sequence, the one Ensemble::run takes;
+// sim/frame_interp.h), as the Recorder samples a frame. A realisation
 // that ended (stopped, left, buried) keeps its last state; one that left the DEM or was buried
 // is inactive from then on. The records run from k = 0 to the first frame at which every
 // realisation of the subset has ended, or to floor(duration * fps) if one has not. Bodies get

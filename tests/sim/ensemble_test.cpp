@@ -330,15 +330,16 @@ TEST_F(EnsembleRunTest, SubsetBakeHoldsEachRealisationsStateAtTheFrameTimes) {
   const int frames = Recorder::frameCountFor(e.spec().fps, 2.0);
   ASSERT_EQ(bake.records.size(), static_cast<std::size_t>(frames));
   for (std::size_t b = 0; b < chosen.size(); ++b) {
-    // The realisation alone, stepped by World::advanceTo (not by the bake's own loop), compared
-    // while its rock is still moving.
+    // The realisation alone, read by a Recorder (not by the bake's own loop), compared while
+    // its rock is still moving.
     const auto w = e.makeWorld(realisationSeed(5, chosen[b]));
+    Recorder recorder(*w, e.spec().fps, 2.0);
     int compared = 0;
     for (int k = 0; k < frames; ++k) {
       const double t = k / e.spec().fps;
-      w->advanceTo(t);
+      recorder.advanceToFrame(k);
       if (w->outcomes()[0].state != RockState::kMoving) break;
-      const BodyState y = w->statesAt(t)[0];
+      const BodyState y = recorder.frameStates()[0];
       const BakeRecord& r = bake.records[static_cast<std::size_t>(k)];
       EXPECT_EQ(r.time, t);
       EXPECT_TRUE(r.states[b].x == y.x) << "body " << b << " frame " << k;
