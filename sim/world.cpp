@@ -273,6 +273,7 @@ void World::stepToward(double target) {
 
   last_ = s;
   totals_.add(s);
+  for (const auto& listener : listeners_) listener(*this);
 }
 
 World::StepPlan World::planStep(double target) const {
@@ -318,6 +319,23 @@ double World::nextReleaseAfter(double t) const {
 double World::slippage(int id) const {
   const std::vector<double>& s = slipLaw_.slippage();
   return static_cast<std::size_t>(id) < s.size() ? s[static_cast<std::size_t>(id)] : 0.0;
+}
+
+void World::setMotion(int id, const Vec3& v, const Vec3& w) {
+  BodyInfo& b = bodies_[id];
+  if (b.isStatic) return;
+  BodyState& y = states_[id];
+  const Mat3 R = y.q.toRotationMatrix();
+  y.P = b.shape->mass * v;
+  y.L = R * b.shape->inertiaBody * R.transpose() * w;  // L = I(t) w
+  if (v != Vec3::Zero() || w != Vec3::Zero()) b.sleeping = false, b.restTime = 0;
+  stableStepCache_ = std::numeric_limits<double>::quiet_NaN();
+}
+
+void World::deactivate(int id) {
+  bodies_[id].active = false;
+  bodies_[id].releaseTime = INFINITY;  // never released again
+  stableStepCache_ = std::numeric_limits<double>::quiet_NaN();
 }
 
 Vec3 World::velocity(int id) const { return velocity(id, states_[id]); }

@@ -210,6 +210,20 @@ class World {
   // The same with other released flags (one per body, e.g. a frame's: Recorder::frameActive).
   Diagnostics measure(const std::vector<BodyState>& states, const std::vector<char>& active) const;
 
+  // The contacts the last step solved (body ids a and b; b = kGround for the ground).
+  const std::vector<Contact>& contacts() const { return contacts_; }
+  // Policies acting between steps (barriers, sim/ground/barriers.h): gives dynamic body `id`
+  // velocity v (m/s) and angular velocity w (rad/s, world frame), waking it when it moves; and
+  // takes body `id` out of the world (it no longer collides, moves or draws).
+  void setMotion(int id, const Vec3& v, const Vec3& w);
+  void deactivate(int id);
+  // Calls `listener` at the end of every step, after the rock monitor and before the step's
+  // state is hashed (Jolt's PhysicsStepListener): how a policy such as the barriers' acts on
+  // the world without being part of the step. Listeners run in the order added.
+  void addStepListener(std::function<void(World&)> listener) {
+    listeners_.push_back(std::move(listener));
+  }
+
   // Rock fall on terrain (empty without terrain): per body, its outcome so far.
   const std::vector<RockOutcome>& outcomes() const { return monitor_.outcomes(); }
   // Every released dynamic body is at rest (RestCriterion), has left, or is buried.
@@ -260,6 +274,7 @@ class World {
   RockMonitor monitor_;                 // terrain edges, push-out, rest, outcomes
   RunGuard guard_;                      // runaway checks (run_guard.h)
   std::optional<Runaway> runaway_;      // see runaway()
+  std::vector<std::function<void(World&)>> listeners_;  // addStepListener
   // stableStep() of the current state, NaN until asked: advanceTo asks for the next step's end
   // and the step then plans with the same state. Cleared wherever states_ or bodies_ change.
   mutable double stableStepCache_ = std::numeric_limits<double>::quiet_NaN();

@@ -278,6 +278,8 @@ int runEnsemble(const EnsembleOptions& given) {
       o.shard.empty() ? std::nullopt : std::optional<Shard>(parseShard(o.shard));
   const std::uint64_t seed = o.seed.value_or(spec.ensemble->seed);
   if (o.files.outDir.empty()) o.files.outDir = defaultFolder(spec, shard);
+  o.files.lines = !spec.evaluationLines.empty();
+  o.files.barriers = !spec.barriers.empty();
 
   MpiSession mpi;
   // Rank 0 checks and opens the journal and outputs before any realisation runs; every rank

@@ -9,6 +9,7 @@
 
 #include "render/cli/commands.h"
 #include "render/cli/ensemble_output.h"
+#include "render/cli/lines_output.h"
 #include "render/maps/hazard_map.h"
 #include "sim/core/error.h"
 #include "sim/ensemble/ensemble_bake.h"
@@ -36,7 +37,9 @@ struct EnsembleFiles::Files {
   };
   std::vector<Raster> rasters;  // per layer, in cellStatistics' order
   std::unique_ptr<OutputFile> runs, summary, converge, paths, bake;
-  std::vector<fs::path> maps;  // --maps: per layer NAME.png, intensity.png, then runout.png
+  std::vector<fs::path> maps;        // --maps: per layer NAME.png, intensity.png, then runout.png
+  std::unique_ptr<LineFiles> lines;  // evaluation lines (plots with --maps)
+  std::unique_ptr<OutputFile> barriers;
 };
 
 MapWindow mapExtent(const std::vector<double>& extent, const Heightfield& dem) {
@@ -73,6 +76,8 @@ EnsembleFiles::EnsembleFiles(const EnsembleFileOptions& o, const OutputRules& ru
     // Rendered from the bake once it is written (renderToFile opens it then).
     checkOutputPath((dir / "trajectories.mp4").string(), rules);
   }
+  if (o.barriers) files_->barriers = open("barriers.csv");
+  if (o.lines) files_->lines = std::make_unique<LineFiles>(dir, rules, o.maps);
   if (o.maps) {
     // The maps are written by render/maps (each through its own OutputFile); -y/-n and the
     // inputs are checked here, before any realisation runs.
@@ -151,6 +156,15 @@ void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>&
     areas.emplace_back();
     for (const Point2& p : area) areas.back().emplace_back(p[0], p[1]);
   }
+  std::vector<MapPolyline> polylines;
+  for (const EvaluationLine& l : ens.lines()) {
+    polylines.emplace_back();
+    for (const auto& p : l.points) polylines.back().points.emplace_back(p[0], p[1]);
+  }
+  for (const Barrier& b : ens.barriers()) {
+    polylines.push_back(MapPolyline{{}, MapPolyline::Kind::kBarrier});
+    for (const auto& p : b.points) polylines.back().points.emplace_back(p[0], p[1]);
+  }
   const std::vector<double>& passages = layers[0].values;
   // Every map shows the same window: --extent, or the reached area and the release areas with
   // a margin.
@@ -159,7 +173,7 @@ void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>&
     MapLayer layer{layers[k].name, layers[k].title, layers[k].units,
                    mappedValues(layers[k].name, layers[k].values, passages),
                    mappedOnLogScale(layers[k].name)};
-    writeHazardMap(ens.dem(), layer, areas, files_->maps[k].string(), rules_, window);
+    writeHazardMap(ens.dem(), layer, areas, files_->maps[k].string(), rules_, window, polylines);
     written_ += ", " + files_->maps[k].filename().string();
   }
   // The energy's 95th percentile in the Swiss intensity classes.
@@ -169,7 +183,8 @@ void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>&
   MapLayer intensity{"intensity", "Intensity: energy p95 low < 30, medium 30-300, high > 300 kJ",
                      "", mappedValues("energy_p95", layers[p95].values, passages)};
   intensity.classes = swissRockfallIntensity();
-  writeHazardMap(ens.dem(), intensity, areas, files_->maps[layers.size()].string(), rules_, window);
+  writeHazardMap(ens.dem(), intensity, areas, files_->maps[layers.size()].string(), rules_, window,
+                 polylines);
   written_ += ", " + files_->maps[layers.size()].filename().string();
 
   std::vector<double> runouts, reach;
@@ -200,6 +215,30 @@ int EnsembleFiles::write(const Ensemble& ens, const EnsembleRunInfo& info,
     commit(*files_->converge);
   }
   if (options_.maps) writeMaps(ens, layers, runs);
+  if (files_->barriers) {
+    // Summed over the realisations, in index order.
+    std::vector<BarrierResult> sum(ens.barriers().size());
+    std::vector<std::int64_t> failed(sum.size(), 0);
+    for (const RealisationResult& r : runs)
+      for (std::size_t b = 0; b < r.barriers.size() && b < sum.size(); ++b) {
+        sum[b].hits += r.barriers[b].hits;
+        sum[b].stopped += r.barriers[b].stopped;
+        sum[b].passed += r.barriers[b].passed;
+        sum[b].maxEnergy = std::max(sum[b].maxEnergy, r.barriers[b].maxEnergy);
+        failed[b] += r.barriers[b].failed ? 1 : 0;
+      }
+    writeBarriersCsv(files_->barriers->stream(), ens.barriers(), sum, failed);
+    commit(*files_->barriers);
+  }
+  if (files_->lines) {
+    // Realisations in index order, each one's crossings in time order: the same rows for any
+    // --jobs, ranks or shards.
+    std::vector<LineCrossing> crossings;
+    for (const RealisationResult& r : runs)
+      crossings.insert(crossings.end(), r.crossings.begin(), r.crossings.end());
+    written_ += ", " + files_->lines->write(ens.lines(), crossings,
+                                            static_cast<std::int64_t>(runs.size()), dem.shift);
+  }
   writeEnsembleSummary(files_->summary->stream(), ens.spec(), dem, info, runs, layers, conv);
   commit(*files_->summary);
   return videoCode;

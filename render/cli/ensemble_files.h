@@ -26,6 +26,8 @@ struct EnsembleFileOptions {
   bool maps = false;           // a PNG per statistic and runout.png
   std::vector<double> extent;  // --extent XMIN,YMIN,XMAX,YMAX of the maps; empty: the reached area
   int videoRuns = 0;           // ensemble_subset.bake and trajectories.mp4
+  bool lines = false;          // the scene has evaluation lines: crossings.csv, lines.csv
+  bool barriers = false;       // the scene has barriers: barriers.csv
   bool overwrite = false, neverOverwrite = false, quiet = false;
 };
 

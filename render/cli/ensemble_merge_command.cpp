@@ -88,6 +88,8 @@ int runMerge(const MergeOptions& o) {
   const Ensemble ensemble(spec);
   EnsembleFileOptions files = o.files;
   files.paths = header.paths;
+  files.lines = !spec.evaluationLines.empty();
+  files.barriers = !spec.barriers.empty();
   EnsembleFiles outputs(files, rules, ensemble.dem());
   const std::string journalPath = (fs::path(o.files.outDir) / kJournalName).string();
   checkOutputPath(journalPath, rules);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "render/cli/commands.h"
+#include "render/cli/lines_output.h"
 #include "render/cli/options.h"
 #include "render/cli/outcomes_output.h"
 #include "render/cli/run_output.h"
@@ -29,6 +30,8 @@ struct SimulateOptions {
   std::string summary;
   std::string bake;
   std::string outcomes;
+  std::string lines;         // --lines DIR: the evaluation lines' files
+  std::string barriers;      // --barriers FILE: per-barrier results
   SceneOverrides overrides;  // --level, --step, --collider, run limits, --repair
   bool quiet = false;
   bool overwrite = false;       // -y
@@ -63,6 +66,18 @@ int runSimulate(const SimulateOptions& o) {
       throw InputError(spec.path, "--outcomes needs a scene with terrain ([ground] heightfield)");
     outcomes.emplace(o.outcomes, rules);
   }
+  std::optional<LineFiles> lineFiles;
+  if (!o.lines.empty()) {
+    if (spec.evaluationLines.empty())
+      throw InputError(spec.path, "--lines needs [[evaluation_lines]] in the scene");
+    lineFiles.emplace(o.lines, rules, true);
+  }
+  std::optional<OutputFile> barriersFile;
+  if (!o.barriers.empty()) {
+    if (spec.barriers.empty())
+      throw InputError(spec.path, "--barriers needs [[barriers]] in the scene");
+    barriersFile.emplace(o.barriers, rules);
+  }
   installStopHandlers();
 
   BuiltScene built = buildScene(spec);
@@ -72,13 +87,23 @@ int runSimulate(const SimulateOptions& o) {
   if (bakeFile) {
     bake = bakeHeader(spec, built);
     addBakeRecord(*bake, *built.world);  // t = 0, before the first step
-    recorder.setAfterStep([&] { addBakeRecord(*bake, *built.world); });
   }
   // Decided on the last step at or before each frame (Recorder::setRunEnds).
   recorder.setRunEnds([&] {
     return !built.world->stopReason().empty() ||
            (spec.stopWhenSettled && built.world->allSettled());
   });
+  // Crossings are found on the world's steps, not on the frames (sim/ground/evaluation_lines.h).
+  std::optional<CrossingRecorder> crossings;
+  if (lineFiles) {
+    crossings.emplace(built.evaluationLines);
+    crossings->observe(*built.world);
+  }
+  if (bake || crossings)
+    recorder.setAfterStep([&] {
+      if (bake) addBakeRecord(*bake, *built.world);
+      if (crossings) crossings->observe(*built.world);
+    });
 
   // Frame by frame; a stop signal ends the run after the frame in hand (output_file.h).
   Progress progress(spec.name, recorder.frameCount(), !o.quiet);
@@ -137,6 +162,20 @@ int runSimulate(const SimulateOptions& o) {
     else
       writeOutcomesCsv(outcomes->stream(), *built.world);
     wrote(*outcomes);
+  }
+  if (lineFiles) {
+    std::int64_t rocks = 0;
+    for (const RockOutcome& r : built.world->outcomes()) rocks += r.released ? 1 : 0;
+    lineFiles->write(built.evaluationLines, crossings->crossings(), rocks,
+                     built.world->def().terrain->shift);
+    written += (written.empty() ? "" : ", ") + o.lines;
+  }
+  if (barriersFile) {
+    std::vector<std::int64_t> failed;
+    for (const BarrierResult& r : built.barriers->results()) failed.push_back(r.failed ? 1 : 0);
+    writeBarriersCsv(barriersFile->stream(), built.barriers->barriers(), built.barriers->results(),
+                     failed);
+    wrote(*barriersFile);
   }
   if (summary) {
     // An interrupted run's summary says so, and up to which frame it holds.
@@ -200,6 +239,14 @@ void addSimulateCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--outcomes", o->outcomes,
                   "write per-rock outcomes (rock fall on terrain) to this file: CSV, or GeoJSON "
                   "when it ends in .geojson")
+      ->type_name("FILE");
+  sub->add_option("--lines", o->lines,
+                  "write the crossings of the scene's [[evaluation_lines]] to this folder: "
+                  "crossings.csv, lines.csv, lines.png (histograms), lines_profile.png")
+      ->type_name("DIR");
+  sub->add_option("--barriers", o->barriers,
+                  "write per-barrier results of the scene's [[barriers]] to this CSV file: hits, "
+                  "rocks stopped and passed, largest energy at a hit, failure")
       ->type_name("FILE");
   addPhysicsOptions(*sub, o->overrides);
   addThreadsOption(*sub, o->overrides);

@@ -140,6 +140,22 @@ std::pair<bool, bool> writeReleaseAreas(const std::vector<std::vector<Vec2>>& ar
   return {anyLine, anyPoint};
 }
 
+// The polylines of one kind in map coordinates, as blank-line separated runs; returns whether
+// there is any.
+bool writePolylines(const std::vector<MapPolyline>& polylines, MapPolyline::Kind kind,
+                    const MapFrame& f, const std::string& path) {
+  std::ofstream o(path);
+  o << std::setprecision(15);
+  bool any = false;
+  for (const MapPolyline& l : polylines) {
+    if (l.kind != kind || l.points.size() < 2) continue;
+    for (const Vec2& p : l.points) o << p.x() - f.shiftX << ' ' << p.y() - f.shiftY << '\n';
+    o << "\n\n";
+    any = true;
+  }
+  return any;
+}
+
 std::string hexColour(const Rgb8& c) {
   char hex[8];
   std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c.r, c.g, c.b);
@@ -266,7 +282,8 @@ std::vector<double> mappedValues(const std::string& name, const std::vector<doub
 
 void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
                     const std::vector<std::vector<Vec2>>& releaseAreas, const std::string& pngPath,
-                    const OutputRules& rules, const MapWindow& window) {
+                    const OutputRules& rules, const MapWindow& window,
+                    const std::vector<MapPolyline>& polylines) {
   if (dem.nx < 1 || dem.ny < 1 || dem.z.size() != static_cast<std::size_t>(dem.nx) * dem.ny)
     throw InputError(pngPath, "hazard map: the DEM has no samples");
   if (layer.values.size() != dem.z.size())
@@ -296,6 +313,11 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
   const std::string lines = scratch.file("release_lines.dat");
   const std::string points = scratch.file("release_points.dat");
   const auto [anyLine, anyPoint] = writeReleaseAreas(releaseAreas, f, lines, points);
+  const std::string evaluation = scratch.file("evaluation_lines.dat");
+  const std::string barriers = scratch.file("barriers.dat");
+  const bool anyEvaluation =
+      writePolylines(polylines, MapPolyline::Kind::kEvaluationLine, f, evaluation);
+  const bool anyBarrier = writePolylines(polylines, MapPolyline::Kind::kBarrier, f, barriers);
 
   const double w = f.xMax - f.xMin, h = f.yMax - f.yMin;
   const double mPerPx = w / f.plotWidth;                   // same along y
@@ -385,6 +407,12 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
   if (anyPoint)
     s << ", " << gnuplotString(points) << " using 1:2 with points pt 7 ps 1.6 lc rgb '"
       << kReleaseColour << "'" << key();
+  if (anyEvaluation)
+    s << ", " << gnuplotString(evaluation)
+      << " using 1:2 with lines lw 2.5 lc rgb '#0072b2' title 'Evaluation line'";
+  if (anyBarrier)
+    s << ", " << gnuplotString(barriers) << " using 1:2 with lines lw 4 lc rgb '#000000' title "
+      << "'Barrier'";
   s << "\nset output\n";
   fig::runGnuplot(s.str(), pngPath);
   out.commit();

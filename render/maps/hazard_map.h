@@ -101,6 +101,14 @@ MapFrame hazardMapFrame(const Heightfield& dem, const MapWindow& window = {});
 std::vector<double> mappedValues(const std::string& name, const std::vector<double>& values,
                                  const std::vector<double>& passages);
 
+// A polyline drawn over a map, world (x, y) points, m: an evaluation line (blue, docs/rockfall.md)
+// or a barrier (black, thicker).
+struct MapPolyline {
+  enum class Kind { kEvaluationLine, kBarrier };
+  std::vector<Vec2> points;
+  Kind kind = Kind::kEvaluationLine;
+};
+
 // Writes a PNG map of `layer` over a hillshade of `dem` (hillshade.h: Horn's slope and aspect,
 // sun at azimuth 315 deg, altitude 45 deg): each map pixel shows the largest value of the
 // samples it covers (the sample under it when a pixel is smaller than a cell), in viridis
@@ -113,10 +121,12 @@ std::vector<double> mappedValues(const std::string& name, const std::vector<doub
 // a line. `rules` as for every output (output_file.h). Throws InputError (naming the file) if
 // values has the wrong size, the path cannot be written under `rules`, or gnuplot fails; a file
 // already at pngPath is then left as it was, and no temporary file remains.
-// `window` chooses the part of the grid shown (default: all of it).
+// `window` chooses the part of the grid shown (default: all of it); `polylines` are drawn over
+// the map, each kind with one legend entry.
 void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
                     const std::vector<std::vector<Vec2>>& releaseAreas, const std::string& pngPath,
-                    const OutputRules& rules = replaceOutputs(), const MapWindow& window = {});
+                    const OutputRules& rules = replaceOutputs(), const MapWindow& window = {},
+                    const std::vector<MapPolyline>& polylines = {});
 
 // Size of the runout plot's PNG, px.
 inline constexpr int kRunoutPlotWidthPx = 1000, kRunoutPlotHeightPx = 450;

@@ -101,11 +101,16 @@ Ensemble::Ensemble(const SceneSpec& spec) : spec_(spec) {
   base_.threads = 1;                    // parallel over realisations instead
   VF_ASSERT(base_.terrain != nullptr);  // loadScene requires a heightfield with [ensemble]
   release_ = std::make_shared<const ReleaseSources>(e.releases, base_.terrain, spec_.terrainPath);
+  const Heightfield& dem = *base_.terrain;
+  lines_ = sceneEvaluationLines(spec_, dem);
+  barriers_ = sceneBarriers(spec_, dem);
+  for (const Barrier& b : barriers_) barrierPieces_.push_back(barrierPieces(b, dem, spec_.level));
   const auto built = buildSceneShapes(spec_);
   for (const std::string& name : e.shapes) shapes_.push_back(built.at(name).shape);
 }
 
-std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex) const {
+std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex,
+                                           std::shared_ptr<const BarrierMonitor>* barriers) const {
   const EnsembleSpec& e = *spec_.ensemble;
   // One generator per realisation drawing the same numbers whatever is switched on, so that
   // varying one thing does not reshuffle the others. The release point gets its own stream
@@ -168,6 +173,8 @@ std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex) 
   body.dropHeight = e.dropHeight;
   auto world = std::make_unique<World>(std::move(def));
   world->addBody(body);
+  auto monitor = attachBarriers(*world, barriers_, barrierPieces_);
+  if (barriers) *barriers = std::move(monitor);
   return world;
 }
 
@@ -191,7 +198,8 @@ RealisationResult Ensemble::run(std::int64_t index, std::uint64_t seed, bool kee
   RealisationResult r;
   r.index = index;
   r.seed = seed;
-  std::unique_ptr<World> world = makeWorld(seed, &r.shape);
+  std::shared_ptr<const BarrierMonitor> barriers;
+  std::unique_ptr<World> world = makeWorld(seed, &r.shape, &barriers);
   World& w = *world;
   const Heightfield& dem = *base_.terrain;
 
@@ -211,6 +219,9 @@ RealisationResult Ensemble::run(std::int64_t index, std::uint64_t seed, bool kee
     }
   };
 
+  // Crossings of the evaluation lines on the step states (sim/ground/evaluation_lines.h).
+  CrossingRecorder lines(lines_);
+  lines.observe(w, index);
   SampleValues before = sample(w, dem);
   Vec3 xBefore = w.state(0).x;
   r.maxEnergy = before.energy;
@@ -230,6 +241,7 @@ RealisationResult Ensemble::run(std::int64_t index, std::uint64_t seed, bool kee
       throw std::runtime_error("realisation " + std::to_string(index) + " (seed " +
                                std::to_string(seed) + "): " + e.what());
     }
+    lines.observe(w, index);
     const SampleValues after = sample(w, dem);
     const Vec3 x = w.state(0).x;
     const SampleValues most{std::max(before.energy, after.energy),
@@ -257,6 +269,8 @@ RealisationResult Ensemble::run(std::int64_t index, std::uint64_t seed, bool kee
   r.mass = w.shape(0).mass;
   r.steps = static_cast<std::int64_t>(w.totals().steps);
   r.checksum = w.stepsHash();
+  r.crossings = lines.crossings();
+  if (barriers) r.barriers = barriers->results();
   return r;
 }
 
@@ -376,6 +390,11 @@ std::size_t takeCount(const std::string& s, std::size_t& pos, std::size_t itemBy
   return static_cast<std::size_t>(n);
 }
 
+// A serialised LineCrossing: line, direction, rock, time, two energies, height, point, velocity.
+constexpr std::size_t kCrossingBytes = 4 + 4 + 8 + 4 * 8 + 6 * 8;
+// A serialised BarrierResult: hits, stopped, passed, max energy, failed.
+constexpr std::size_t kBarrierBytes = 3 * 8 + 8 + 1;
+
 }  // namespace
 
 void serializeResult(const RealisationResult& r, std::string& s) {
@@ -403,6 +422,21 @@ void serializeResult(const RealisationResult& r, std::string& s) {
   for (const PathPoint& p : r.path) {
     put(s, p.time);
     putVec(s, p.x);
+  }
+  put<std::uint64_t>(s, r.crossings.size());
+  for (const LineCrossing& c : r.crossings) {
+    put(s, c.line);
+    put(s, c.direction);
+    put(s, c.rock);
+    for (double v : {c.time, c.translationalEnergy, c.rotationalEnergy, c.height}) put(s, v);
+    putVec(s, c.point);
+    putVec(s, c.velocity);
+  }
+  put<std::uint64_t>(s, r.barriers.size());
+  for (const BarrierResult& b : r.barriers) {
+    for (std::int64_t n : {b.hits, b.stopped, b.passed}) put(s, n);
+    put(s, b.maxEnergy);
+    put<std::uint8_t>(s, b.failed ? 1 : 0);
   }
 }
 
@@ -438,6 +472,26 @@ RealisationResult deserializeResult(const std::string& s, std::size_t& pos) {
   for (PathPoint& p : r.path) {
     p.time = take<double>(s, pos);
     p.x = takeVec(s, pos);
+  }
+  r.crossings.resize(takeCount(s, pos, kCrossingBytes));
+  for (LineCrossing& c : r.crossings) {
+    c.line = take<std::int32_t>(s, pos);
+    c.direction = take<std::int32_t>(s, pos);
+    c.rock = take<std::int64_t>(s, pos);
+    c.time = take<double>(s, pos);
+    c.translationalEnergy = take<double>(s, pos);
+    c.rotationalEnergy = take<double>(s, pos);
+    c.height = take<double>(s, pos);
+    c.point = takeVec(s, pos);
+    c.velocity = takeVec(s, pos);
+  }
+  r.barriers.resize(takeCount(s, pos, kBarrierBytes));
+  for (BarrierResult& b : r.barriers) {
+    b.hits = take<std::int64_t>(s, pos);
+    b.stopped = take<std::int64_t>(s, pos);
+    b.passed = take<std::int64_t>(s, pos);
+    b.maxEnergy = take<double>(s, pos);
+    b.failed = take<std::uint8_t>(s, pos) != 0;
   }
   return r;
 }

@@ -58,9 +58,11 @@ struct RealisationResult {
   double volume = 0;                     // m^3, of the rock as released
   double mass = 0;                       // kg
   std::int64_t steps = 0;
-  std::uint64_t checksum = 0;      // World::stepsHash(): the trajectory, bit for bit
-  std::vector<CellPassage> cells;  // sorted by cell, each cell once
-  std::vector<PathPoint> path;     // every step, only when asked for
+  std::uint64_t checksum = 0;           // World::stepsHash(): the trajectory, bit for bit
+  std::vector<CellPassage> cells;       // sorted by cell, each cell once
+  std::vector<PathPoint> path;          // every step, only when asked for
+  std::vector<LineCrossing> crossings;  // of the scene's evaluation lines, in time order
+  std::vector<BarrierResult> barriers;  // per [[barriers]] barrier (sim/ground/barriers.h)
 };
 
 // The seed of realisation i of an ensemble with seed S: SplitMix64 of (SplitMix64(S) + i).
@@ -86,14 +88,19 @@ class Ensemble {
   // `keepPath`, every step's centre of mass is kept in `path`.
   RealisationResult run(std::int64_t index, std::uint64_t seed, bool keepPath,
                         const std::function<bool()>& stop = {}) const;
-  // The World of realisation `index` before its first step (one dynamic body, id 0).
-  std::unique_ptr<World> makeWorld(std::uint64_t seed, int* shapeIndex = nullptr) const;
+  // The World of realisation `index` before its first step (one dynamic body, id 0, then the
+  // barriers' static pieces, whose monitor goes to `barriers` when given).
+  std::unique_ptr<World> makeWorld(std::uint64_t seed, int* shapeIndex = nullptr,
+                                   std::shared_ptr<const BarrierMonitor>* barriers = nullptr) const;
+  const std::vector<Barrier>& barriers() const { return barriers_; }
 
   const SceneSpec& spec() const { return spec_; }
   const EnsembleSpec& ensemble() const { return *spec_.ensemble; }
   const Heightfield& dem() const { return *base_.terrain; }
   // The release sources as world x, y outlines for maps (ReleaseSources::outlines).
   std::vector<std::vector<Point2>> releaseAreas() const;
+  // The scene's evaluation lines, world coordinates (sceneEvaluationLines).
+  const std::vector<EvaluationLine>& lines() const { return lines_; }
 
  private:
   SceneSpec spec_;
@@ -105,6 +112,9 @@ class Ensemble {
   // `source` ([ensemble] volume and density), or `shape` itself without them.
   std::shared_ptr<const Shape> sized(const std::shared_ptr<const Shape>& shape, int source,
                                      std::uint64_t seed) const;
+  std::vector<EvaluationLine> lines_;
+  std::vector<Barrier> barriers_;
+  std::vector<std::vector<BarrierPiece>> barrierPieces_;  // built once, shared by every world
 };
 
 // Runs realisations `indices` of `ensemble` on `jobs` threads (each takes the next index in

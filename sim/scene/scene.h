@@ -13,6 +13,8 @@
 
 #include "sim/core/math.h"
 #include "sim/geometry/rock_mesh.h"
+#include "sim/ground/barriers.h"
+#include "sim/ground/evaluation_lines.h"
 #include "sim/world.h"
 
 namespace vf {
@@ -181,6 +183,28 @@ struct EnsembleSpec {
   std::string where;  // "file:line:column" of [ensemble]
 };
 
+// [[evaluation_lines]] (docs/rockfall.md, "Evaluation lines"): a polyline whose vertical curtain
+// records every rock crossing it. Written in the DEM file's coordinates (its CRS, before
+// [ground] offset) in the scene (`points`), or read from a vector file (`file`, each line feature
+// one evaluation line) into the DEM's CRS when the scene is built.
+struct EvaluationLineSpec {
+  std::string name;
+  std::vector<Point2> points;           // DEM file coordinates x, y, m; empty with `file`
+  std::vector<std::string> pointWhere;  // "file:line:column" of each point
+  std::string file;                     // vector file (OGR), resolved; empty: `points`
+  std::string layer;                    // the file's layer; empty: its first
+  std::string where;                    // "file:line:column" of the line's table
+};
+
+// [[barriers]] (docs/rockfall.md, "Barriers"): a rockfall net or wall along a polyline, given as
+// an evaluation line is (`line`: name, points or file, where), with its height and capacity.
+struct BarrierSpec {
+  EvaluationLineSpec line;
+  double height = 0;       // m above the ground
+  double capacity = 0;     // kJ
+  double thickness = 0.3;  // m
+};
+
 // A calendar date (the proleptic Gregorian calendar).
 struct CivilDate {
   int year = 2000, month = 1, day = 1;
@@ -269,7 +293,9 @@ struct SceneSpec {
   std::vector<CameraSpec> cameras;  // [cameras.NAME] tables, in file order
   LightSpec light;                  // [light]
   OutputSpec output;
-  std::optional<EnsembleSpec> ensemble;  // [ensemble]
+  std::optional<EnsembleSpec> ensemble;             // [ensemble]
+  std::vector<EvaluationLineSpec> evaluationLines;  // [[evaluation_lines]]
+  std::vector<BarrierSpec> barriers;                // [[barriers]]
 };
 
 // Parses and validates a scene file. Unknown keys, wrong types, impossible values and missing
@@ -334,9 +360,24 @@ void selectCamera(SceneSpec& spec, const std::string& name);
 // buildScene and the renderer of a bake.
 std::shared_ptr<const Heightfield> loadSceneTerrain(const SceneSpec& spec);
 
+// The scene's evaluation lines in world coordinates on its terrain `dem` (file coordinates
+// plus dem.shift). Throws InputError naming the line and point when a vertex lies off the DEM
+// or over NODATA.
+std::vector<EvaluationLine> sceneEvaluationLines(const SceneSpec& spec, const Heightfield& dem);
+// The scene's barriers in world coordinates on `dem` (capacity in J), checked as the lines are.
+std::vector<Barrier> sceneBarriers(const SceneSpec& spec, const Heightfield& dem);
+// Adds the barriers' static pieces (`pieces[b]`: barrierPieces of barrier b) to `world` and
+// makes their capacity rule act after every step (World::addStepListener); the returned monitor
+// holds their results.
+std::shared_ptr<const BarrierMonitor> attachBarriers(
+    World& world, const std::vector<Barrier>& barriers,
+    const std::vector<std::vector<BarrierPiece>>& pieces);
+
 // A World built from a spec, with what the renderer needs to draw it.
 struct BuiltScene {
   std::unique_ptr<World> world;
+  std::vector<EvaluationLine> evaluationLines;     // world coordinates (sceneEvaluationLines)
+  std::shared_ptr<const BarrierMonitor> barriers;  // null without [[barriers]]
   std::vector<Color> colors;         // per body id: the body's, its shape's, or the palette
   std::vector<std::string> shapeOf;  // per body id: shape name
 };

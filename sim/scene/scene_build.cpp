@@ -266,6 +266,8 @@ WorldDef sceneWorldDef(const SceneSpec& spec) {
 BuiltScene buildScene(const SceneSpec& spec) {
   BuiltScene out;
   out.world = std::make_unique<World>(sceneWorldDef(spec));
+  if (out.world->def().terrain)
+    out.evaluationLines = sceneEvaluationLines(spec, *out.world->def().terrain);
   const auto shapes = buildSceneShapes(spec);
 
   std::vector<std::string> where;  // per body id, for the run-length check
@@ -324,6 +326,20 @@ BuiltScene buildScene(const SceneSpec& spec) {
       if (e.dropHeight) def.dropHeight = *e.dropHeight;
       def.clearRelease = e.clearRelease;
       add(s, e.shape, def, e.color, e.where);
+    }
+  }
+  if (out.world->def().terrain && !spec.barriers.empty()) {
+    // After every rock, so body ids of bodies and emitters stay as the scene numbers them.
+    const std::vector<Barrier> barriers = sceneBarriers(spec, *out.world->def().terrain);
+    std::vector<std::vector<BarrierPiece>> pieces;
+    for (const Barrier& b : barriers)
+      pieces.push_back(barrierPieces(b, *out.world->def().terrain, spec.level));
+    const int first = out.world->bodyCount();
+    out.barriers = attachBarriers(*out.world, barriers, pieces);
+    for (int id = first; id < out.world->bodyCount(); ++id) {
+      out.colors.push_back(Color{0.25f, 0.25f, 0.27f});
+      out.shapeOf.push_back(out.world->shape(id).name);
+      where.push_back(spec.path);
     }
   }
   checkRunLength(*out.world, spec.duration, spec.limits, where);

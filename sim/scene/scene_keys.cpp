@@ -8,7 +8,7 @@ const std::vector<SceneTableKeys>& sceneTableKeys() {
   static const std::vector<SceneTableKeys> tables = {
       {"",
        {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera", "cameras",
-        "light", "output", "ensemble"}},
+        "light", "output", "ensemble", "evaluation_lines", "barriers"}},
       {"simulation",
        {"duration", "level", "step", "gravity", "fps", "collider", "method", "contact_reduction",
         "sleep", "stop", "rest", "rotation", "max_steps", "max_speed"}},
@@ -49,6 +49,8 @@ const std::vector<SceneTableKeys>& sceneTableKeys() {
       {"ensemble.release",
        {"area", "line", "points", "cells", "file", "layer", "weight_field", "weight", "volume"}},
       {"ensemble.volume", {"distribution", "median", "sigma", "exponent", "min", "max"}},
+      {"evaluation_lines", {"name", "points", "file", "layer"}},
+      {"barriers", {"name", "points", "file", "layer", "height", "capacity", "thickness"}},
   };
   return tables;
 }

@@ -171,6 +171,10 @@ SceneSpec loadScene(const std::string& path) {
   if (const auto* n = root.get("output")) readOutput(r, r.table(*n, "output"), spec);
   if (const auto* n = root.get("ensemble"))
     readEnsemble(r, r.table(*n, "ensemble"), sceneFolder, spec);
+  if (const auto* n = root.get("evaluation_lines"))
+    readEvaluationLines(r, arrayOfTables(r, *n, "evaluation_lines"), sceneFolder, spec);
+  if (const auto* n = root.get("barriers"))
+    readBarriers(r, arrayOfTables(r, *n, "barriers"), sceneFolder, spec);
 
   // Frame k is at k / fps for k = 0 .. floor(duration * fps): keep that count allocatable.
   if (spec.duration * spec.fps > kMaxSceneFrames) {

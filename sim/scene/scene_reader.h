@@ -220,5 +220,9 @@ void readCameras(const Reader& r, const toml::table& t, SceneSpec& spec);
 void readOutput(const Reader& r, const toml::table& t, SceneSpec& spec);
 void readEnsemble(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                   SceneSpec& spec);
+void readEvaluationLines(const Reader& r, const toml::array& lines, const fs::path& sceneFolder,
+                         SceneSpec& spec);
+void readBarriers(const Reader& r, const toml::array& barriers, const fs::path& sceneFolder,
+                  SceneSpec& spec);
 
 }  // namespace vf::scene_reading
