@@ -32,15 +32,7 @@ void writeRaster(const std::filesystem::path& path, const Raster& r) {
   ASSERT_NE(ds, nullptr);
   double gt[6] = {r.west, r.cell, 0, r.north, 0, -r.cell};
   if (r.georeferenced) GDALSetGeoTransform(ds, gt);
-  if (r.epsg != 0) {
-    OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
-    OSRImportFromEPSG(srs, r.epsg);
-    char* wkt = nullptr;
-    OSRExportToWkt(srs, &wkt);
-    GDALSetProjection(ds, wkt);
-    CPLFree(wkt);
-    OSRDestroySpatialReference(srs);
-  }
+  if (r.epsg != 0) test::setEpsg(ds, r.epsg);
   std::vector<double> v(static_cast<std::size_t>(r.nx) * r.ny);
   for (int row = 0; row < r.ny; ++row)
     for (int i = 0; i < r.nx; ++i)
