@@ -175,4 +175,33 @@ TEST_F(ForestInput, ASpeciesClassWithoutAFactorIsRefused) {
   EXPECT_EQ(s.speciesFactor, 1.3);
 }
 
+// The scene file's [forest]: a missing raster is named where the scene names it; a negative
+// number is refused at its key; a raster's value problems come when the world is built, before
+// any step.
+TEST_F(ForestInput, TheSceneTableNamesAMissingFileAndRefusesANegativeNumber) {
+  const auto errorOfScene = [&](const std::string& forest) {
+    test::writeChuteScene(dir_, test::kChuteEnsemble, 3.0);
+    std::ofstream(dir_ / "scene.toml", std::ios::app) << "[forest]\n" << forest;
+    try {
+      sceneWorldDef(loadScene((dir_ / "scene.toml").string()));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  std::string m = errorOfScene("density = \"trees.tif\"\ndbh = 30\n");
+  EXPECT_NE(m.find("stem density raster not found"), std::string::npos) << m;
+  EXPECT_NE(m.find((dir_ / "trees.tif").string()), std::string::npos) << m;
+  m = errorOfScene("density = -3\ndbh = 30\n");
+  EXPECT_NE(m.find("'density' must be >= 0 stems/ha"), std::string::npos) << m;
+  m = errorOfScene("density = 400\n");
+  EXPECT_NE(m.find("missing required key 'dbh'"), std::string::npos) << m;
+  Raster negative;
+  negative.value = [](double, double) { return -1.0; };
+  writeRaster(dir_ / "trees.tif", negative);
+  m = errorOfScene("density = \"trees.tif\"\ndbh = 30\n");
+  EXPECT_NE(m.find((dir_ / "trees.tif").string() + ": stem density -1"), std::string::npos) << m;
+  EXPECT_EQ(errorOfScene("density = 400\ndbh = 30\nseed = 7\n"), "no error");
+}
+
 }  // namespace vf
