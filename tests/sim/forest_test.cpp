@@ -109,11 +109,12 @@ TEST(Forest, AStemStrongerThanTheRockStopsIt) {
   EXPECT_NEAR(law.hits(0).absorbed, k0, 1e-12 * k0);
 }
 
-// Counting: 20,000 bodies each crossing 2 m of a 300 stems/ha, 25 cm stand with a 0.5 m rock
-// (p = 1 - exp(-0.03 * 0.75 * 2) = 0.0440). The fraction hit is binomial with standard
-// deviation sqrt(p (1 - p) / N) = 0.00145; 4 of them bound it.
+// Counting: 20,000 bodies each crossing 2 m of a 300 stems/ha, 25 cm stand with a 1 m rock:
+// p = 1 - exp(-0.03 * 1.25 * 2) = 0.0723, computed here from the formula, not by the law's
+// function. The fraction hit is binomial with standard deviation sqrt(p (1 - p) / N) = 0.00183;
+// 4 of them bound it.
 TEST(Forest, TheFractionOfRocksHitMatchesTheProbability) {
-  const double p = stemHitProbability(300, 25, 1.0, 2.0);
+  const double p = 1 - std::exp(-0.03 * 1.25 * 2.0);
   auto forest = uniformStand(300, 25);
   auto s = test::smoothBall(0.5, 1000);  // volume-equivalent diameter 1 m
   const int n = 20000;
