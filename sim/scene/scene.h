@@ -171,6 +171,8 @@ struct ForestSpec {
   double densityValue = 0;             // `density` as a number, stems/ha
   std::string dbhPath;                 // `dbh` raster, cm; empty: dbhValue
   double dbhValue = 0;                 // `dbh` as a number, cm
+  std::string treesPath;               // `trees` point file, instead of density and dbh
+  std::string treesDbhField = "dbh";   // `trees_dbh_field`: its DBH field, cm
   std::string speciesPath;             // `species` class raster; empty: every stem class 0
   std::vector<double> speciesFactors;  // `species_factors`, per class; empty: [1]
   std::optional<double> stemHeight;    // `stem_height`, m

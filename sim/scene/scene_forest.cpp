@@ -1,5 +1,6 @@
 // A scene's [forest] -> the stand on the DEM's grid (sim/ground/forest.h): rasters resampled by
-// GDAL (sim/shape/dem_grid_raster.h), numbers spread over every sample, and every value checked
+// GDAL (sim/shape/dem_grid_raster.h), tree points counted per cell (sim/shape/tree_points.h),
+// numbers spread over every sample, and every value checked
 // before a step is taken, so bad input stops the run before anything is written.
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include "sim/core/error.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/dem_grid_raster.h"
+#include "sim/shape/tree_points.h"
 
 namespace vf {
 namespace {
@@ -64,8 +66,14 @@ std::shared_ptr<const Forest> buildSceneForest(const SceneSpec& spec,
   const Heightfield& dem = *terrain;
   auto forest = std::make_shared<Forest>();
   forest->grid = terrain;
-  forest->density = quantity(f.densityPath, f.densityValue, dem, "stem density", "stems/ha");
-  forest->dbh = quantity(f.dbhPath, f.dbhValue, dem, "mean DBH", "cm");
+  if (!f.treesPath.empty()) {
+    TreeStand trees = loadTreePoints(f.treesPath, f.treesDbhField, dem);
+    forest->density = std::move(trees.density);
+    forest->dbh = std::move(trees.dbh);
+  } else {
+    forest->density = quantity(f.densityPath, f.densityValue, dem, "stem density", "stems/ha");
+    forest->dbh = quantity(f.dbhPath, f.dbhValue, dem, "mean DBH", "cm");
+  }
   forest->speciesFactor = f.speciesFactors.empty() ? std::vector<double>{1.0} : f.speciesFactors;
   if (!f.speciesPath.empty())
     forest->species = speciesClasses(f, dem, forest->speciesFactor.size());

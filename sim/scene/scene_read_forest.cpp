@@ -1,5 +1,6 @@
 // [forest]: a stand on the DEM's grid (sim/ground/forest.h): stem density and mean DBH, each a
-// raster or one number, optionally a species class raster with a factor per class.
+// raster or one number, or a point file of trees; optionally a species class raster with a
+// factor per class.
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -34,10 +35,22 @@ void readForest(const Reader& r, const toml::table& t, const fs::path& sceneFold
     r.fail(t, "[forest] lies on the DEM's grid; give [ground] heightfield");
   ForestSpec f;
   f.where = r.where(t);
-  rasterOrNumber(r, r.require(t, "density", "[forest]"), "density", sceneFolder, "stem density",
-                 "stems/ha", f.densityPath, f.densityValue);
-  rasterOrNumber(r, r.require(t, "dbh", "[forest]"), "dbh", sceneFolder, "mean DBH", "cm",
-                 f.dbhPath, f.dbhValue);
+  if (const auto* n = t.get("trees")) {
+    for (const char* key : {"density", "dbh"})
+      if (const auto* other = t.get(key))
+        r.fail(*other, "'" + std::string(key) +
+                           "' and 'trees' both describe the stand; give the rasters or the points");
+    f.treesPath = existingFile(r, *n, "trees", sceneFolder, "tree point file");
+  } else {
+    rasterOrNumber(r, r.require(t, "density", "[forest] (or give 'trees')"), "density", sceneFolder,
+                   "stem density", "stems/ha", f.densityPath, f.densityValue);
+    rasterOrNumber(r, r.require(t, "dbh", "[forest]"), "dbh", sceneFolder, "mean DBH", "cm",
+                   f.dbhPath, f.dbhValue);
+  }
+  if (const auto* n = t.get("trees_dbh_field")) {
+    if (!t.get("trees")) r.fail(*n, "'trees_dbh_field' names a field of 'trees'; give 'trees' too");
+    f.treesDbhField = r.string(*n, "trees_dbh_field");
+  }
   if (const auto* n = t.get("species"))
     f.speciesPath = existingFile(r, *n, "species", sceneFolder, "species class raster");
   if (const auto* n = t.get("species_factors")) {

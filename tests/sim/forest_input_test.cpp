@@ -6,7 +6,9 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "sim/core/error.h"
 #include "sim/scene/scene.h"
@@ -202,6 +204,79 @@ TEST_F(ForestInput, TheSceneTableNamesAMissingFileAndRefusesANegativeNumber) {
   m = errorOfScene("density = \"trees.tif\"\ndbh = 30\n");
   EXPECT_NE(m.find((dir_ / "trees.tif").string() + ": stem density -1"), std::string::npos) << m;
   EXPECT_EQ(errorOfScene("density = 400\ndbh = 30\nseed = 7\n"), "no error");
+}
+
+// A GeoJSON point file of trees in EPSG:`epsg` (0: no "crs" member, so WGS 84), each "x y dbh"
+// (file coordinates, cm); a dbh of "null" leaves the field empty.
+std::string treeFile(const std::filesystem::path& path, int epsg,
+                     const std::vector<std::string>& trees) {
+  std::ofstream f(path);
+  f << "{\"type\": \"FeatureCollection\",";
+  if (epsg != 0)
+    f << "\"crs\": {\"type\": \"name\", \"properties\": {\"name\": \"urn:ogc:def:crs:EPSG::" << epsg
+      << "\"}},";
+  f << "\"features\": [";
+  for (std::size_t k = 0; k < trees.size(); ++k) {
+    std::istringstream in(trees[k]);
+    std::string x, y, dbh;
+    in >> x >> y >> dbh;
+    f << (k ? "," : "") << "{\"type\": \"Feature\", \"properties\": {\"dbh\": " << dbh
+      << "}, \"geometry\": {\"type\": \"Point\", \"coordinates\": [" << x << ", " << y << "]}}";
+  }
+  f << "]}";
+  return path.string();
+}
+
+// Trees count in the cell of their nearest DEM sample: two in the 4 m^2 cell of sample (3, 4)
+// (file x 1007, y 5009) make 2 / 0.0004 ha = 5000 stems/ha of mean DBH (20 + 30) / 2 = 25 cm; a
+// tree beyond the grid is left out; every other cell has none.
+TEST_F(ForestInput, TreePointsBecomeADensityAndAMeanDbhPerCell) {
+  SceneSpec spec;
+  spec.terrainPath = (dir_ / "chute.tif").string();
+  spec.forest.emplace();
+  spec.forest->treesPath = treeFile(dir_ / "trees.geojson", 31287,
+                                    {"1007.2 5009.3 20", "1006.4 5008.8 30", "900 5000 50"});
+  const auto f = buildSceneForest(spec, loadSceneTerrain(spec));
+  const std::size_t k = 4 * 60 + 3;
+  EXPECT_DOUBLE_EQ(f->density[k], 5000.0);
+  EXPECT_DOUBLE_EQ(f->dbh[k], 25.0);
+  double total = 0;
+  for (double d : f->density) total += d;
+  EXPECT_DOUBLE_EQ(total, 5000.0);
+}
+
+TEST_F(ForestInput, BadTreePointFilesAreRefusedNamingTheFileAndTheFeature) {
+  const auto errorOfTrees = [&](const std::string& path, const std::string& field = "dbh") {
+    SceneSpec spec;
+    spec.terrainPath = (dir_ / "chute.tif").string();
+    spec.forest.emplace();
+    spec.forest->treesPath = path;
+    spec.forest->treesDbhField = field;
+    try {
+      buildSceneForest(spec, loadSceneTerrain(spec));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // GeoJSON without a "crs" member is WGS 84 (RFC 7946), which conflicts too: the tests name
+  // the DEM's.
+  const std::string ok = treeFile(dir_ / "ok.geojson", 31287, {"1007 5009 20"});
+  EXPECT_EQ(errorOfTrees(ok), "no error");
+  std::string m = errorOfTrees(treeFile(dir_ / "utm.geojson", 32632, {"1007 5009 20"}));
+  EXPECT_NE(m.find((dir_ / "utm.geojson").string() + ": tree point file is in EPSG:32632"),
+            std::string::npos)
+      << m;
+  m = errorOfTrees(treeFile(dir_ / "neg.geojson", 31287, {"1007 5009 20", "1009 5009 -4"}));
+  EXPECT_NE(m.find("feature 1 has DBH -4"), std::string::npos) << m;
+  m = errorOfTrees(ok, "diameter");
+  EXPECT_NE(m.find("no field 'diameter'"), std::string::npos) << m;
+  m = errorOfTrees(treeFile(dir_ / "far.geojson", 31287, {"10 10 20"}));
+  EXPECT_NE(m.find("no tree of the point file stands on the DEM"), std::string::npos) << m;
+  m = errorOfTrees((dir_ / "none.geojson").string());
+  EXPECT_NE(m.find((dir_ / "none.geojson").string() + ": cannot read the tree point file"),
+            std::string::npos)
+      << m;
 }
 
 }  // namespace vf
