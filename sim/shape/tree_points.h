@@ -1,6 +1,6 @@
-// A point file of trees (any vector format OGR reads: GeoPackage, shapefile, GeoJSON, CSV with
-// geometry) turned into a stand on a DEM's samples: per sample's cell, the stems standing in it
-// as a density and their mean DBH. This header holds no GDAL type.
+// A point file of trees (any vector format OGR reads: GeoPackage, shapefile, GeoJSON), read by
+// the shared vector reader (vector_import.h) into the DEM's CRS and turned into a stand on the
+// DEM's samples: per sample's cell, the stems standing in it as a density and their mean DBH.
 #pragma once
 
 #include <string>
@@ -17,10 +17,10 @@ struct TreeStand {
 };
 
 // Reads the point features of `path`'s first layer, each with a numeric field `dbhField` (cm),
-// in the DEM's CRS or in none, and counts each tree in the cell of the DEM sample nearest to it
-// (trees beyond the grid's cells are left out). Throws InputError naming the file when OGR cannot
-// read it, its CRS conflicts with the DEM's, it has no field `dbhField`, a feature is not a point
-// or has a negative or missing DBH (naming the feature), or no tree stands on the grid.
+// transformed into the DEM's CRS, and counts each tree in the cell of the DEM sample nearest to
+// it (trees beyond the grid's cells are left out). Throws InputError naming the file for what
+// readVectorFile refuses (a missing file, no CRS on either side, ...), a feature that is not a
+// point or has no or a negative DBH (naming the feature), or no tree on the grid.
 TreeStand loadTreePoints(const std::string& path, const std::string& dbhField,
                          const Heightfield& dem);
 
