@@ -9,6 +9,7 @@
 //   scar drag (opt-in, rock fall: soft soil over the slip law)   solve/scar_drag.cpp
 //   slippage (opt-in, rock fall: mu(s))   solve/slip_law.cpp
 //   explicit Euler, renormalise q   solve/integrate.cpp
+//   forest (opt-in, rock fall: stems met on the step's path)   ground/forest_law.cpp
 //   sleeping islands          solve/sleep.cpp (optional)
 //   releases (emitters)       solve/release.cpp (drop-height placement)
 // The diagnostics (World::measure) live in collide/penetration.cpp.
@@ -260,6 +261,7 @@ void World::stepToward(double target) {
 
   s.nonFinite = integrate(bodies_, states_, s.dt, def_.rotation, pool_.get());
   time_ = lands ? target : time_ + s.dt;
+  if (def_.forest) forestLaw_.afterStep(*def_.forest, def_.forestSeed, bodies_, states_);
   s.secondsIntegrate = clock.lap();
 
   if (def_.sleep) updateSleep(contacts_, bodies_, states_, s.dt, def_.sleepSettings);

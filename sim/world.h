@@ -16,6 +16,8 @@
 #include "sim/core/body.h"
 #include "sim/core/math.h"
 #include "sim/core/worker_pool.h"
+#include "sim/ground/forest.h"
+#include "sim/ground/forest_law.h"
 #include "sim/ground/ground_material.h"
 #include "sim/ground/rock_monitor.h"
 #include "sim/run_guard.h"
@@ -83,6 +85,11 @@ struct WorldDef {
   // Rock fall (opt-in): ground materials with STONE's law or the slip law (sim/ground/). Null:
   // the paper's model, [contact] body_ground for every ground contact.
   std::shared_ptr<const GroundMap> ground;
+  // Rock fall through forest (opt-in; sim/ground/forest_law.h): stems hit statistically, each
+  // body drawing from a stream of `forestSeed` and its id (an ensemble draws the seed per
+  // realisation). Null: no trees.
+  std::shared_ptr<const Forest> forest;
+  std::uint64_t forestSeed = 1;
   // Rock fall on terrain (sim/ground/rock_monitor.h): what lies beyond the grid and in NODATA
   // cells, and when a rock counts as at rest. Used only when there is terrain.
   TerrainEdge terrainEdge = TerrainEdge::kAuto;
@@ -232,6 +239,8 @@ class World {
   const std::string& stopReason() const { return monitor_.stopReason(); }
   // Bodies removed, stopped or pushed out from below the surface, with body and time.
   const std::vector<std::string>& terrainMessages() const { return monitor_.messages(); }
+  // Stems body id met and the energy they took (WorldDef::forest; zero without forest).
+  TreeHits treeHits(int id) const { return forestLaw_.hits(id); }
 
  private:
   // Steps once towards `target` (> time_), never past it; lands on it exactly when the step
@@ -272,6 +281,7 @@ class World {
   SlipLaw slipLaw_;                     // rock fall: slippage s of the slip law (per body)
   ScarDrag scarDrag_;                   // rock fall: the slip law's soft-soil scar layer
   RockMonitor monitor_;                 // terrain edges, push-out, rest, outcomes
+  ForestLaw forestLaw_;                 // rock fall: stems met in forest (per body)
   RunGuard guard_;                      // runaway checks (run_guard.h)
   std::optional<Runaway> runaway_;      // see runaway()
   std::vector<std::function<void(World&)>> listeners_;  // addStepListener

@@ -125,6 +125,7 @@ std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex,
   const double uRestitution = rng.uniform(), uFriction = rng.uniform(), uRolling = rng.uniform();
   const std::uint64_t groundSeed = rng.next();  // the per-cell variability's ([ground])
   const std::uint64_t sizeSeed = rng.next();    // the rock's volume and density
+  const std::uint64_t forestSeed = rng.next();  // the stems' ([forest]); last, as added last
 
   double totalWeight = 0;
   for (double w : e.weights) totalWeight += w;
@@ -140,6 +141,7 @@ std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex,
   if (shapeIndex) *shapeIndex = shape;
 
   WorldDef def = base_;
+  def.forestSeed = forestSeed;
   const auto lerp = [](const std::array<double, 2>& r, double u) {
     return r[0] + (r[1] - r[0]) * u;
   };

@@ -165,6 +165,22 @@ struct ReleaseSpec {
   std::optional<VolumeSpec> volume;  // this source's rock volumes; none: [ensemble]'s
 };
 
+// [forest]: a stand on the DEM's grid (sim/ground/forest.h). Each quantity is a raster (any
+// GDAL reads, resampled onto the DEM's grid) or one number for the whole DEM.
+struct ForestSpec {
+  std::string where;                   // file:line:column of the table
+  std::string densityPath;             // `density` raster, stems/ha; empty: densityValue
+  double densityValue = 0;             // `density` as a number, stems/ha
+  std::string dbhPath;                 // `dbh` raster, cm; empty: dbhValue
+  double dbhValue = 0;                 // `dbh` as a number, cm
+  std::string treesPath;               // `trees` point file, instead of density and dbh
+  std::string treesDbhField = "dbh";   // `trees_dbh_field`: its DBH field, cm
+  std::string speciesPath;             // `species` class raster; empty: every stem class 0
+  std::vector<double> speciesFactors;  // `species_factors`, per class; empty: [1]
+  std::optional<double> stemHeight;    // `stem_height`, m
+  std::uint64_t seed = 1;              // `seed` (an ensemble draws its own per realisation)
+};
+
 struct EnsembleSpec {
   std::uint64_t seed = 1;  // `seed`; --seed overrides it
   // `shapes` (or `shape`), drawn with `weights`; a rock family's entry is replaced by its
@@ -286,6 +302,7 @@ struct SceneSpec {
   std::vector<std::pair<int, std::string>> classMaterials;  // class -> material name
   double groundVariability = 0;             // per-cell +- bound (ground_variability.h); 0: off
   std::uint64_t groundVariabilitySeed = 1;  // `variability_seed` (an ensemble draws its own)
+  std::optional<ForestSpec> forest;         // [forest]; none: no trees
   std::vector<ShapeSpec> shapes;
   std::vector<BodySpec> bodies;
   std::vector<EmitterSpec> emitters;
@@ -359,6 +376,11 @@ void selectCamera(SceneSpec& spec, const std::string& name);
 // The scene's terrain (its DEM moved by [ground] offset), or null without one; shared by
 // buildScene and the renderer of a bake.
 std::shared_ptr<const Heightfield> loadSceneTerrain(const SceneSpec& spec);
+// The scene's stand ([forest]) on `terrain`'s grid, or null without one. Throws InputError naming
+// the raster for a raster GDAL cannot read or place (dem_grid_raster.h) and for a negative
+// density or DBH, a class without a factor, or stems without a DBH.
+std::shared_ptr<const Forest> buildSceneForest(const SceneSpec& spec,
+                                               std::shared_ptr<const Heightfield> terrain);
 
 // The scene's evaluation lines in world coordinates on its terrain `dem` (file coordinates
 // plus dem.shift). Throws InputError naming the line and point when a vertex lies off the DEM

@@ -254,6 +254,8 @@ WorldDef sceneWorldDef(const SceneSpec& spec) {
   def.rotation = spec.rotation;
   def.rest = spec.rest;
   if (!spec.groundMaterial.empty()) def.ground = buildGroundMap(spec, def.terrain);
+  def.forest = buildSceneForest(spec, def.terrain);
+  if (spec.forest) def.forestSeed = spec.forest->seed;
   def.contact = spec.contact;
   def.contactReduction = spec.contactReduction;
   def.sleep = spec.sleep;

@@ -8,7 +8,7 @@ const std::vector<SceneTableKeys>& sceneTableKeys() {
   static const std::vector<SceneTableKeys> tables = {
       {"",
        {"simulation", "contact", "ground", "shapes", "bodies", "emitters", "camera", "cameras",
-        "light", "output", "ensemble", "evaluation_lines", "barriers"}},
+        "light", "output", "ensemble", "evaluation_lines", "barriers", "forest"}},
       {"simulation",
        {"duration", "level", "step", "gravity", "fps", "collider", "method", "contact_reduction",
         "sleep", "stop", "rest", "rotation", "max_steps", "max_speed"}},
@@ -19,6 +19,9 @@ const std::vector<SceneTableKeys>& sceneTableKeys() {
       {"ground",
        {"plane", "heightfield", "offset", "crs", "texture", "material", "materials", "classes",
         "class_materials", "edge", "variability", "variability_seed"}},
+      {"forest",
+       {"density", "dbh", "trees", "trees_dbh_field", "species", "species_factors", "stem_height",
+        "seed"}},
       {"ground.materials.NAME",
        {"law", "restitution", "friction", "rolling_resistance", "tangential_restitution", "mu_min",
         "mu_max", "kappa", "beta", "scar"}},

@@ -156,6 +156,7 @@ SceneSpec loadScene(const std::string& path) {
   if (const auto* n = root.get("simulation")) readSimulation(r, r.table(*n, "simulation"), spec);
   if (const auto* n = root.get("contact")) readContact(r, r.table(*n, "contact"), spec.contact);
   if (const auto* n = root.get("ground")) readGround(r, r.table(*n, "ground"), sceneFolder, spec);
+  if (const auto* n = root.get("forest")) readForest(r, r.table(*n, "forest"), sceneFolder, spec);
   if (const auto* n = root.get("light")) readLight(r, r.table(*n, "light"), spec);
   // A rock-fall scene (one with ground materials) rotates by the midpoint rule unless it says
   // otherwise: the paper's explicit Euler gains energy in free tumbling, and a rock's runout

@@ -209,6 +209,8 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec);
 void readContact(const Reader& r, const toml::table& t, ContactMaterial& c);
 void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                 SceneSpec& spec);
+void readForest(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
+                SceneSpec& spec);  // scene_read_forest.cpp
 void readLight(const Reader& r, const toml::table& t, SceneSpec& spec);
 void readShapes(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                 SceneSpec& spec);

@@ -59,4 +59,21 @@ void assignCrs(Heightfield& dem, const CrsDefinition& crs, const std::string& de
   dem.crsName = crs.name;
 }
 
+bool crsConflict(const std::string& wktA, const std::string& wktB) {
+  if (wktA.empty() || wktB.empty()) return false;
+  gdal::QuietErrors errors;
+  gdal::Srs a(OSRNewSpatialReference(wktA.c_str())), b(OSRNewSpatialReference(wktB.c_str()));
+  return a && b && tiedToEarth(a.get()) && tiedToEarth(b.get()) && !OSRIsSame(a.get(), b.get());
+}
+
+std::string crsLabel(const std::string& wkt) {
+  gdal::QuietErrors errors;
+  gdal::Srs srs(OSRNewSpatialReference(wkt.c_str()));
+  if (!srs) return "a CRS without a name";
+  const std::string authority = authorityName(srs.get());
+  if (!authority.empty()) return authority;
+  const char* name = OSRGetName(srs.get());
+  return name && *name ? std::string(name) : "a CRS without a name";
+}
+
 }  // namespace vf

@@ -25,4 +25,10 @@ CrsDefinition parseCrs(const std::string& definition);
 // with an InputError naming the file and both systems. The same CRS is accepted.
 void assignCrs(Heightfield& dem, const CrsDefinition& crs, const std::string& demPath);
 
+// Whether two CRS (WKT, as GDAL exports them) conflict: both tied to the Earth and not the same
+// system. An empty or local one (a grid without a .prj) conflicts with nothing.
+bool crsConflict(const std::string& wktA, const std::string& wktB);
+// A CRS's "AUTHORITY:CODE", else its name in the WKT, else "a CRS without a name".
+std::string crsLabel(const std::string& wkt);
+
 }  // namespace vf

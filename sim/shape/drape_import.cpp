@@ -21,15 +21,9 @@
 namespace vf {
 namespace {
 
-// The DEM raster's extent in the DEM file's coordinates: the outer edges of its cells.
-struct Extent {
-  double x0, y0, x1, y1;
-};
-Extent demExtent(const Heightfield& h) {
-  const Vec3 lo = worldToDem(h, Vec3(h.x0, h.y0, 0));
-  return Extent{lo.x() - h.cell / 2, lo.y() - h.cell / 2, lo.x() + (h.nx - 0.5) * h.cell,
-                lo.y() + (h.ny - 0.5) * h.cell};
-}
+using gdal::demExtent;
+using gdal::Extent;
+using gdal::runUtility;
 
 // A size of about `w` x `h` texels, scaled down (keeping the shape) to kMaxDrapeSide.
 std::array<int, 2> capped(double w, double h) {
@@ -42,20 +36,6 @@ bool georeferenced(GDALDatasetH ds) {
   double gt[6];
   return GDALGetGeoTransform(ds, gt) == CE_None &&
          !(gt[0] == 0 && gt[1] == 1 && gt[2] == 0 && gt[3] == 0 && gt[4] == 0 && gt[5] == 1);
-}
-
-// Runs a GDAL utility (gdal_translate or gdalwarp) into an in-memory dataset.
-template <class Options, class Make, class Run, class Free>
-GDALDatasetH runUtility(std::vector<std::string> args, Make make, Run run, Free free) {
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  Options* options = make(argv.data(), nullptr);
-  if (!options) return nullptr;
-  int usageError = 0;
-  GDALDatasetH out = run(options, &usageError);
-  free(options);
-  return out;
 }
 
 // The raster with a palette turned into red, green, blue bands (gdal_translate -expand rgb);

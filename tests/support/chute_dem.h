@@ -27,6 +27,17 @@ struct ChuteDem {
   int noDataCorner = 0;  // the k x k samples of the north-east corner are NODATA (-9999)
 };
 
+// Gives the dataset the CRS EPSG:<code>.
+inline void setEpsg(GDALDatasetH ds, int code) {
+  OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
+  OSRImportFromEPSG(srs, code);
+  char* wkt = nullptr;
+  OSRExportToWkt(srs, &wkt);
+  GDALSetProjection(ds, wkt);
+  CPLFree(wkt);
+  OSRDestroySpatialReference(srs);
+}
+
 // Writes the chute as a Float64 GeoTIFF in EPSG:31287 (MGI / Austria Lambert), or in no CRS;
 // returns false if GDAL cannot.
 inline bool writeChuteDem(const std::filesystem::path& path, const ChuteDem& c = {}) {
@@ -36,15 +47,7 @@ inline bool writeChuteDem(const std::filesystem::path& path, const ChuteDem& c =
   if (!ds) return false;
   double gt[6] = {c.west, c.cell, 0, c.north, 0, -c.cell};
   GDALSetGeoTransform(ds, gt);
-  if (c.crs) {
-    OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
-    OSRImportFromEPSG(srs, 31287);
-    char* wkt = nullptr;
-    OSRExportToWkt(srs, &wkt);
-    GDALSetProjection(ds, wkt);
-    CPLFree(wkt);
-    OSRDestroySpatialReference(srs);
-  }
+  if (c.crs) setEpsg(ds, 31287);
   std::vector<double> z(static_cast<std::size_t>(c.nx) * c.ny);
   const double drop = std::tan(c.slopeDegrees * M_PI / 180.0) * c.cell;
   for (int row = 0; row < c.ny; ++row)
