@@ -65,10 +65,17 @@ std::string body(const Figure& f) {
       << " at screen 0.01, screen 0.03 font ',9'\n";
   const int n = static_cast<int>(f.panels.size());
   const int rows = std::max(1, f.rows), columns = (n + rows - 1) / rows;
-  // One row keeps its margins; a grid gives the rows the height the footnote and title leave.
+  // One row keeps its margins; a grid gives the rows the height the footnote and title leave,
+  // in pixels, so that a lower panel's title clears the axis label of the panel above it and
+  // the footnote clears the bottom row's label, whatever the figure's height.
   o << "set multiplot layout " << rows << "," << columns << " title " << gnuplotString(f.title)
-    << " font ',13' margins 0.08,0.98," << (rows == 1 ? "0.2,0.86" : "0.08,0.93")
-    << " spacing 0.09\n";
+    << " font ',13' margins 0.08,0.98,";
+  if (rows == 1) {
+    o << "0.2,0.86 spacing 0.09\n";
+  } else {
+    const double h = std::max(1, f.height);
+    o << 95 / h << "," << 1 - 45 / h << " spacing 0.09," << 105 / h << "\n";
+  }
   for (const Panel& p : f.panels) {
     o << "unset logscale\nunset xtics\nunset ytics\nset xtics nomirror\nset ytics nomirror\n"
       << "set grid lc rgb '#d0d0d0'\nset key top left box opaque\nset autoscale\n"

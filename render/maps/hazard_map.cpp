@@ -387,7 +387,8 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
     << "set label 3 'N' at " << number(nx) << "," << number(ny1 + 14 * mPerPx)
     << " center front font ',12'\n";
 
-  s << "set key at " << screenX(f, f.left + f.plotWidth + 10) << ", " << screenY(f, 40)
+  // Under the colour box's lowest tick label: the release, lines and barriers may add rows.
+  s << "set key at " << screenX(f, f.left + f.plotWidth + 10) << ", " << screenY(f, 6)
     << " left bottom Left reverse samplen 2\n";
   s << "plot " << gnuplotString(image) << " binary array=(" << f.plotWidth << "," << f.plotHeight
     << ") format='%uchar' dx=" << number(mPerPx) << " dy=" << number(mPerPx) << " origin=("

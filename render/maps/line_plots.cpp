@@ -13,7 +13,9 @@
 namespace vf {
 namespace {
 
-constexpr int kRowHeightPx = 300, kWidthPx = 1000;
+// Rows tall enough that a lower panel's title clears the upper panel's axis label (the
+// multiplot's spacing is a fraction of the figure).
+constexpr int kRowHeightPx = 400, kWidthPx = 1000;
 
 // The histogram of `values` as CSV rows (bin centre, count) in `csv`; returns the bin width.
 // No values: one empty bin on [0, 1].
@@ -53,6 +55,7 @@ fig::Panel histogramPanel(const std::string& title, const std::string& xLabel,
   box << std::setprecision(15) << "set boxwidth " << width * 0.9;
   p.settings.push_back(box.str());
   p.settings.push_back("set yrange [0:*]");
+  p.settings.push_back("set xrange [0:*]");  // energies and heights are never negative
   p.settings.push_back("set key off");
   if (values.empty()) {
     p.settings.push_back("set label 10 'no crossings' at graph 0.5, graph 0.5 center");
