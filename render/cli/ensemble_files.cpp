@@ -14,6 +14,7 @@
 #include "sim/core/error.h"
 #include "sim/ensemble/ensemble_bake.h"
 #include "sim/ensemble/raster_output.h"
+#include "sim/ground/forest_outline.h"
 
 namespace vf::cli {
 
@@ -165,6 +166,10 @@ void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>&
     polylines.push_back(MapPolyline{{}, MapPolyline::Kind::kBarrier});
     for (const auto& p : b.points) polylines.back().points.emplace_back(p[0], p[1]);
   }
+  if (const Forest* forest = ens.forest())
+    for (const auto& edge : forestOutline(*forest))
+      polylines.push_back(MapPolyline{{Vec2(edge[0][0], edge[0][1]), Vec2(edge[1][0], edge[1][1])},
+                                      MapPolyline::Kind::kForestEdge});
   const std::vector<double>& passages = layers[0].values;
   // Every map shows the same window: --extent, or the reached area and the release areas with
   // a margin.

@@ -29,6 +29,8 @@ using fig::gnuplotString;
 constexpr int kLeftPx = 100, kRightPx = 200, kTopPx = 50, kBottomPx = 80, kMinLegendPx = 260;
 // Release outlines: red, a colour neither viridis nor the grey hillshade contains.
 constexpr const char* kReleaseColour = "#e41a1c";
+// The forest's edge: a dark green that neither viridis nor the grey hillshade contains.
+constexpr const char* kForestColour = "#1b7837";
 
 // The largest 1, 2 or 5 times a power of ten not above `target` (> 0), m.
 double roundLength(double target) {
@@ -318,6 +320,8 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
   const bool anyEvaluation =
       writePolylines(polylines, MapPolyline::Kind::kEvaluationLine, f, evaluation);
   const bool anyBarrier = writePolylines(polylines, MapPolyline::Kind::kBarrier, f, barriers);
+  const std::string forest = scratch.file("forest_edges.dat");
+  const bool anyForest = writePolylines(polylines, MapPolyline::Kind::kForestEdge, f, forest);
 
   const double w = f.xMax - f.xMin, h = f.yMax - f.yMin;
   const double mPerPx = w / f.plotWidth;                   // same along y
@@ -414,6 +418,9 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
   if (anyBarrier)
     s << ", " << gnuplotString(barriers) << " using 1:2 with lines lw 4 lc rgb '#000000' title "
       << "'Barrier'";
+  if (anyForest)
+    s << ", " << gnuplotString(forest) << " using 1:2 with lines lw 1.5 lc rgb '" << kForestColour
+      << "' title 'Forest edge'";
   s << "\nset output\n";
   fig::runGnuplot(s.str(), pngPath);
   out.commit();

@@ -101,10 +101,10 @@ MapFrame hazardMapFrame(const Heightfield& dem, const MapWindow& window = {});
 std::vector<double> mappedValues(const std::string& name, const std::vector<double>& values,
                                  const std::vector<double>& passages);
 
-// A polyline drawn over a map, world (x, y) points, m: an evaluation line (blue, docs/rockfall.md)
-// or a barrier (black, thicker).
+// A polyline drawn over a map, world (x, y) points, m: an evaluation line (blue, docs/rockfall.md),
+// a barrier (black, thicker) or a piece of a forest stand's edge (green, thin).
 struct MapPolyline {
-  enum class Kind { kEvaluationLine, kBarrier };
+  enum class Kind { kEvaluationLine, kBarrier, kForestEdge };
   std::vector<Vec2> points;
   Kind kind = Kind::kEvaluationLine;
 };

@@ -97,6 +97,8 @@ class Ensemble {
   const SceneSpec& spec() const { return spec_; }
   const EnsembleSpec& ensemble() const { return *spec_.ensemble; }
   const Heightfield& dem() const { return *base_.terrain; }
+  // The scene's forest stand on the DEM's grid, or null without [forest].
+  const Forest* forest() const { return base_.forest.get(); }
   // The release sources as world x, y outlines for maps (ReleaseSources::outlines).
   std::vector<std::vector<Point2>> releaseAreas() const;
   // The scene's evaluation lines, world coordinates (sceneEvaluationLines).

@@ -222,6 +222,41 @@ TEST(HazardMap, ValuesHillshadeAndReleaseAreasLandWhereTheLayoutSays) {
   EXPECT_FALSE(colourNear(im, hx, hy, 10, kRed));
 }
 
+// Lines, barriers and the forest's edge each in their own colour, where their points say (the
+// 1.5 px forest edge may be anti-aliased off its exact colour, so its own hue is looked for).
+TEST(HazardMap, LinesBarriersAndTheForestEdgeLandWhereTheyLie) {
+  test::ScratchDir dir("hazard_map_lines");
+  const TestMap m;
+  const auto at = [&](double i, double j) {
+    return Vec2(m.dem.x0 + i * m.dem.cell, m.dem.y0 + j * m.dem.cell);
+  };
+  const std::vector<MapPolyline> polylines = {
+      {{at(2, 12), at(6, 12)}, MapPolyline::Kind::kEvaluationLine},
+      {{at(2, 8), at(6, 8)}, MapPolyline::Kind::kBarrier},
+      {{at(12, 13), at(12, 15)}, MapPolyline::Kind::kForestEdge}};
+  const std::string path = (dir.path() / "lines.png").string();
+  writeHazardMap(m.dem, m.layer, {}, path, replaceOutputs(), {}, polylines);
+  const Image im = readPng(path);
+  const MapFrame f = hazardMapFrame(m.dem);
+  const auto pixel = [&](double i, double j) {
+    return std::pair{f.columnOf(m.dem.x0 + i * m.dem.cell), f.rowOf(m.dem.y0 + j * m.dem.cell)};
+  };
+  const auto [lx, ly] = pixel(4, 12);
+  EXPECT_TRUE(colourNear(im, lx + 0.5, ly, 1, Rgb8{0x00, 0x72, 0xb2})) << "evaluation line";
+  const auto [bx, by] = pixel(4, 8);
+  EXPECT_TRUE(colourNear(im, bx + 0.5, by, 1, Rgb8{0, 0, 0})) << "barrier";
+  const auto [fx, fy] = pixel(12, 14);
+  bool green = false;
+  for (int dx = -2; dx <= 2; ++dx) {
+    const Rgb8 c = pixelAt(im, fx + dx, fy);
+    green = green || (c.g > c.r + 40 && c.g > c.b + 40);
+  }
+  EXPECT_TRUE(green) << "forest edge";
+  const auto [ox, oy] = pixel(16, 14);  // away from every line: no forest green
+  const Rgb8 c = pixelAt(im, ox, oy);
+  EXPECT_FALSE(c.g > c.r + 40 && c.g > c.b + 40);
+}
+
 TEST(HazardMap, TheAffectedWindowHoldsThePassedCellsAndReleasesWithAMargin) {
   const Heightfield dem = plane(100, 80, 1.0, -0.5, 0);
   std::vector<double> passages(dem.z.size(), 0.0);
