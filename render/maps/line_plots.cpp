@@ -71,6 +71,16 @@ fig::Panel histogramPanel(const std::string& title, const std::string& xLabel,
   return p;
 }
 
+// A figure of one row of two panels per line.
+fig::Figure lineFigure(std::size_t lines, const std::string& footnote) {
+  fig::Figure f;
+  f.width = kWidthPx;
+  f.height = kRowHeightPx * static_cast<int>(std::max<std::size_t>(1, lines));
+  f.rows = static_cast<int>(lines);
+  f.footnote = footnote;
+  return f;
+}
+
 std::string kJ(double joules) {
   std::ostringstream o;
   o << std::setprecision(3) << joules / 1000;
@@ -102,11 +112,8 @@ void writeLineHistograms(const std::vector<EvaluationLine>& lines,
                          const std::vector<LineCrossing>& crossings, const std::string& pngPath,
                          const OutputRules& rules) {
   const fig::ScratchFolder scratch;
-  fig::Figure f;
-  f.width = kWidthPx;
-  f.height = kRowHeightPx * static_cast<int>(std::max<std::size_t>(1, lines.size()));
-  f.rows = static_cast<int>(lines.size());
-  f.footnote = "Dashed: 50th, 95th and 99th percentiles (nearest rank) over the crossings.";
+  fig::Figure f = lineFigure(
+      lines.size(), "Dashed: 50th, 95th and 99th percentiles (nearest rank) over the crossings.");
   for (std::size_t l = 0; l < lines.size(); ++l) {
     std::vector<double> energy, height;
     for (const LineCrossing& c : crossings) {
@@ -133,11 +140,8 @@ void writeLineProfiles(const std::vector<EvaluationLine>& lines,
                        const std::vector<LineCrossing>& crossings, const std::string& pngPath,
                        const OutputRules& rules) {
   const fig::ScratchFolder scratch;
-  fig::Figure f;
-  f.width = kWidthPx;
-  f.height = kRowHeightPx * static_cast<int>(std::max<std::size_t>(1, lines.size()));
-  f.rows = static_cast<int>(lines.size());
-  f.footnote = "Each point is one crossing, at its distance from the line's first vertex.";
+  fig::Figure f = lineFigure(
+      lines.size(), "Each point is one crossing, at its distance from the line's first vertex.");
   for (std::size_t l = 0; l < lines.size(); ++l) {
     const std::string csv = scratch.file("profile" + std::to_string(l) + ".csv");
     std::ofstream o(csv);

@@ -84,7 +84,6 @@ ReleaseSources::ReleaseSources(const std::vector<ReleaseSpec>& specs,
   double total = 0;
   for (const ReleaseSpec& s : specs) {
     Source source;
-    source.weight = s.weight;
     switch (s.kind) {
       case ReleaseKind::kArea:
       case ReleaseKind::kLine:
@@ -99,7 +98,7 @@ ReleaseSources::ReleaseSources(const std::vector<ReleaseSpec>& specs,
         break;
     }
     if (source.partWeights.empty()) source.partWeights.push_back(1);
-    total += source.weight;
+    total += s.weight;
     sourceWeights_.push_back(total);
     sources_.push_back(std::move(source));
   }

@@ -49,7 +49,6 @@ class ReleaseSources {
   struct Source {
     std::vector<Part> parts;
     std::vector<double> partWeights;  // cumulative, one per part
-    double weight = 1;
   };
 
   Part inlinePart(const ReleaseSpec& s, const std::string& demPath) const;

@@ -208,12 +208,7 @@ std::vector<ShapeSpec> readShape(const Reader& r, const std::string& name, const
 void readShapes(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
                 SceneSpec& spec) {
   // Keep file order: shape indices pick default colours and must not depend on key sorting.
-  std::vector<std::pair<const toml::key*, const toml::node*>> entries;
-  for (auto&& [k, v] : t) entries.emplace_back(&k, &v);
-  std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
-    return before(a.first->source(), b.first->source());
-  });
-  for (const auto& [k, v] : entries) {
+  for (const auto& [k, v] : inFileOrder(t)) {
     const std::string name(k->str());
     if (!v->is_table())
       r.fail(*v, "'shapes." + name + "' must be a table ([shapes." + name +

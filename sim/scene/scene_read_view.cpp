@@ -110,12 +110,7 @@ CameraSpec readCamera(const Reader& r, const toml::table& t, const std::string& 
 }
 
 void readCameras(const Reader& r, const toml::table& t, SceneSpec& spec) {
-  std::vector<std::pair<const toml::key*, const toml::node*>> entries;
-  for (auto&& [k, v] : t) entries.emplace_back(&k, &v);
-  std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
-    return before(a.first->source(), b.first->source());
-  });
-  for (const auto& [k, v] : entries) {
+  for (const auto& [k, v] : inFileOrder(t)) {
     const std::string name(k->str());
     const std::string label = "[cameras." + name + "]";
     if (name == "camera")

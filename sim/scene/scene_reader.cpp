@@ -148,6 +148,15 @@ bool isShapeName(const SceneSpec& spec, const std::string& name) {
   return false;
 }
 
+std::vector<std::pair<const toml::key*, const toml::node*>> inFileOrder(const toml::table& t) {
+  std::vector<std::pair<const toml::key*, const toml::node*>> entries;
+  for (auto&& [k, v] : t) entries.emplace_back(&k, &v);
+  std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+    return before(a.first->source(), b.first->source());
+  });
+  return entries;
+}
+
 // Arrays of tables: `[[bodies]]`. A plain `[bodies]` table is the likely mistake.
 const toml::array& arrayOfTables(const Reader& r, const toml::node& n, const std::string& name) {
   const toml::array* a = n.as_array();

@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "sim/core/error.h"
@@ -195,6 +196,9 @@ class Reader {
 std::string existingFile(const Reader& r, const toml::node& n, const std::string& key,
                          const fs::path& sceneFolder, const std::string& what,
                          const std::string& hint = "");
+// The entries of `t` in the order the file gives them (toml++ keeps keys sorted): whatever a
+// table's entries number or colour by must not depend on key sorting.
+std::vector<std::pair<const toml::key*, const toml::node*>> inFileOrder(const toml::table& t);
 // Arrays of tables: `[[bodies]]`. A plain `[bodies]` table is the likely mistake.
 const toml::array& arrayOfTables(const Reader& r, const toml::node& n, const std::string& name);
 // The names a scene's shapes go by in messages: each [shapes.NAME], a rock family once.
