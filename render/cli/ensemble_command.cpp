@@ -280,6 +280,7 @@ int runEnsemble(const EnsembleOptions& given) {
   if (o.files.outDir.empty()) o.files.outDir = defaultFolder(spec, shard);
   o.files.lines = !spec.evaluationLines.empty();
   o.files.barriers = !spec.barriers.empty();
+  o.files.heightClasses = spec.ensemble->heightClasses;
 
   MpiSession mpi;
   // Rank 0 checks and opens the journal and outputs before any realisation runs; every rank

@@ -38,7 +38,9 @@ struct EnsembleFiles::Files {
   };
   std::vector<Raster> rasters;  // per layer, in cellStatistics' order
   std::unique_ptr<OutputFile> runs, summary, converge, paths, bake;
-  std::vector<fs::path> maps;        // --maps: per layer NAME.png, intensity.png, then runout.png
+  // --maps: per layer NAME.png, intensity.png, height_classes.png (with the scene's
+  // height_classes), then runout.png
+  std::vector<fs::path> maps;
   std::unique_ptr<LineFiles> lines;  // evaluation lines (plots with --maps)
   std::unique_ptr<OutputFile> barriers;
 };
@@ -84,6 +86,7 @@ EnsembleFiles::EnsembleFiles(const EnsembleFileOptions& o, const OutputRules& ru
     // inputs are checked here, before any realisation runs.
     for (const char* name : kLayerNames) files_->maps.push_back(dir / (std::string(name) + ".png"));
     files_->maps.push_back(dir / "intensity.png");
+    if (!o.heightClasses.empty()) files_->maps.push_back(dir / "height_classes.png");
     files_->maps.push_back(dir / "runout.png");
     for (const fs::path& png : files_->maps) checkOutputPath(png.string(), rules);
   }
@@ -181,16 +184,26 @@ void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>&
     writeHazardMap(ens.dem(), layer, areas, files_->maps[k].string(), rules_, window, polylines);
     written_ += ", " + files_->maps[k].filename().string();
   }
-  // The energy's 95th percentile in the Swiss intensity classes.
-  const std::size_t p95 = static_cast<std::size_t>(
-      std::find(std::begin(kLayerNames), std::end(kLayerNames), std::string("energy_p95")) -
-      std::begin(kLayerNames));
-  MapLayer intensity{"intensity", "Intensity: energy p95 low < 30, medium 30-300, high > 300 kJ",
-                     "", mappedValues("energy_p95", layers[p95].values, passages)};
-  intensity.classes = swissRockfallIntensity();
-  writeHazardMap(ens.dem(), intensity, areas, files_->maps[layers.size()].string(), rules_, window,
-                 polylines);
-  written_ += ", " + files_->maps[layers.size()].filename().string();
+  // The energy's and the passing height's 95th percentiles in classes.
+  const auto layerOf = [&](const char* name) -> const StatLayer& {
+    return layers[static_cast<std::size_t>(
+        std::find(std::begin(kLayerNames), std::end(kLayerNames), std::string(name)) -
+        std::begin(kLayerNames))];
+  };
+  std::vector<MapLayer> classed{
+      {"intensity", "Intensity: energy p95 low < 30, medium 30-300, high > 300 kJ", "",
+       mappedValues("energy_p95", layerOf("energy_p95").values, passages)}};
+  classed.back().classes = swissRockfallIntensity();
+  if (!options_.heightClasses.empty()) {
+    classed.push_back({"height_classes", "Passing height p95", "",
+                       mappedValues("height_p95", layerOf("height_p95").values, passages)});
+    classed.back().classes = passingHeightClasses(options_.heightClasses);
+  }
+  for (std::size_t k = 0; k < classed.size(); ++k) {
+    const fs::path& png = files_->maps[layers.size() + k];
+    writeHazardMap(ens.dem(), classed[k], areas, png.string(), rules_, window, polylines);
+    written_ += ", " + png.filename().string();
+  }
 
   std::vector<double> runouts, reach;
   for (const RealisationResult& r : runs) {

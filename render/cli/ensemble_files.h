@@ -28,6 +28,7 @@ struct EnsembleFileOptions {
   int videoRuns = 0;           // ensemble_subset.bake and trajectories.mp4
   bool lines = false;          // the scene has evaluation lines: crossings.csv, lines.csv
   bool barriers = false;       // the scene has barriers: barriers.csv
+  std::vector<double> heightClasses;  // the scene's height_classes: with maps, height_classes.png
   bool overwrite = false, neverOverwrite = false, quiet = false;
 };
 

@@ -90,6 +90,7 @@ int runMerge(const MergeOptions& o) {
   files.paths = header.paths;
   files.lines = !spec.evaluationLines.empty();
   files.barriers = !spec.barriers.empty();
+  files.heightClasses = spec.ensemble->heightClasses;
   EnsembleFiles outputs(files, rules, ensemble.dem());
   const std::string journalPath = (fs::path(o.files.outDir) / kJournalName).string();
   checkOutputPath(journalPath, rules);

@@ -269,6 +269,35 @@ MapClasses swissRockfallIntensity() {
           {{0xfe, 0xe3, 0x91}, {0xfe, 0x99, 0x29}, {0x99, 0x34, 0x04}}};
 }
 
+MapClasses passingHeightClasses(const std::vector<double>& limits) {
+  // ColorBrewer's sequential Purples, 2 to 6 classes, light to dark.
+  static const std::vector<std::vector<Rgb8>> kPurples = {
+      {{0xcb, 0xc9, 0xe2}, {0x6a, 0x51, 0xa3}},
+      {{0xef, 0xed, 0xf5}, {0xbc, 0xbd, 0xdc}, {0x75, 0x6b, 0xb1}},
+      {{0xf2, 0xf0, 0xf7}, {0xcb, 0xc9, 0xe2}, {0x9e, 0x9a, 0xc8}, {0x6a, 0x51, 0xa3}},
+      {{0xf2, 0xf0, 0xf7},
+       {0xcb, 0xc9, 0xe2},
+       {0x9e, 0x9a, 0xc8},
+       {0x75, 0x6b, 0xb1},
+       {0x54, 0x27, 0x8f}},
+      {{0xf2, 0xf0, 0xf7},
+       {0xda, 0xda, 0xeb},
+       {0xbc, 0xbd, 0xdc},
+       {0x9e, 0x9a, 0xc8},
+       {0x75, 0x6b, 0xb1},
+       {0x54, 0x27, 0x8f}}};
+  if (limits.empty() || limits.size() > kPurples.size())
+    throw std::invalid_argument("passing-height classes need 1 to 5 limits");
+  MapClasses c;
+  c.edges = limits;
+  c.colours = kPurples[limits.size() - 1];
+  c.labels.push_back("< " + number(limits.front()) + " m");
+  for (std::size_t k = 1; k < limits.size(); ++k)
+    c.labels.push_back(number(limits[k - 1]) + "-" + number(limits[k]) + " m");
+  c.labels.push_back("> " + number(limits.back()) + " m");
+  return c;
+}
+
 bool mappedOnLogScale(const std::string& name) {
   return name == "passages" || name == "reach_probability" || name.rfind("energy_", 0) == 0;
 }

@@ -30,6 +30,12 @@ struct MapClasses {
 // BRP/BWW/BUWAL 1997, as the cantons apply them).
 MapClasses swissRockfallIntensity();
 
+// Passing-height classes with the given limits (m, ascending, 1 to 5 of them), labelled
+// "< a m", "a-b m", ..., "> z m", in purples from light to dark (ColorBrewer's Purples: no
+// colour a map's lines, barriers or release areas use). No standard fixes these limits the
+// way the Swiss classes fix the energies; a barrier's height is a natural one.
+MapClasses passingHeightClasses(const std::vector<double>& limits);
+
 // One per-cell statistic to map.
 struct MapLayer {
   std::string name;            // file stem, e.g. "energy_p95"

@@ -196,6 +196,9 @@ struct EnsembleSpec {
   Vec3 angularVelocityMin = Vec3::Zero(), angularVelocityMax = Vec3::Zero();  // rad/s
   // Ground contact parameters drawn per realisation, [lo, hi]; unset: the scene's.
   std::optional<std::array<double, 2>> restitution, friction, rollingResistance;
+  // `height_classes`: the limits (m, ascending, > 0) of the passing-height classes map
+  // height_classes.png; empty: no such map.
+  std::vector<double> heightClasses;
   std::string where;  // "file:line:column" of [ensemble]
 };
 

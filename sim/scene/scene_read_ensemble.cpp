@@ -29,6 +29,26 @@ std::array<double, 2> readRange(const Reader& r, const toml::node& n, const std:
   return {v[0], v[1]};
 }
 
+// `[a, b, ...]`: 1 to kMaxClassLimits class limits, each > 0, strictly ascending.
+constexpr std::size_t kMaxClassLimits = 5;
+std::vector<double> readClassLimits(const Reader& r, const toml::node& n, const std::string& name,
+                                    const std::string& units) {
+  const toml::array* a = n.as_array();
+  const std::string what =
+      "an array of 1 to " + std::to_string(kMaxClassLimits) + " ascending limits in " + units;
+  if (a == nullptr || a->empty() || a->size() > kMaxClassLimits)
+    r.fail(n, "'" + name + "' must be " + what);
+  std::vector<double> limits;
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    const std::string item = name + "[" + std::to_string(i) + "]";
+    limits.push_back(r.positive(*a->get(i), item, " " + units));
+    if (i > 0 && limits[i] <= limits[i - 1])
+      r.fail(*a->get(i), "'" + name + "' must be ascending, got " + formatNumber(limits[i]) +
+                             " after " + formatNumber(limits[i - 1]));
+  }
+  return limits;
+}
+
 // `{ min = [x, y, z], max = [x, y, z] }`, min <= max per component.
 void readVectorRange(const Reader& r, const toml::node& n, const std::string& name, Vec3& lo,
                      Vec3& hi) {
@@ -264,6 +284,8 @@ void readEnsemble(const Reader& r, const toml::table& t, const fs::path& sceneFo
   if (const auto* n = t.get("friction")) e.friction = readRange(r, *n, "friction", 0, 100);
   if (const auto* n = t.get("volume")) e.volume = readVolume(r, *n, "volume");
   if (const auto* n = t.get("density")) e.density = readRange(r, *n, "density", 1, 1e5);
+  if (const auto* n = t.get("height_classes"))
+    e.heightClasses = readClassLimits(r, *n, "height_classes", "m");
   if (const auto* n = t.get("rolling_resistance")) {
     if (spec.groundMaterial.empty())
       r.fail(*n, "'rolling_resistance' varies the ground material's; give [ground] material");

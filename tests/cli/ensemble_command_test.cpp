@@ -230,6 +230,15 @@ TEST_F(EnsembleCommandTest, MalformedEnsembleKeysAreClearErrors) {
        "scene.toml:14:9: unknown shape 'rok'; did you mean 'rock'?"},
       {"shape = \"rock\"\nrelease = { area = [[4.0, 6.0], [5.0, 6.0]] }\n",
        "'release.area' must be an array of at least 3 [x, y] points"},
+      {"shape = \"rock\"\nrelease = { points = [[4.0, 6.0]] }\nheight_classes = [2.0, 1.0]\n",
+       "scene.toml:16:24: 'height_classes' must be ascending, got 1 after 2"},
+      {"shape = \"rock\"\nrelease = { points = [[4.0, 6.0]] }\nheight_classes = [0.0]\n",
+       "scene.toml:16:19: 'height_classes[0]' must be > 0 m, got 0"},
+      {"shape = \"rock\"\nrelease = { points = [[4.0, 6.0]] }\nheight_classes = []\n",
+       "'height_classes' must be an array of 1 to 5 ascending limits in m"},
+      {"shape = \"rock\"\nrelease = { points = [[4.0, 6.0]] }\nheight_classes = [1, 2, 3, 4, "
+       "5, 6]\n",
+       "'height_classes' must be an array of 1 to 5 ascending limits in m"},
   };
   for (const auto& [table, message] : cases) {
     vf::test::writeChuteScene(dir_, table);

@@ -192,4 +192,57 @@ TEST_F(EnsembleGeorefTest, ExtentChoosesTheMapsWindowAndABadOneWritesNothing) {
   }
 }
 
+// height_classes: every reached cell of height_classes.png has the colour of the class its
+// height_p95 (read back from the GeoTIFF through GDAL) falls in; without the key, no such map.
+TEST_F(EnsembleGeorefTest, HeightClassesMapShowsEachCellsClass) {
+  vf::test::writeChuteScene(
+      dir_, std::string(vf::test::kChuteEnsemble) + "height_classes = [0.2, 0.6]\n");
+  const auto r = runVoxfall(
+      kExe, dir_, "ensemble scene.toml --runs 4 --maps --extent 1010,5002,1050,5020 -q -o h");
+  ASSERT_EQ(r.code, 0) << r.err;
+  vf::Heightfield dem = vf::loadDem((dir_ / "chute.tif").string());
+  vf::shiftHeightfield(dem, vf::Vec3(-1000, -5000, 0));
+  const auto band = [&](const char* name) {
+    GDALAllRegister();
+    GDALDatasetH ds = GDALOpen((dir_ / "h" / name).c_str(), GA_ReadOnly);
+    EXPECT_NE(ds, nullptr) << name;
+    std::vector<double> v(static_cast<std::size_t>(dem.nx) * dem.ny);
+    if (ds == nullptr) return v;
+    int hasNoData = 0;
+    GDALRasterBandH b = GDALGetRasterBand(ds, 1);
+    const double noData = GDALGetRasterNoDataValue(b, &hasNoData);
+    EXPECT_EQ(
+        GDALRasterIO(b, GF_Read, 0, 0, dem.nx, dem.ny, v.data(), dem.nx, dem.ny, GDT_Float64, 0, 0),
+        CE_None);
+    GDALClose(ds);
+    for (double& x : v)
+      if (hasNoData && x == noData) x = std::nan("");
+    return v;  // rows from the north
+  };
+  const std::vector<double> heights = band("height_p95.tif"), passages = band("passages.tif");
+  const vf::MapClasses classes = vf::passingHeightClasses({0.2, 0.6});
+  const vf::MapFrame f = vf::hazardMapFrame(dem, vf::extentWindow(dem, 1010, 5002, 1050, 5020));
+  const vf::Image map = vf::readPng((dir_ / "h" / "height_classes.png").string());
+  std::vector<int> seen(3, 0);
+  for (int j = f.j0; j < f.j0 + f.nj; ++j)
+    for (int i = f.i0; i < f.i0 + f.ni; ++i) {
+      const std::size_t k = static_cast<std::size_t>(dem.ny - 1 - j) * dem.nx + i;
+      if (!(passages[k] > 0)) continue;
+      const int c = heights[k] < 0.2 ? 0 : heights[k] < 0.6 ? 1 : 2;
+      ++seen[c];
+      const int x = static_cast<int>(f.columnOf(dem.x0 + i * dem.cell));
+      const int y = static_cast<int>(f.rowOf(dem.y0 + j * dem.cell));
+      const std::uint8_t* p = map.pixel(x, y);
+      EXPECT_EQ((vf::Rgb8{p[0], p[1], p[2]}), classes.colours[c])
+          << "cell " << i << ", " << j << ": " << heights[k] << " m";
+    }
+  // The track crosses the window in more than one class, so a class mix-up shows.
+  EXPECT_GE((seen[0] > 0) + (seen[1] > 0) + (seen[2] > 0), 2)
+      << seen[0] << " " << seen[1] << " " << seen[2];
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble);
+  const auto none = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 2 --maps -q -o n");
+  ASSERT_EQ(none.code, 0) << none.err;
+  EXPECT_FALSE(fs::exists(dir_ / "n" / "height_classes.png"));
+}
+
 }  // namespace

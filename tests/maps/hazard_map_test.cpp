@@ -350,6 +350,34 @@ TEST(HazardMap, AClassedLayerColoursEachValueByItsClass) {
   EXPECT_EQ(k.edges, (std::vector<double>{30.0, 300.0}));
 }
 
+TEST(HazardMap, PassingHeightClassesFollowTheirLimits) {
+  const MapClasses two = passingHeightClasses({1.0, 2.0});
+  EXPECT_EQ(two.edges, (std::vector<double>{1.0, 2.0}));
+  EXPECT_EQ(two.labels, (std::vector<std::string>{"< 1 m", "1-2 m", "> 2 m"}));
+  ASSERT_EQ(two.colours.size(), 3u);
+  // Every count of limits: one colour per class, each darker than the one below it, so a
+  // higher class never reads as a lower one.
+  for (std::size_t n = 1; n <= 5; ++n) {
+    const MapClasses c = passingHeightClasses(std::vector<double>(n, 1.0));
+    ASSERT_EQ(c.colours.size(), n + 1) << n;
+    ASSERT_EQ(c.labels.size(), n + 1) << n;
+    for (std::size_t k = 1; k <= n; ++k)
+      EXPECT_LT(lightness(c.colours[k]), lightness(c.colours[k - 1])) << n << " class " << k;
+  }
+  EXPECT_THROW(passingHeightClasses({}), std::invalid_argument);
+  EXPECT_THROW(passingHeightClasses(std::vector<double>(6, 1.0)), std::invalid_argument);
+  // On a map: 1 m lies on a limit and belongs to the class above it.
+  TestMap m;
+  m.layer.classes = two;
+  m.layer.values[TestMap::kHiJ * 20 + TestMap::kHiI] = 2.5;
+  m.layer.values[TestMap::kLoJ * 20 + TestMap::kLoI] = 0.4;
+  m.layer.values[TestMap::kLoJ * 20 + TestMap::kLoI + 1] = 1.0;
+  const DrawnMap d = draw(m, "heights");
+  EXPECT_EQ(d.at(TestMap::kLoI, TestMap::kLoJ), two.colours[0]);
+  EXPECT_EQ(d.at(TestMap::kLoI + 1, TestMap::kLoJ), two.colours[1]);
+  EXPECT_EQ(d.at(TestMap::kHiI, TestMap::kHiJ), two.colours[2]);
+}
+
 TEST(HazardMap, AMapSmallerThanItsGridKeepsANarrowTrack) {
   // 1600 x 1200 samples on an 800 x 600 px map: two samples a pixel each way. A track one sample
   // wide (column 800, an even one: the sample under pixel 400's centre is 801) must still show,
