@@ -222,6 +222,9 @@ struct BarrierSpec {
   double height = 0;       // m above the ground
   double capacity = 0;     // kJ
   double thickness = 0.3;  // m
+  // With `file`: numeric attributes that give each feature its own height (m) and capacity
+  // (kJ) in place of `height` and `capacity`; empty: the table's value for every feature.
+  std::string heightField, capacityField;
 };
 
 // A calendar date (the proleptic Gregorian calendar).

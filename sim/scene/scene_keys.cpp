@@ -54,7 +54,9 @@ const std::vector<SceneTableKeys>& sceneTableKeys() {
        {"area", "line", "points", "cells", "file", "layer", "weight_field", "weight", "volume"}},
       {"ensemble.volume", {"distribution", "median", "sigma", "exponent", "min", "max"}},
       {"evaluation_lines", {"name", "points", "file", "layer"}},
-      {"barriers", {"name", "points", "file", "layer", "height", "capacity", "thickness"}},
+      {"barriers",
+       {"name", "points", "file", "layer", "height", "capacity", "thickness", "height_field",
+        "capacity_field"}},
   };
   return tables;
 }

@@ -17,13 +17,14 @@ struct SourceLine {
   std::string name;
   std::vector<Point2> points;
   std::vector<std::string> pointWhere;
+  const VectorFeature* feature = nullptr;  // the file's feature; null for `points`
 };
 
 std::vector<SourceLine> sourceLines(const EvaluationLineSpec& s, const Heightfield& dem,
-                                    const std::string& what) {
+                                    const std::string& what, std::vector<VectorFeature>& features) {
   if (s.file.empty()) return {SourceLine{s.name, s.points, s.pointWhere}};
   std::vector<SourceLine> out;
-  const std::vector<VectorFeature> features = readVectorFile(s.file, dem.crsWkt, s.layer);
+  features = readVectorFile(s.file, dem.crsWkt, s.layer);
   for (const VectorFeature& f : features) {
     const std::string where = s.file + ": feature " + std::to_string(f.id);
     if (f.kind != VectorFeature::Kind::kLine)
@@ -34,6 +35,7 @@ std::vector<SourceLine> sourceLines(const EvaluationLineSpec& s, const Heightfie
     line.name = features.size() == 1 ? s.name : s.name + "#" + std::to_string(f.id);
     line.points = f.rings.at(0);
     line.pointWhere.assign(line.points.size(), where);
+    line.feature = &f;
     if (line.points.size() < 2) throw InputError(where, "a line needs at least 2 vertices");
     out.push_back(std::move(line));
   }
@@ -41,10 +43,12 @@ std::vector<SourceLine> sourceLines(const EvaluationLineSpec& s, const Heightfie
   return out;
 }
 
-// The polylines of one table in world coordinates, each vertex checked to lie on the DEM.
+// The polylines of one table in world coordinates, each vertex checked to lie on the DEM;
+// `features` keeps a file's features, which the lines point to.
 std::vector<SourceLine> worldLines(const EvaluationLineSpec& s, const Heightfield& dem,
-                                   const std::string& what, const std::string& terrainPath) {
-  std::vector<SourceLine> out = sourceLines(s, dem, what);
+                                   const std::string& what, const std::string& terrainPath,
+                                   std::vector<VectorFeature>& features) {
+  std::vector<SourceLine> out = sourceLines(s, dem, what, features);
   for (SourceLine& line : out)
     for (std::size_t k = 0; k < line.points.size(); ++k) {
       Point2& p = line.points[k];
@@ -66,21 +70,48 @@ std::vector<SourceLine> worldLines(const EvaluationLineSpec& s, const Heightfiel
   return out;
 }
 
+// A barrier's height or capacity: the table's `value`, or the line's feature's `field`, which
+// must be set and at least `min` (and above it when `strict`).
+double barrierValue(const SourceLine& line, const BarrierSpec& s, double value,
+                    const std::string& field, const char* what, double min, bool strict) {
+  if (field.empty()) return value;
+  const std::string where = s.line.file + ": feature " + std::to_string(line.feature->id);
+  const std::optional<double> v = line.feature->number(field);
+  if (!v)
+    throw InputError(where, "barrier '" + line.name + "' has no number in field '" + field +
+                                "' (its " + what + ")");
+  if (!std::isfinite(*v) || (strict ? *v <= min : *v < min)) {
+    char text[200];
+    std::snprintf(text, sizeof text, "'%s' (its %s) must be %s %g, got %g", field.c_str(), what,
+                  strict ? ">" : ">=", min, *v);
+    throw InputError(where, "barrier '" + line.name + "': " + text);
+  }
+  return *v;
+}
+
 }  // namespace
 
 std::vector<EvaluationLine> sceneEvaluationLines(const SceneSpec& spec, const Heightfield& dem) {
   std::vector<EvaluationLine> out;
-  for (const EvaluationLineSpec& s : spec.evaluationLines)
-    for (SourceLine& l : worldLines(s, dem, "evaluation line", spec.terrainPath))
+  for (const EvaluationLineSpec& s : spec.evaluationLines) {
+    std::vector<VectorFeature> features;
+    for (SourceLine& l : worldLines(s, dem, "evaluation line", spec.terrainPath, features))
       out.push_back(EvaluationLine{l.name, l.points});
+  }
   return out;
 }
 
 std::vector<Barrier> sceneBarriers(const SceneSpec& spec, const Heightfield& dem) {
   std::vector<Barrier> out;
-  for (const BarrierSpec& s : spec.barriers)
-    for (SourceLine& l : worldLines(s.line, dem, "barrier", spec.terrainPath))
-      out.push_back(Barrier{l.name, l.points, s.height, s.capacity * 1000, s.thickness});
+  for (const BarrierSpec& s : spec.barriers) {
+    std::vector<VectorFeature> features;
+    for (SourceLine& l : worldLines(s.line, dem, "barrier", spec.terrainPath, features)) {
+      const double height = barrierValue(l, s, s.height, s.heightField, "height, m", 0, true);
+      const double capacity =
+          barrierValue(l, s, s.capacity, s.capacityField, "capacity, kJ", 0, false);
+      out.push_back(Barrier{l.name, l.points, height, capacity * 1000, s.thickness});
+    }
+  }
   return out;
 }
 

@@ -60,6 +60,23 @@ void readEvaluationLines(const Reader& r, const toml::array& lines, const fs::pa
   }
 }
 
+namespace {
+
+// `KEY_field`: the attribute of a barrier file's features that gives KEY per feature, in place
+// of the table's KEY (one or the other); "" when not given.
+std::string readField(const Reader& r, const toml::table& t, const std::string& key,
+                      const EvaluationLineSpec& line) {
+  const std::string name = key + "_field";
+  const toml::node* n = t.get(name);
+  if (n == nullptr) return "";
+  if (line.file.empty()) r.fail(*n, "'" + name + "' needs 'file' (a vector file of lines)");
+  if (const toml::node* value = t.get(key))
+    r.fail(*value, "give either '" + key + "' or '" + name + "', not both");
+  return r.string(*n, name);
+}
+
+}  // namespace
+
 void readBarriers(const Reader& r, const toml::array& barriers, const fs::path& sceneFolder,
                   SceneSpec& spec) {
   for (std::size_t l = 0; l < barriers.size(); ++l) {
@@ -67,8 +84,12 @@ void readBarriers(const Reader& r, const toml::array& barriers, const fs::path& 
     r.checkKeys(t, sceneKeysOf("barriers"), "[[barriers]]");
     BarrierSpec b;
     b.line = readPolyline(r, t, "barriers", l, sceneFolder, spec);
-    b.height = r.positive(r.require(t, "height", "[[barriers]]"), "height", " m");
-    b.capacity = r.nonNegative(r.require(t, "capacity", "[[barriers]]"), "capacity", " kJ");
+    b.heightField = readField(r, t, "height", b.line);
+    b.capacityField = readField(r, t, "capacity", b.line);
+    if (b.heightField.empty())
+      b.height = r.positive(r.require(t, "height", "[[barriers]]"), "height", " m");
+    if (b.capacityField.empty())
+      b.capacity = r.nonNegative(r.require(t, "capacity", "[[barriers]]"), "capacity", " kJ");
     if (const auto* n = t.get("thickness")) b.thickness = r.positive(*n, "thickness", " m");
     spec.barriers.push_back(std::move(b));
   }

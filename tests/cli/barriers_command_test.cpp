@@ -79,4 +79,59 @@ TEST_F(BarriersCommandTest, BadBarriersAreOneErrorAndWriteNothing) {
   }
 }
 
+// Two nets from one GeoJSON file (EPSG:31287, the chute's CRS), each with its own height and
+// capacity from the feature's attributes: the first (0.05 kJ) breaks, the second (500 kJ) holds.
+void writeNets(const fs::path& path, const std::string& second) {
+  std::ofstream(path)
+      << R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name":
+        "urn:ogc:def:crs:EPSG::31287"}}, "features": [
+        {"type": "Feature", "properties": {"h": 3.0, "cap": 0.05}, "geometry":
+          {"type": "LineString", "coordinates": [[1010, 5001], [1010, 5023]]}},
+        {"type": "Feature", "properties": )"
+      << second << R"(, "geometry":
+          {"type": "LineString", "coordinates": [[1014, 5001], [1014, 5023]]}}]})";
+}
+
+TEST_F(BarriersCommandTest, EachFeatureOfAFileHasItsOwnHeightAndCapacity) {
+  writeNets(dir_ / "nets.geojson", R"({"h": 3.0, "cap": 500.0})");
+  writeScene("file = \"nets.geojson\"\nheight_field = \"h\"\ncapacity_field = \"cap\"\n");
+  const auto r = runVoxfall(kExe, dir_, "simulate scene.toml --barriers nets.csv -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string csv = readFile(dir_ / "nets.csv");
+  // Written with 17 significant digits, as every number of the CSV.
+  EXPECT_NE(csv.find("0,\"net#0\",0.050000000000000003,1,0,1,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("1,\"net#1\",500,1,1,0,"), std::string::npos) << csv;
+
+  const std::string fields = "height_field = \"h\"\ncapacity_field = \"cap\"\n";
+  const std::pair<std::string, std::string> cases[] = {
+      {R"({"h": 3.0})",
+       "nets.geojson: feature 1: barrier 'net#1' has no number in field 'cap' (its capacity, kJ)"},
+      {R"({"h": 3.0, "cap": -2.0})",
+       "nets.geojson: feature 1: barrier 'net#1': 'cap' (its capacity, kJ) must be >= 0, got -2"},
+      {R"({"h": 0.0, "cap": 5.0})",
+       "nets.geojson: feature 1: barrier 'net#1': 'h' (its height, m) must be > 0, got 0"},
+  };
+  for (const auto& [props, message] : cases) {
+    writeNets(dir_ / "nets.geojson", props);
+    writeScene("file = \"nets.geojson\"\n" + fields);
+    const auto bad = runVoxfall(kExe, dir_, "simulate scene.toml --barriers out/b.csv -q");
+    EXPECT_EQ(bad.code, 1) << props;
+    EXPECT_NE(bad.err.find(message), std::string::npos) << bad.err;
+    EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+    EXPECT_TRUE(!fs::exists(dir_ / "out") || fs::is_empty(dir_ / "out")) << props;
+  }
+  const std::pair<std::string, std::string> tables[] = {
+      {"points = [[1012.0, 5001.0], [1012.0, 5023.0]]\n" + fields,
+       "scene.toml:23:16: 'height_field' needs 'file' (a vector file of lines)"},
+      {"file = \"nets.geojson\"\nheight = 3.0\n" + fields,
+       "scene.toml:23:10: give either 'height' or 'height_field', not both"},
+  };
+  for (const auto& [table, message] : tables) {
+    writeScene(table);
+    const auto bad = runVoxfall(kExe, dir_, "simulate scene.toml --barriers out/b.csv -q");
+    EXPECT_EQ(bad.code, 1) << table;
+    EXPECT_NE(bad.err.find(message), std::string::npos) << bad.err;
+  }
+}
+
 }  // namespace
