@@ -51,6 +51,90 @@ SampleValues sample(const World& w, const Heightfield& dem) {
   return s;
 }
 
+// The maxima of a realisation's passage through each DEM cell its path meets (a realisation
+// meets each cell once).
+class CellMaxima {
+ public:
+  CellMaxima(const Heightfield& dem, std::vector<CellPassage>& cells) : dem_(dem), cells_(cells) {}
+  // The segment a -> b of the path, with the largest values along it.
+  void add(const Vec3& a, const Vec3& b, const SampleValues& v) {
+    met_.clear();
+    cellsOnSegment(dem_, a, b, met_);
+    for (std::int32_t c : met_) {
+      auto [it, added] = seen_.emplace(c, cells_.size());
+      if (added) cells_.push_back(CellPassage{c, 0, 0, 0});
+      CellPassage& p = cells_[it->second];
+      p.energy = std::max(p.energy, v.energy);
+      p.height = std::max(p.height, v.height);
+      p.speed = std::max(p.speed, v.speed);
+    }
+  }
+
+ private:
+  const Heightfield& dem_;
+  std::vector<CellPassage>& cells_;
+  std::map<std::int32_t, std::size_t> seen_;  // per cell met, the index of its entry in cells_
+  std::vector<std::int32_t> met_;
+};
+
+// The rock's outcome and the run's totals, read from its world at the end of the run.
+void readOutcome(const World& w, RealisationResult& r) {
+  const RockOutcome& o = w.outcomes()[0];
+  r.release = o.release;
+  r.end = o.end;
+  r.endTime = o.endTime;
+  r.state = o.state;
+  r.runout = o.runout();
+  r.reachAngle = o.reachAngleDegrees();
+  r.maxSpeed = o.maxSpeed;
+  r.maxJumpHeight = o.maxJumpHeight;
+  r.volume = w.shape(0).volume;
+  r.mass = w.shape(0).mass;
+  r.steps = static_cast<std::int64_t>(w.totals().steps);
+  r.checksum = w.stepsHash();
+}
+
+// The shape a uniform u in [0, 1) draws, each with its weight (the last one should rounding
+// leave u * total past the sum).
+int drawShape(const EnsembleSpec& e, double u) {
+  double totalWeight = 0;
+  for (double w : e.weights) totalWeight += w;
+  int shape = static_cast<int>(e.shapes.size()) - 1;
+  double cumulative = 0;
+  for (std::size_t k = 0; k < e.weights.size(); ++k) {
+    cumulative += e.weights[k];
+    if (u * totalWeight < cumulative) {
+      shape = static_cast<int>(k);
+      break;
+    }
+  }
+  return shape;
+}
+
+// The point a fraction u of the way through the range [lo, hi].
+double rangeAt(const std::array<double, 2>& r, double u) { return r[0] + (r[1] - r[0]) * u; }
+
+// The ground coefficients a realisation draws within [ensemble] restitution, friction and
+// rolling_resistance, given its uniforms and the seed of the per-cell variability.
+void drawGround(const EnsembleSpec& e, double uRestitution, double uFriction, double uRolling,
+                std::uint64_t groundSeed, WorldDef& def) {
+  if (e.restitution) def.contact.restitutionBodyGround = rangeAt(*e.restitution, uRestitution);
+  if (e.friction) def.contact.frictionBodyGround = rangeAt(*e.friction, uFriction);
+  const bool drawn = e.restitution || e.friction || e.rollingResistance;
+  const bool perCell = def.ground && def.ground->variability > 0;
+  if (!def.ground || !(drawn || perCell)) return;
+  // Every ground material takes the realisation's values (the class raster is shared), and the
+  // per-cell factors the realisation's own seed.
+  auto ground = std::make_shared<GroundMap>(*def.ground);
+  for (GroundMaterial& m : ground->materials) {
+    if (e.restitution) m.restitution = def.contact.restitutionBodyGround;
+    if (e.friction) m.friction = def.contact.frictionBodyGround;
+    if (e.rollingResistance) m.rollingResistance = rangeAt(*e.rollingResistance, uRolling);
+  }
+  if (perCell) ground->variabilitySeed = groundSeed;
+  def.ground = std::move(ground);
+}
+
 }  // namespace
 
 std::uint64_t realisationSeed(std::uint64_t ensembleSeed, std::int64_t index) {
@@ -127,40 +211,12 @@ std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex,
   const std::uint64_t sizeSeed = rng.next();    // the rock's volume and density
   const std::uint64_t forestSeed = rng.next();  // the stems' ([forest]); last, as added last
 
-  double totalWeight = 0;
-  for (double w : e.weights) totalWeight += w;
-  int shape = static_cast<int>(e.shapes.size()) - 1;
-  double cumulative = 0;
-  for (std::size_t k = 0; k < e.weights.size(); ++k) {
-    cumulative += e.weights[k];
-    if (uShape * totalWeight < cumulative) {
-      shape = static_cast<int>(k);
-      break;
-    }
-  }
+  const int shape = drawShape(e, uShape);
   if (shapeIndex) *shapeIndex = shape;
 
   WorldDef def = base_;
   def.forestSeed = forestSeed;
-  const auto lerp = [](const std::array<double, 2>& r, double u) {
-    return r[0] + (r[1] - r[0]) * u;
-  };
-  if (e.restitution) def.contact.restitutionBodyGround = lerp(*e.restitution, uRestitution);
-  if (e.friction) def.contact.frictionBodyGround = lerp(*e.friction, uFriction);
-  const bool drawn = e.restitution || e.friction || e.rollingResistance;
-  const bool perCell = def.ground && def.ground->variability > 0;
-  if (def.ground && (drawn || perCell)) {
-    // Every ground material takes the realisation's values (the class raster is shared), and
-    // the per-cell factors the realisation's own seed.
-    auto ground = std::make_shared<GroundMap>(*def.ground);
-    for (GroundMaterial& m : ground->materials) {
-      if (e.restitution) m.restitution = def.contact.restitutionBodyGround;
-      if (e.friction) m.friction = def.contact.frictionBodyGround;
-      if (e.rollingResistance) m.rollingResistance = lerp(*e.rollingResistance, uRolling);
-    }
-    if (perCell) ground->variabilitySeed = groundSeed;
-    def.ground = std::move(ground);
-  }
+  drawGround(e, uRestitution, uFriction, uRolling, groundSeed, def);
 
   int source = 0;
   const Point2 xy = release_->draw(releaseSeed, &source);
@@ -204,30 +260,14 @@ RealisationResult Ensemble::run(std::int64_t index, std::uint64_t seed, bool kee
   std::unique_ptr<World> world = makeWorld(seed, &r.shape, &barriers);
   World& w = *world;
   const Heightfield& dem = *base_.terrain;
-
-  // Per cell met, the index of its entry in r.cells (a realisation meets each cell once).
-  std::map<std::int32_t, std::size_t> seen;
-  std::vector<std::int32_t> met;
-  const auto record = [&](const Vec3& a, const Vec3& b, const SampleValues& v) {
-    met.clear();
-    cellsOnSegment(dem, a, b, met);
-    for (std::int32_t c : met) {
-      auto [it, added] = seen.emplace(c, r.cells.size());
-      if (added) r.cells.push_back(CellPassage{c, 0, 0, 0});
-      CellPassage& p = r.cells[it->second];
-      p.energy = std::max(p.energy, v.energy);
-      p.height = std::max(p.height, v.height);
-      p.speed = std::max(p.speed, v.speed);
-    }
-  };
-
+  CellMaxima cells(dem, r.cells);
   // Crossings of the evaluation lines on the step states (sim/ground/evaluation_lines.h).
   CrossingRecorder lines(lines_);
   lines.observe(w, index);
   SampleValues before = sample(w, dem);
   Vec3 xBefore = w.state(0).x;
   r.maxEnergy = before.energy;
-  record(xBefore, xBefore, before);
+  cells.add(xBefore, xBefore, before);
   if (keepPath) r.path.push_back(PathPoint{w.time(), xBefore});
   const double duration = spec_.duration;
   r.complete = true;
@@ -249,7 +289,7 @@ RealisationResult Ensemble::run(std::int64_t index, std::uint64_t seed, bool kee
     const SampleValues most{std::max(before.energy, after.energy),
                             std::max(before.height, after.height),
                             std::max(before.speed, after.speed)};
-    record(xBefore, x, most);
+    cells.add(xBefore, x, most);
     r.maxEnergy = std::max(r.maxEnergy, after.energy);
     if (keepPath) r.path.push_back(PathPoint{w.time(), x});
     before = after;
@@ -258,19 +298,7 @@ RealisationResult Ensemble::run(std::int64_t index, std::uint64_t seed, bool kee
   }
   std::sort(r.cells.begin(), r.cells.end(),
             [](const CellPassage& a, const CellPassage& b) { return a.cell < b.cell; });
-  const RockOutcome& o = w.outcomes()[0];
-  r.release = o.release;
-  r.end = o.end;
-  r.endTime = o.endTime;
-  r.state = o.state;
-  r.runout = o.runout();
-  r.reachAngle = o.reachAngleDegrees();
-  r.maxSpeed = o.maxSpeed;
-  r.maxJumpHeight = o.maxJumpHeight;
-  r.volume = w.shape(0).volume;
-  r.mass = w.shape(0).mass;
-  r.steps = static_cast<std::int64_t>(w.totals().steps);
-  r.checksum = w.stepsHash();
+  readOutcome(w, r);
   r.crossings = lines.crossings();
   if (barriers) r.barriers = barriers->results();
   return r;

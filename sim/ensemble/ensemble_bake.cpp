@@ -12,76 +12,113 @@
 
 namespace vf {
 
-Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
-                  const std::vector<std::int64_t>& indices, std::vector<std::uint64_t>* checksums) {
-  const SceneSpec& spec = ensemble.spec();
+namespace {
+
+// The bake's scene (the ensemble's, without its bodies) and its frame times, with no body yet.
+Bake emptyBake(const SceneSpec& spec, int frames) {
   Bake bake;
   bake.scene = spec;
   bake.scene.bodies.clear();
   bake.scene.emitters.clear();
   bake.scene.ensemble.reset();
-  const int frames = Recorder::frameCountFor(spec.fps, spec.duration);
   bake.records.resize(static_cast<std::size_t>(frames));
   for (int k = 0; k < frames; ++k) bake.records[static_cast<std::size_t>(k)].time = k / spec.fps;
+  return bake;
+}
 
+// The rock of a realisation's world (its body 0) as the bake's body b, with the shape drawn.
+BakeBody bakeBody(const Ensemble& ensemble, const World& w, int shapeIndex, std::size_t b) {
+  const SceneSpec& spec = ensemble.spec();
+  const std::string& shapeName = ensemble.ensemble().shapes[static_cast<std::size_t>(shapeIndex)];
+  const auto shape = std::find_if(spec.shapes.begin(), spec.shapes.end(),
+                                  [&](const ShapeSpec& s) { return s.name == shapeName; });
+  VF_ASSERT(shape != spec.shapes.end());
+  BakeBody body;
+  body.shape = static_cast<int>(shape - spec.shapes.begin());
+  body.color = defaultBodyColor(static_cast<int>(b));
+  body.invMass = 1.0 / w.shape(0).mass;
+  body.inertiaBodyInv = w.shape(0).inertiaBodyInv;
+  return body;
+}
+
+// A realisation's world stepped as Ensemble::run steps it: steps of the scene's own sequence,
+// ending when the rock does or at the duration. Keeps the state after the last step taken and
+// the one before it (frame_interp.h).
+class Realisation {
+ public:
+  Realisation(World& w, double duration)
+      : w_(w), duration_(duration), now_{w.time(), {w.state(0)}, {present()}}, before_(now_) {}
+
+  bool ended() const { return ended_; }
+  const StepState& now() const { return now_; }
+  const StepState& before() const { return before_; }
+  double nextStepEnd() const { return w_.nextStepEnd(); }
+  // Whether Ensemble::run takes another step.
+  bool mayStep() const { return !ended_ && w_.nextStepEnd() <= duration_ + kTimeTolerance; }
+  void step() {
+    w_.stepNext();
+    ended_ = w_.outcomes()[0].state != RockState::kMoving;
+    before_ = std::move(now_);
+    now_ = StepState{w_.time(), {w_.state(0)}, {present()}};
+  }
+
+ private:
+  // Released flag of the rock: off once it left the DEM or was buried.
+  char present() const {
+    const RockState s = w_.outcomes()[0].state;
+    return static_cast<char>(s == RockState::kLeft || s == RockState::kBuried ? 0 : 1);
+  }
+
+  World& w_;
+  double duration_;
+  bool ended_ = false;
+  StepState now_, before_;
+};
+
+// Appends the realisation's rock to every frame of the bake, stepping it as far as the frames
+// need (a frame may take the next step early, never one Ensemble::run does not). Returns the
+// first frame at which the realisation has ended (the last frame if it has not).
+int recordFrames(Realisation& rock, Bake& bake) {
+  const int frames = static_cast<int>(bake.records.size());
+  int endFrame = frames - 1;
+  for (int k = 0; k < frames; ++k) {
+    BakeRecord& r = bake.records[static_cast<std::size_t>(k)];
+    const double t = r.time;
+    while (rock.mayStep() && rock.nextStepEnd() <= t + kTimeTolerance) rock.step();
+    if (rock.now().time < t - kTimeTolerance && rock.mayStep()) rock.step();  // crossing t
+    if (rock.ended() && endFrame == frames - 1 && rock.now().time <= t + kTimeTolerance)
+      endFrame = k;
+    std::vector<char> active;
+    const bool between = rock.now().time > t + kTimeTolerance;
+    const BodyState y = sampleSteps(between ? rock.before() : rock.now(),
+                                    between ? &rock.now() : nullptr, t, active)[0];
+    r.states.push_back(y);
+    r.active.push_back(active[0]);
+  }
+  return endFrame;
+}
+
+}  // namespace
+
+Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
+                  const std::vector<std::int64_t>& indices, std::vector<std::uint64_t>* checksums) {
+  const SceneSpec& spec = ensemble.spec();
+  const int frames = Recorder::frameCountFor(spec.fps, spec.duration);
+  Bake bake = emptyBake(spec, frames);
   int lastFrame = indices.empty() ? frames - 1 : 0;
   for (std::size_t b = 0; b < indices.size(); ++b) {
     int shapeIndex = 0;
     const std::unique_ptr<World> world =
         ensemble.makeWorld(realisationSeed(ensembleSeed, indices[b]), &shapeIndex);
-    World& w = *world;
-    const std::string& shapeName = ensemble.ensemble().shapes[static_cast<std::size_t>(shapeIndex)];
-    const auto shape = std::find_if(spec.shapes.begin(), spec.shapes.end(),
-                                    [&](const ShapeSpec& s) { return s.name == shapeName; });
-    VF_ASSERT(shape != spec.shapes.end());
-    BakeBody body;
-    body.shape = static_cast<int>(shape - spec.shapes.begin());
-    body.color = defaultBodyColor(static_cast<int>(b));
-    body.invMass = 1.0 / w.shape(0).mass;
-    body.inertiaBodyInv = w.shape(0).inertiaBodyInv;
-    bake.bodies.push_back(body);
-
-    // Released flag of the rock: off once it left the DEM or was buried.
-    auto present = [&w] {
-      const RockState s = w.outcomes()[0].state;
-      return static_cast<char>(s == RockState::kLeft || s == RockState::kBuried ? 0 : 1);
-    };
-    // The state after the last step taken and the one before it (frame_interp.h).
-    StepState now{w.time(), {w.state(0)}, {present()}}, before = now;
-    bool ended = false;
-    int endFrame = frames - 1;  // the first frame at which the realisation has ended
-    // Ensemble::run's loop: steps of the scene's own sequence, ending when the rock does or at
-    // the duration; a frame may take the next of them early, never one Ensemble::run does not.
-    auto step = [&] {
-      w.stepNext();
-      ended = w.outcomes()[0].state != RockState::kMoving;
-      before = std::move(now);
-      now = StepState{w.time(), {w.state(0)}, {present()}};
-    };
-    auto mayStep = [&] { return !ended && w.nextStepEnd() <= spec.duration + kTimeTolerance; };
-    for (int k = 0; k < frames; ++k) {
-      const double t = bake.records[static_cast<std::size_t>(k)].time;
-      while (mayStep() && w.nextStepEnd() <= t + kTimeTolerance) step();
-      if (now.time < t - kTimeTolerance && mayStep()) step();  // the step crossing t
-      if (ended && endFrame == frames - 1 && now.time <= t + kTimeTolerance) endFrame = k;
-      std::vector<char> active;
-      const bool between = now.time > t + kTimeTolerance;
-      const BodyState y =
-          sampleSteps(between ? before : now, between ? &now : nullptr, t, active)[0];
-      BakeRecord& r = bake.records[static_cast<std::size_t>(k)];
-      r.states.push_back(y);
-      r.active.push_back(active[0]);
-    }
-    lastFrame = std::max(lastFrame, endFrame);
+    bake.bodies.push_back(bakeBody(ensemble, *world, shapeIndex, b));
+    Realisation rock(*world, spec.duration);
+    lastFrame = std::max(lastFrame, recordFrames(rock, bake));
     if (checksums) {
       // A realisation still moving at the last frame time takes Ensemble::run's remaining
       // steps up to the duration (none when the duration is a whole number of frames), so the
       // checksum covers the same steps as its row in runs.csv.
-      while (!ended && w.nextStepEnd() <= spec.duration + kTimeTolerance) {
-        w.stepNext();
-        ended = w.outcomes()[0].state != RockState::kMoving;
-      }
-      checksums->push_back(w.stepsHash());
+      while (rock.mayStep()) rock.step();
+      checksums->push_back(world->stepsHash());
     }
   }
   // Nothing changes after the frame at which the last realisation has ended: the bake stops

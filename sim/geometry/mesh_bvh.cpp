@@ -29,6 +29,72 @@ double angleAt(const Vec3& a, const Vec3& b, const Vec3& c) {
   return std::atan2(u.cross(v).norm(), u.dot(v));
 }
 
+// The normals a nearest-point query signs its distance with: per face, per vertex (angle
+// weighted) and per edge of each triangle (the sum of the edge's two face normals).
+struct Pseudonormals {
+  std::vector<Vec3> face;                 // per triangle, unit
+  std::vector<Vec3> vertex;               // per vertex
+  std::vector<std::array<Vec3, 3>> edge;  // per triangle, its edges k -> k + 1
+};
+
+// Face normals and angle-weighted vertex pseudonormals.
+void facePseudonormals(const TriMesh& mesh, Pseudonormals& n) {
+  const std::size_t nt = mesh.triangles.size();
+  n.face.resize(nt);
+  n.vertex.assign(mesh.vertices.size(), Vec3::Zero());
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& tri = mesh.triangles[t];
+    const Vec3 &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
+    n.face[t] = (b - a).cross(c - a).normalized();
+    n.vertex[tri[0]] += angleAt(a, b, c) * n.face[t];
+    n.vertex[tri[1]] += angleAt(b, c, a) * n.face[t];
+    n.vertex[tri[2]] += angleAt(c, a, b) * n.face[t];
+  }
+}
+
+// Edge pseudonormals: the two faces of each undirected edge (manifold: exactly two), found by
+// sorting (min, max, triangle) keys: deterministic, no hashing.
+void edgePseudonormals(const TriMesh& mesh, Pseudonormals& n) {
+  struct EdgeUse {
+    std::uint32_t lo, hi, tri;
+    bool operator<(const EdgeUse& o) const {
+      return std::tie(lo, hi, tri) < std::tie(o.lo, o.hi, o.tri);
+    }
+  };
+  const std::size_t nt = mesh.triangles.size();
+  std::vector<EdgeUse> uses;
+  uses.reserve(3 * nt);
+  for (std::uint32_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = mesh.triangles[t][k], v = mesh.triangles[t][(k + 1) % 3];
+      uses.push_back({std::min(u, v), std::max(u, v), t});
+    }
+  std::sort(uses.begin(), uses.end());
+  n.edge.resize(nt);
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    Vec3 sum = Vec3::Zero();
+    while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi)
+      sum += n.face[uses[j++].tri];
+    for (std::size_t k = i; k < j; ++k) {
+      const auto& tri = mesh.triangles[uses[k].tri];
+      for (int e = 0; e < 3; ++e) {
+        const std::uint32_t u = tri[e], v = tri[(e + 1) % 3];
+        if (std::min(u, v) == uses[k].lo && std::max(u, v) == uses[k].hi)
+          n.edge[uses[k].tri][e] = sum;
+      }
+    }
+    i = j;
+  }
+}
+
+Pseudonormals pseudonormals(const TriMesh& mesh) {
+  Pseudonormals n;
+  facePseudonormals(mesh, n);
+  edgePseudonormals(mesh, n);
+  return n;
+}
+
 }  // namespace
 
 Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
@@ -60,49 +126,10 @@ Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const V
 MeshBvh::MeshBvh(const TriMesh& mesh) {
   const std::size_t nt = mesh.triangles.size();
   VF_ASSERT(nt > 0);
-  // Face normals and angle-weighted vertex pseudonormals.
-  std::vector<Vec3> faceN(nt);
-  std::vector<Vec3> vertexN(mesh.vertices.size(), Vec3::Zero());
-  for (std::size_t t = 0; t < nt; ++t) {
-    const auto& tri = mesh.triangles[t];
-    const Vec3 &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
-    faceN[t] = (b - a).cross(c - a).normalized();
-    vertexN[tri[0]] += angleAt(a, b, c) * faceN[t];
-    vertexN[tri[1]] += angleAt(b, c, a) * faceN[t];
-    vertexN[tri[2]] += angleAt(c, a, b) * faceN[t];
-  }
-  // Edge pseudonormals: the two faces of each undirected edge (manifold: exactly two), found by
-  // sorting (min, max, triangle) keys: deterministic, no hashing.
-  struct EdgeUse {
-    std::uint32_t lo, hi, tri;
-    bool operator<(const EdgeUse& o) const {
-      return std::tie(lo, hi, tri) < std::tie(o.lo, o.hi, o.tri);
-    }
-  };
-  std::vector<EdgeUse> uses;
-  uses.reserve(3 * nt);
-  for (std::uint32_t t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t u = mesh.triangles[t][k], v = mesh.triangles[t][(k + 1) % 3];
-      uses.push_back({std::min(u, v), std::max(u, v), t});
-    }
-  std::sort(uses.begin(), uses.end());
-  std::vector<std::array<Vec3, 3>> edgeN(nt);
-  for (std::size_t i = 0; i < uses.size();) {
-    std::size_t j = i;
-    Vec3 sum = Vec3::Zero();
-    while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi)
-      sum += faceN[uses[j++].tri];
-    for (std::size_t k = i; k < j; ++k) {
-      const auto& tri = mesh.triangles[uses[k].tri];
-      for (int e = 0; e < 3; ++e) {
-        const std::uint32_t u = tri[e], v = tri[(e + 1) % 3];
-        if (std::min(u, v) == uses[k].lo && std::max(u, v) == uses[k].hi)
-          edgeN[uses[k].tri][e] = sum;
-      }
-    }
-    i = j;
-  }
+  const Pseudonormals normals = pseudonormals(mesh);
+  const std::vector<Vec3>& faceN = normals.face;
+  const std::vector<Vec3>& vertexN = normals.vertex;
+  const std::vector<std::array<Vec3, 3>>& edgeN = normals.edge;
 
   // Median split over triangle centroids along the widest axis of their bounds.
   std::vector<std::uint32_t> order(nt);

@@ -46,7 +46,13 @@ struct DirectedEdge {
   }
 };
 
-void checkTopology(const TriMesh& mesh, const std::string& where) {
+// The mesh's problem edges, counted, each kind with its first example (in edge order).
+struct EdgeProblems {
+  std::size_t boundary = 0, nonManifold = 0, misoriented = 0;
+  std::pair<std::uint32_t, std::uint32_t> exBoundary{}, exNonManifold{}, exMisoriented{};
+};
+
+EdgeProblems edgeProblems(const TriMesh& mesh) {
   std::vector<DirectedEdge> edges;
   edges.reserve(mesh.triangles.size() * 3);
   for (const auto& t : mesh.triangles) {
@@ -57,22 +63,27 @@ void checkTopology(const TriMesh& mesh, const std::string& where) {
   }
   std::sort(edges.begin(), edges.end());
 
-  std::size_t boundary = 0, nonManifold = 0, misoriented = 0;
-  std::pair<std::uint32_t, std::uint32_t> exBoundary{}, exNonManifold{}, exMisoriented{};
+  EdgeProblems p;
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
     while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
     const std::size_t uses = j - i;
     const std::pair<std::uint32_t, std::uint32_t> e{edges[i].lo, edges[i].hi};
     if (uses == 1) {
-      if (boundary++ == 0) exBoundary = e;
+      if (p.boundary++ == 0) p.exBoundary = e;
     } else if (uses > 2) {
-      if (nonManifold++ == 0) exNonManifold = e;
+      if (p.nonManifold++ == 0) p.exNonManifold = e;
     } else if (edges[i].forward == edges[i + 1].forward) {
-      if (misoriented++ == 0) exMisoriented = e;
+      if (p.misoriented++ == 0) p.exMisoriented = e;
     }
     i = j;
   }
+  return p;
+}
+
+void checkTopology(const TriMesh& mesh, const std::string& where) {
+  const auto [boundary, nonManifold, misoriented, exBoundary, exNonManifold, exMisoriented] =
+      edgeProblems(mesh);
 
   auto edgeName = [](std::pair<std::uint32_t, std::uint32_t> e) {
     return "vertices " + std::to_string(e.first) + " and " + std::to_string(e.second);

@@ -83,31 +83,8 @@ std::size_t loopLength(const Mesh& mesh, Mesh::Halfedge_index h) {
   return n;
 }
 
-}  // namespace
-
-std::string RepairReport::summary() const {
-  std::vector<std::string> parts;
-  if (holesFilled > 0)
-    parts.push_back("filled " + plural(holesFilled, "hole") + " with " +
-                    plural(patchTriangles, "triangle") + " (largest patch " +
-                    percent(largestPatchFraction) + " of the surface)");
-  if (duplicateTriangles > 0)
-    parts.push_back("removed " + plural(duplicateTriangles, "duplicate triangle"));
-  if (degenerateTriangles > 0)
-    parts.push_back("removed " + plural(degenerateTriangles, "degenerate triangle"));
-  if (reorientedTriangles > 0)
-    parts.push_back("turned " + plural(reorientedTriangles, "triangle") +
-                    " to wind like their neighbours");
-  if (flippedInsideOut) parts.push_back("turned the mesh outward");
-  if (parts.empty()) return "nothing to repair";
-  std::string s;
-  for (std::size_t i = 0; i < parts.size(); ++i) s += (i == 0 ? "" : ", ") + parts[i];
-  return s;
-}
-
-TriMesh repairMesh(const TriMesh& input, const std::string& where, RepairReport& report,
-                   const RepairLimits& limits) {
-  report = RepairReport{};
+// Input checks before CGAL sees the mesh: finite coordinates, indices within the vertices.
+void checkInput(const TriMesh& input, const std::string& where) {
   for (std::size_t i = 0; i < input.vertices.size(); ++i)
     if (!input.vertices[i].allFinite())
       throw InputError(where, "vertex " + std::to_string(i) + " has a non-finite coordinate");
@@ -117,43 +94,59 @@ TriMesh repairMesh(const TriMesh& input, const std::string& where, RepairReport&
         throw InputError(where, "a triangle refers to vertex " + std::to_string(v) +
                                     " but the mesh has only " +
                                     plural(input.vertices.size(), "vertex"));
+}
 
-  // 1. The soup, duplicates merged.
+struct Soup {
   std::vector<Point> points;
-  points.reserve(input.vertices.size());
-  for (const Vec3& v : input.vertices) points.emplace_back(v.x(), v.y(), v.z());
   std::vector<std::vector<std::size_t>> polygons;
-  polygons.reserve(input.triangles.size());
-  for (const auto& t : input.triangles) polygons.push_back({t[0], t[1], t[2]});
+};
+
+// Step 1: the soup, duplicates merged and triangles that repeat a vertex dropped.
+Soup repairedSoup(const TriMesh& input, RepairReport& report) {
+  Soup soup;
+  soup.points.reserve(input.vertices.size());
+  for (const Vec3& v : input.vertices) soup.points.emplace_back(v.x(), v.y(), v.z());
+  soup.polygons.reserve(input.triangles.size());
+  for (const auto& t : input.triangles) soup.polygons.push_back({t[0], t[1], t[2]});
   report.duplicateTriangles = countDuplicates(input);
   for (const auto& t : input.triangles)  // dropped by the soup repair; counted as degenerate
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) ++report.degenerateTriangles;
-  PMP::repair_polygon_soup(points, polygons);
+  PMP::repair_polygon_soup(soup.points, soup.polygons);
+  return soup;
+}
 
-  // 2. Consistent winding.
+// Step 2: consistent winding; throws when the triangles do not form a surface.
+void orientSoup(Soup& soup, const std::string& where, RepairReport& report) {
   std::vector<Vec3> before;
-  before.reserve(polygons.size());
-  for (const auto& p : polygons) before.push_back(soupNormal(points, p));
-  PMP::orient_polygon_soup(points, polygons);
-  for (std::size_t i = 0; i < polygons.size() && i < before.size(); ++i)
-    if (soupNormal(points, polygons[i]).dot(before[i]) < 0) ++report.reorientedTriangles;
-  if (!PMP::is_polygon_soup_a_polygon_mesh(polygons))
+  before.reserve(soup.polygons.size());
+  for (const auto& p : soup.polygons) before.push_back(soupNormal(soup.points, p));
+  PMP::orient_polygon_soup(soup.points, soup.polygons);
+  for (std::size_t i = 0; i < soup.polygons.size() && i < before.size(); ++i)
+    if (soupNormal(soup.points, soup.polygons[i]).dot(before[i]) < 0) ++report.reorientedTriangles;
+  if (!PMP::is_polygon_soup_a_polygon_mesh(soup.polygons))
     throw InputError(where,
                      "mesh could not be repaired: its triangles do not form a surface "
                      "even after reorienting them (edges shared by more than two "
                      "triangles); separate the touching parts in a mesh editor");
+}
 
-  // 3. Halfedge mesh, degenerate faces, stitching.
+// Step 3: the halfedge mesh, degenerate faces removed, coincident boundary edges stitched.
+Mesh stitchedMesh(const Soup& soup, RepairReport& report) {
   Mesh mesh;
-  PMP::polygon_soup_to_polygon_mesh(points, polygons, mesh);
+  PMP::polygon_soup_to_polygon_mesh(soup.points, soup.polygons, mesh);
   std::size_t zeroArea = 0;
   for (Mesh::Face_index f : mesh.faces())
     if (PMP::is_degenerate_triangle_face(f, mesh)) ++zeroArea;
   if (zeroArea > 0) PMP::remove_degenerate_faces(mesh);
   report.degenerateTriangles += zeroArea;
   PMP::stitch_borders(mesh);
+  return mesh;
+}
 
-  // 4. Holes.
+// Step 4: each hole triangulated within the limits; throws for one beyond them or a mesh still
+// open after.
+void fillHoles(Mesh& mesh, const std::string& where, RepairReport& report,
+               const RepairLimits& limits) {
   std::vector<Mesh::Halfedge_index> holes;
   PMP::extract_boundary_cycles(mesh, std::back_inserter(holes));
   std::vector<std::pair<std::size_t, double>> patches;  // edges, area
@@ -190,13 +183,11 @@ TriMesh repairMesh(const TriMesh& input, const std::string& where, RepairReport&
   }
   if (!CGAL::is_closed(mesh))
     throw InputError(where, "mesh is still not closed after repair; close it in a mesh editor");
+}
 
-  // 5. Outward.
-  if (!PMP::is_outward_oriented(mesh)) {
-    PMP::reverse_face_orientations(mesh);
-    report.flippedInsideOut = true;
-  }
-
+// The halfedge mesh back as voxfall's triangle list, garbage collected first so that vertex
+// indices are dense.
+TriMesh toTriMesh(Mesh& mesh) {
   mesh.collect_garbage();
   TriMesh out;
   out.vertices.reserve(mesh.number_of_vertices());
@@ -210,6 +201,44 @@ TriMesh repairMesh(const TriMesh& input, const std::string& where, RepairReport&
     if (k == 3) out.triangles.push_back(t);
   }
   return out;
+}
+
+}  // namespace
+
+std::string RepairReport::summary() const {
+  std::vector<std::string> parts;
+  if (holesFilled > 0)
+    parts.push_back("filled " + plural(holesFilled, "hole") + " with " +
+                    plural(patchTriangles, "triangle") + " (largest patch " +
+                    percent(largestPatchFraction) + " of the surface)");
+  if (duplicateTriangles > 0)
+    parts.push_back("removed " + plural(duplicateTriangles, "duplicate triangle"));
+  if (degenerateTriangles > 0)
+    parts.push_back("removed " + plural(degenerateTriangles, "degenerate triangle"));
+  if (reorientedTriangles > 0)
+    parts.push_back("turned " + plural(reorientedTriangles, "triangle") +
+                    " to wind like their neighbours");
+  if (flippedInsideOut) parts.push_back("turned the mesh outward");
+  if (parts.empty()) return "nothing to repair";
+  std::string s;
+  for (std::size_t i = 0; i < parts.size(); ++i) s += (i == 0 ? "" : ", ") + parts[i];
+  return s;
+}
+
+TriMesh repairMesh(const TriMesh& input, const std::string& where, RepairReport& report,
+                   const RepairLimits& limits) {
+  report = RepairReport{};
+  checkInput(input, where);
+  Soup soup = repairedSoup(input, report);
+  orientSoup(soup, where, report);
+  Mesh mesh = stitchedMesh(soup, report);
+  fillHoles(mesh, where, report, limits);
+  // Step 5: outward.
+  if (!PMP::is_outward_oriented(mesh)) {
+    PMP::reverse_face_orientations(mesh);
+    report.flippedInsideOut = true;
+  }
+  return toTriMesh(mesh);
 }
 
 }  // namespace vf

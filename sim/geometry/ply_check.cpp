@@ -271,26 +271,153 @@ void checkBinary(const std::string& path, const std::string& data, std::size_t b
   }
 }
 
-}  // namespace
-
-void checkPlyLayout(const std::string& path) {
+// Reads the file's bytes into data when it is a PLY file: named .ply (any case), or starting
+// with "ply". False for another file (an OBJ or STL is not read here: only its first bytes).
+bool readPly(const std::string& path, std::string& data) {
   std::ifstream in(path, std::ios::binary);
   std::string extension = std::filesystem::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return std::tolower(c); });
-  if (extension != ".ply") {  // an OBJ or STL is not read here: only its first bytes
+  if (extension != ".ply") {
     char magic[3] = {};
     in.read(magic, sizeof magic);
-    if (in.gcount() != sizeof magic || std::string_view(magic, sizeof magic) != "ply") return;
+    if (in.gcount() != sizeof magic || std::string_view(magic, sizeof magic) != "ply") return false;
     in.seekg(0);
   }
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return true;
+}
 
-  // The header, line by line. Lines this check does not know (comment, obj_info, anything
-  // else) are left to assimp.
+// A header is text. assimp 5.2 also ends a line at '\r', '\f' and '\0', and does not take '\v'
+// for a blank, so a header with those would be read as other lines than this check reads (a
+// fuzz input hid "element 4294967295face 06" behind a '\f'): refused. Bytes from 0x80 up (UTF-8
+// in a comment) are left alone.
+void refuseControlCharacters(const std::string& path, int n, const std::string& line) {
+  const auto control = std::find_if(line.begin(), line.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 && c != '\t';
+  });
+  if (control == line.end()) return;
+  char byte[8];
+  std::snprintf(byte, sizeof byte, "0x%02x", static_cast<unsigned char>(*control));
+  throw InputError(sourceLocation(path, n, static_cast<int>(control - line.begin()) + 1),
+                   std::string("PLY header line holds the control character ") + byte +
+                       "; a PLY header is text");
+}
+
+// What the header has declared so far.
+struct Header {
   std::vector<Element> elements;
   Format format = Format::kUnknown;
   int vertexLists = 0, faceLists = 0;  // the line of the first of each; 0: none yet
+};
+
+// "format NAME VERSION": one of the three formats, once. assimp 5.2 goes on with "format
+// binary_little_end_header" and allocates for its vertex count until memory runs out (a fuzz
+// input).
+void readFormat(const std::string& where, const std::string& line, std::istringstream& words,
+                Header& header) {
+  std::string name;
+  words >> name;
+  if (header.format != Format::kUnknown)
+    throw InputError(where, "PLY header has a second 'format' line");
+  header.format = name == "ascii"                  ? Format::kAscii
+                  : name == "binary_little_endian" ? Format::kLittleEndian
+                  : name == "binary_big_endian"    ? Format::kBigEndian
+                                                   : Format::kUnknown;
+  if (header.format == Format::kUnknown)
+    throw InputError(where, "PLY header line '" + printable(line) +
+                                "' should be 'format ascii 1.0', 'format binary_little_endian "
+                                "1.0' or 'format binary_big_endian 1.0'");
+}
+
+// "element NAME COUNT" on line n. One vertex list and one face list ("face" or "tristrips") at
+// most: assimp 5.2 sizes the mesh's arrays by the first such element and writes the next one's
+// entries past their end (names matched as assimp matches them: whole words, case-sensitive).
+void readElement(const std::string& path, int n, const std::string& line, std::istringstream& words,
+                 Header& header) {
+  Element e;
+  std::string count;
+  words >> e.name >> count;
+  // COUNT a whole number. assimp 5.2 reads a count from the leading digits of whatever follows
+  // the name (none: 0), and reads a name that starts with a digit as the count itself:
+  // "element 30000000face 1" took 700 MB and over two minutes (a fuzz input's name of 26 nines,
+  // an allocation of 92 GB). Refused, so that the data check follows the file as assimp will.
+  const auto [end, error] = std::from_chars(count.data(), count.data() + count.size(), e.count);
+  if (error != std::errc() || end != count.data() + count.size() || e.name.empty() ||
+      std::isdigit(static_cast<unsigned char>(e.name[0])) != 0)
+    throw InputError(sourceLocation(path, n),
+                     "PLY header line '" + printable(line) +
+                         "' should be 'element NAME COUNT', a name that does not start "
+                         "with a digit and a whole number");
+  int* first = e.name == "vertex"                          ? &header.vertexLists
+               : e.name == "face" || e.name == "tristrips" ? &header.faceLists
+                                                           : nullptr;
+  if (first != nullptr && *first != 0)
+    throw InputError(
+        sourceLocation(path, n),
+        std::string("PLY header declares a second ") +
+            (first == &header.vertexLists ? "vertex list ('element vertex')"
+                                          : "face list ('element face' or 'element tristrips')") +
+            " (the first is on line " + std::to_string(*first) + "); a mesh has one");
+  if (first != nullptr) *first = n;
+  header.elements.push_back(std::move(e));
+}
+
+// "property TYPE NAME" or "property list LENGTH_TYPE TYPE NAME", after an element line, with
+// types PLY has: assimp 5.2 lets a property of another type through and then allocates an
+// element's count without the data to hold it (a binary file of 250 bytes declaring 300
+// million vertices, one with a property of type "foo": 3.5 GB, 25 s).
+void readProperty(const std::string& where, const std::string& line, std::istringstream& words,
+                  Header& header) {
+  const auto refuse = [&](const std::string& why) {
+    throw InputError(where, "PLY header line '" + printable(line) + "' " + why);
+  };
+  if (header.elements.empty()) refuse("comes before any 'element' line");
+  std::string type;
+  words >> type;
+  Property p;
+  if (type == "list") {
+    std::string countType;
+    words >> countType >> type;
+    const Type length = typeNamed(countType);
+    if (!length.isInteger)
+      refuse("gives a list a length of type '" + printable(countType) +
+             "': it should be one of PLY's integer types");
+    p.list = true;
+    p.countSize = length.size;
+    p.countSigned = length.isSigned;
+  }
+  p.size = typeNamed(type).size;
+  if (p.size == 0)
+    refuse("has type '" + printable(type) + "': it should be one of PLY's types (" + typeNames() +
+           ")");
+  words >> p.name;
+  header.elements.back().properties.push_back(std::move(p));
+}
+
+// At "end_header" on line n, whose newline is at pos: the data against the header.
+void checkData(const std::string& path, const std::string& data, std::size_t pos, int n,
+               const Header& header) {
+  if (header.format == Format::kUnknown)
+    throw InputError(sourceLocation(path, n),
+                     "PLY header ends without a 'format' line (ascii, binary_little_endian "
+                     "or binary_big_endian)");
+  if (header.format == Format::kAscii) {
+    checkAscii(path, data, pos + 1, n + 1, header.elements);
+  } else {
+    checkBinary(path, data, pos + 1, header.elements, header.format == Format::kBigEndian);
+  }
+}
+
+}  // namespace
+
+void checkPlyLayout(const std::string& path) {
+  std::string data;
+  if (!readPly(path, data)) return;
+
+  // The header, line by line. Lines this check does not know (comment, obj_info, anything
+  // else) are left to assimp.
+  Header header;
   constexpr int kMaxHeaderLines = 100000;
   std::size_t pos = data.find('\n');  // past the magic number (line 1)
   for (int n = 2; pos != std::string::npos && n <= kMaxHeaderLines; ++n) {
@@ -309,113 +436,17 @@ void checkPlyLayout(const std::string& path) {
                          "after it (is the file cut off?)");
       break;  // no end_header
     }
-    // A header is text. assimp 5.2 also ends a line at '\r', '\f' and '\0', and does not take
-    // '\v' for a blank, so a header with those would be read as other lines than this check
-    // reads (a fuzz input hid "element 4294967295face 06" behind a '\f'): refused. Bytes from
-    // 0x80 up (UTF-8 in a comment) are left alone.
-    const auto control = std::find_if(line.begin(), line.end(), [](char c) {
-      return static_cast<unsigned char>(c) < 0x20 && c != '\t';
-    });
-    if (control != line.end()) {
-      char byte[8];
-      std::snprintf(byte, sizeof byte, "0x%02x", static_cast<unsigned char>(*control));
-      throw InputError(sourceLocation(path, n, static_cast<int>(control - line.begin()) + 1),
-                       std::string("PLY header line holds the control character ") + byte +
-                           "; a PLY header is text");
-    }
+    refuseControlCharacters(path, n, line);
     if (line == "end_header") {
-      if (format == Format::kUnknown)
-        throw InputError(sourceLocation(path, n),
-                         "PLY header ends without a 'format' line (ascii, binary_little_endian "
-                         "or binary_big_endian)");
-      if (format == Format::kAscii) {
-        checkAscii(path, data, pos + 1, n + 1, elements);
-      } else {
-        checkBinary(path, data, pos + 1, elements, format == Format::kBigEndian);
-      }
+      checkData(path, data, pos, n, header);
       return;
     }
     std::istringstream words(line);
     std::string keyword;
     words >> keyword;
-    if (keyword == "format") {
-      // One of the three formats, once: assimp 5.2 goes on with "format binary_little_end_header"
-      // and allocates for its vertex count until memory runs out (a fuzz input).
-      std::string name;
-      words >> name;
-      if (format != Format::kUnknown)
-        throw InputError(sourceLocation(path, n), "PLY header has a second 'format' line");
-      format = name == "ascii"                  ? Format::kAscii
-               : name == "binary_little_endian" ? Format::kLittleEndian
-               : name == "binary_big_endian"    ? Format::kBigEndian
-                                                : Format::kUnknown;
-      if (format == Format::kUnknown)
-        throw InputError(sourceLocation(path, n),
-                         "PLY header line '" + printable(line) +
-                             "' should be 'format ascii 1.0', 'format binary_little_endian "
-                             "1.0' or 'format binary_big_endian 1.0'");
-    } else if (keyword == "element") {
-      // One vertex list and one face list ("face" or "tristrips") at most: assimp 5.2 sizes
-      // the mesh's arrays by the first such element and writes the next one's entries past
-      // their end (names matched as assimp matches them: whole words, case-sensitive).
-      Element e;
-      std::string count;
-      words >> e.name >> count;
-      // "element NAME COUNT", COUNT a whole number. assimp 5.2 reads a count from the leading
-      // digits of whatever follows the name (none: 0), and reads a name that starts with a
-      // digit as the count itself: "element 30000000face 1" took 700 MB and over two minutes
-      // (a fuzz input's name of 26 nines, an allocation of 92 GB). Refused, so that the check
-      // below follows the file as assimp will.
-      const auto [end, error] = std::from_chars(count.data(), count.data() + count.size(), e.count);
-      if (error != std::errc() || end != count.data() + count.size() || e.name.empty() ||
-          std::isdigit(static_cast<unsigned char>(e.name[0])) != 0)
-        throw InputError(sourceLocation(path, n),
-                         "PLY header line '" + printable(line) +
-                             "' should be 'element NAME COUNT', a name that does not start "
-                             "with a digit and a whole number");
-      int* first = e.name == "vertex"                          ? &vertexLists
-                   : e.name == "face" || e.name == "tristrips" ? &faceLists
-                                                               : nullptr;
-      if (first != nullptr && *first != 0)
-        throw InputError(
-            sourceLocation(path, n),
-            std::string("PLY header declares a second ") +
-                (first == &vertexLists ? "vertex list ('element vertex')"
-                                       : "face list ('element face' or 'element tristrips')") +
-                " (the first is on line " + std::to_string(*first) + "); a mesh has one");
-      if (first != nullptr) *first = n;
-      elements.push_back(std::move(e));
-    } else if (keyword == "property") {
-      // "property TYPE NAME" or "property list LENGTH_TYPE TYPE NAME", after an element line,
-      // with types PLY has: assimp 5.2 lets a property of another type through and then
-      // allocates an element's count without the data to hold it (a binary file of 250 bytes
-      // declaring 300 million vertices, one with a property of type "foo": 3.5 GB, 25 s).
-      const auto refuse = [&](const std::string& why) {
-        throw InputError(sourceLocation(path, n),
-                         "PLY header line '" + printable(line) + "' " + why);
-      };
-      if (elements.empty()) refuse("comes before any 'element' line");
-      std::string type;
-      words >> type;
-      Property p;
-      if (type == "list") {
-        std::string countType;
-        words >> countType >> type;
-        const Type length = typeNamed(countType);
-        if (!length.isInteger)
-          refuse("gives a list a length of type '" + printable(countType) +
-                 "': it should be one of PLY's integer types");
-        p.list = true;
-        p.countSize = length.size;
-        p.countSigned = length.isSigned;
-      }
-      p.size = typeNamed(type).size;
-      if (p.size == 0)
-        refuse("has type '" + printable(type) + "': it should be one of PLY's types (" +
-               typeNames() + ")");
-      words >> p.name;
-      elements.back().properties.push_back(std::move(p));
-    }
+    if (keyword == "format") readFormat(sourceLocation(path, n), line, words, header);
+    if (keyword == "element") readElement(path, n, line, words, header);
+    if (keyword == "property") readProperty(sourceLocation(path, n), line, words, header);
   }
   throw InputError(path, "PLY header has no 'end_header' line (is the file cut off?)");
 }

@@ -265,24 +265,28 @@ WorldDef sceneWorldDef(const SceneSpec& spec) {
   return def;
 }
 
-BuiltScene buildScene(const SceneSpec& spec) {
-  BuiltScene out;
-  out.world = std::make_unique<World>(sceneWorldDef(spec));
-  if (out.world->def().terrain)
-    out.evaluationLines = sceneEvaluationLines(spec, *out.world->def().terrain);
-  const auto shapes = buildSceneShapes(spec);
+namespace {
 
-  std::vector<std::string> where;  // per body id, for the run-length check
-  auto add = [&](const BuiltShape& s, const std::string& shapeName, BodyDef body,
-                 const std::optional<Color>& color, const std::string& at) {
+// Adds bodies to a scene's world in id order, with their colour, shape name and where the
+// scene gives them (for the run-length check).
+struct BodyAdder {
+  BuiltScene& out;
+  std::vector<std::string> where;  // per body id
+
+  void add(const BuiltShape& s, const std::string& shapeName, BodyDef body,
+           const std::optional<Color>& color, const std::string& at) {
     where.push_back(at);
     body.shape = s.shape;
     const int id = out.world->addBody(body);
     VF_ASSERT(id == static_cast<int>(out.colors.size()));
     out.colors.push_back(color.value_or(s.color.value_or(defaultBodyColor(id))));
     out.shapeOf.push_back(shapeName);
-  };
+  }
+};
 
+// The scene's [[bodies]], in file order.
+void addSceneBodies(const SceneSpec& spec, const std::map<std::string, BuiltShape>& shapes,
+                    BodyAdder& bodies) {
   for (const BodySpec& b : spec.bodies) {
     const BuiltShape& s = findShape(shapes, b.shape, b.where);
     BodyDef def;
@@ -292,59 +296,83 @@ BuiltScene buildScene(const SceneSpec& spec) {
     def.angularVelocity = b.angularVelocity;
     def.isStatic = b.isStatic;
     if (b.dropHeight) def.dropHeight = *b.dropHeight;
-    add(s, b.shape, def, b.color, b.where);
+    bodies.add(s, b.shape, def, b.color, b.where);
   }
+}
 
+// Release i of emitter e. Each release draws the same seven numbers from rng whichever jitter
+// is switched on: changing one kind of jitter does not reshuffle the others.
+BodyDef emitterRelease(const EmitterSpec& e, const Shape& shape, int i, Prng& rng) {
+  const Vec3 offset(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+  const double turn = rng.uniform(-1, 1);
+  const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+
+  Vec3 position = e.positions[static_cast<std::size_t>(i) % e.positions.size()];
+  Vec3 velocity = e.velocity;
+  Quat orientation = e.orientation.normalized();
+  if (e.positionJitter > 0) position += e.positionJitter * offset;
+  if (e.directionJitter > 0) {
+    // Rotating about z turns the horizontal part and keeps the vertical one.
+    const double angle = e.directionJitter * turn * std::numbers::pi / 180;
+    velocity = Eigen::AngleAxisd(angle, Vec3::UnitZ()) * velocity;
+  }
+  if (e.randomOrientation) orientation = (uniformRotation(u1, u2, u3) * orientation).normalized();
+
+  BodyDef def;
+  def.orientation = orientation;
+  def.position = centreOfMass(shape, position, orientation);
+  def.velocity = velocity;
+  def.angularVelocity = e.angularVelocity;
+  def.releaseTime = e.start + i * e.interval;
+  if (e.dropHeight) def.dropHeight = *e.dropHeight;
+  def.clearRelease = e.clearRelease;
+  return def;
+}
+
+// Each emitter's releases in turn. One generator per emitter, seeded from the scene, so that
+// adding an emitter does not change its neighbours.
+void addEmitterReleases(const SceneSpec& spec, const std::map<std::string, BuiltShape>& shapes,
+                        BodyAdder& bodies) {
   for (const EmitterSpec& e : spec.emitters) {
     const BuiltShape& s = findShape(shapes, e.shape, e.where);
     if (e.positions.empty()) throw InputError(e.where, "emitter has no position");
-    // One generator per emitter, seeded from the scene, drawing the same seven numbers for
-    // every release whichever jitter is switched on: changing one kind of jitter does not
-    // reshuffle the others, and adding an emitter does not change its neighbours.
     Prng rng(e.seed);
-    for (int i = 0; i < e.count; ++i) {
-      const Vec3 offset(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
-      const double turn = rng.uniform(-1, 1);
-      const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
-
-      Vec3 position = e.positions[static_cast<std::size_t>(i) % e.positions.size()];
-      Vec3 velocity = e.velocity;
-      Quat orientation = e.orientation.normalized();
-      if (e.positionJitter > 0) position += e.positionJitter * offset;
-      if (e.directionJitter > 0) {
-        // Rotating about z turns the horizontal part and keeps the vertical one.
-        const double angle = e.directionJitter * turn * std::numbers::pi / 180;
-        velocity = Eigen::AngleAxisd(angle, Vec3::UnitZ()) * velocity;
-      }
-      if (e.randomOrientation)
-        orientation = (uniformRotation(u1, u2, u3) * orientation).normalized();
-
-      BodyDef def;
-      def.orientation = orientation;
-      def.position = centreOfMass(*s.shape, position, orientation);
-      def.velocity = velocity;
-      def.angularVelocity = e.angularVelocity;
-      def.releaseTime = e.start + i * e.interval;
-      if (e.dropHeight) def.dropHeight = *e.dropHeight;
-      def.clearRelease = e.clearRelease;
-      add(s, e.shape, def, e.color, e.where);
-    }
+    for (int i = 0; i < e.count; ++i)
+      bodies.add(s, e.shape, emitterRelease(e, *s.shape, i, rng), e.color, e.where);
   }
-  if (out.world->def().terrain && !spec.barriers.empty()) {
-    // After every rock, so body ids of bodies and emitters stay as the scene numbers them.
-    const std::vector<Barrier> barriers = sceneBarriers(spec, *out.world->def().terrain);
-    std::vector<std::vector<BarrierPiece>> pieces;
-    for (const Barrier& b : barriers)
-      pieces.push_back(barrierPieces(b, *out.world->def().terrain, spec.level));
-    const int first = out.world->bodyCount();
-    out.barriers = attachBarriers(*out.world, barriers, pieces);
-    for (int id = first; id < out.world->bodyCount(); ++id) {
-      out.colors.push_back(Color{0.25f, 0.25f, 0.27f});
-      out.shapeOf.push_back(out.world->shape(id).name);
-      where.push_back(spec.path);
-    }
+}
+
+// The barriers on the terrain, after every rock, so body ids of bodies and emitters stay as the
+// scene numbers them.
+void addSceneBarriers(const SceneSpec& spec, BodyAdder& bodies) {
+  BuiltScene& out = bodies.out;
+  if (!out.world->def().terrain || spec.barriers.empty()) return;
+  const std::vector<Barrier> barriers = sceneBarriers(spec, *out.world->def().terrain);
+  std::vector<std::vector<BarrierPiece>> pieces;
+  for (const Barrier& b : barriers)
+    pieces.push_back(barrierPieces(b, *out.world->def().terrain, spec.level));
+  const int first = out.world->bodyCount();
+  out.barriers = attachBarriers(*out.world, barriers, pieces);
+  for (int id = first; id < out.world->bodyCount(); ++id) {
+    out.colors.push_back(Color{0.25f, 0.25f, 0.27f});
+    out.shapeOf.push_back(out.world->shape(id).name);
+    bodies.where.push_back(spec.path);
   }
-  checkRunLength(*out.world, spec.duration, spec.limits, where);
+}
+
+}  // namespace
+
+BuiltScene buildScene(const SceneSpec& spec) {
+  BuiltScene out;
+  out.world = std::make_unique<World>(sceneWorldDef(spec));
+  if (out.world->def().terrain)
+    out.evaluationLines = sceneEvaluationLines(spec, *out.world->def().terrain);
+  const auto shapes = buildSceneShapes(spec);
+  BodyAdder bodies{out, {}};
+  addSceneBodies(spec, shapes, bodies);
+  addEmitterReleases(spec, shapes, bodies);
+  addSceneBarriers(spec, bodies);
+  checkRunLength(*out.world, spec.duration, spec.limits, bodies.where);
   return out;
 }
 

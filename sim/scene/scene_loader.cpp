@@ -25,6 +25,44 @@ namespace scene_reading {
 
 // --- [simulation] -------------------------------------------------------------------------
 
+namespace {
+
+// [simulation] rest: the speed and time under which a rock counts as at rest.
+void readRest(const Reader& r, const toml::node& n, RestCriterion& rest) {
+  const toml::table& rt = r.table(n, "rest");
+  r.checkKeys(rt, sceneKeysOf("simulation.rest"), "[simulation] rest");
+  if (const auto* x = rt.get("speed")) rest.speed = r.positive(*x, "rest.speed", " m/s");
+  if (const auto* x = rt.get("time")) rest.time = r.nonNegative(*x, "rest.time", " s");
+}
+
+// [simulation] step: a rule's name, as --step takes it, or a fixed step in seconds.
+StepRule readStepRule(const Reader& r, const toml::node& n) {
+  const std::string valid = "'step' must be " + stepRuleChoices();
+  if (const auto* s = n.as_string()) {  // the text --step takes
+    const auto rule = parseStepRule(s->get());
+    if (!rule) r.fail(n, valid + ", got \"" + s->get() + "\"");
+    return *rule;
+  }
+  if (!n.is_number()) r.fail(n, valid + ", got " + typeName(n));
+  const double v = r.number(n, "step");
+  if (!(v > 0)) r.fail(n, valid + ", got " + formatNumber(v));
+  return StepRule::fixed(v);
+}
+
+// [simulation] collider: "voxel" or "polygon".
+ColliderMethod readCollider(const Reader& r, const toml::node& n) {
+  const std::string c = r.string(n, "collider");
+  if (c == "voxel") return ColliderMethod::kVoxel;
+  if (c != "polygon")
+    r.fail(n,
+           "'collider' must be \"voxel\" (sphere trees) or \"polygon\" (the paper's "
+           "comparison method, convex meshes only), got \"" +
+               c + "\"");
+  return ColliderMethod::kPolygon;
+}
+
+}  // namespace
+
 void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
   r.checkKeys(t, sceneKeysOf("simulation"), "[simulation]");
   if (const auto* n = t.get("rotation")) {
@@ -45,43 +83,14 @@ void readSimulation(const Reader& r, const toml::table& t, SceneSpec& spec) {
                  v + "\"");
     spec.stopWhenSettled = v == "all_at_rest";
   }
-  if (const auto* n = t.get("rest")) {
-    const toml::table& rt = r.table(*n, "rest");
-    r.checkKeys(rt, sceneKeysOf("simulation.rest"), "[simulation] rest");
-    if (const auto* x = rt.get("speed")) spec.rest.speed = r.positive(*x, "rest.speed", " m/s");
-    if (const auto* x = rt.get("time")) spec.rest.time = r.nonNegative(*x, "rest.time", " s");
-  }
+  if (const auto* n = t.get("rest")) readRest(r, *n, spec.rest);
   if (const auto* n = t.get("duration")) spec.duration = r.positive(*n, "duration", " s");
   if (const auto* n = t.get("level"))
     spec.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
-  if (const auto* n = t.get("step")) {
-    const std::string valid = "'step' must be " + stepRuleChoices();
-    if (const auto* s = n->as_string()) {  // the text --step takes
-      const auto rule = parseStepRule(s->get());
-      if (!rule) r.fail(*n, valid + ", got \"" + s->get() + "\"");
-      spec.step = *rule;
-    } else if (n->is_number()) {
-      const double v = r.number(*n, "step");
-      if (!(v > 0)) r.fail(*n, valid + ", got " + formatNumber(v));
-      spec.step = StepRule::fixed(v);
-    } else {
-      r.fail(*n, valid + ", got " + typeName(*n));
-    }
-  }
+  if (const auto* n = t.get("step")) spec.step = readStepRule(r, *n);
   if (const auto* n = t.get("gravity")) spec.gravity = r.vec3(*n, "gravity");
   if (const auto* n = t.get("fps")) spec.fps = r.positive(*n, "fps", " frames per second");
-  if (const auto* n = t.get("collider")) {
-    const std::string c = r.string(*n, "collider");
-    if (c == "voxel")
-      spec.collider = ColliderMethod::kVoxel;
-    else if (c == "polygon")
-      spec.collider = ColliderMethod::kPolygon;
-    else
-      r.fail(*n,
-             "'collider' must be \"voxel\" (sphere trees) or \"polygon\" (the paper's "
-             "comparison method, convex meshes only), got \"" +
-                 c + "\"");
-  }
+  if (const auto* n = t.get("collider")) spec.collider = readCollider(r, *n);
   if (const auto* n = t.get("method")) {
     const std::string m = r.string(*n, "method");
     if (m != "fast" && m != "paper")
@@ -129,24 +138,49 @@ void readContact(const Reader& r, const toml::table& t, ContactMaterial& c) {
 
 using namespace scene_reading;
 
-SceneSpec loadScene(const std::string& path) {
-  SceneSpec spec;
-  spec.path = path;
-  spec.name = fs::path(path).stem().string();
+namespace {
 
+// The scene file parsed; throws InputError when it is missing, not a file or not TOML.
+toml::table parseSceneFile(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path, "scene file not found");
   if (!fs::is_regular_file(path, ec)) throw InputError(path, "scene path is not a file");
-
-  toml::table root;
   try {
-    root = toml::parse_file(path);
+    return toml::parse_file(path);
   } catch (const toml::parse_error& e) {
     const auto& b = e.source().begin;
     throw InputError(sourceLocation(path, static_cast<int>(b.line), static_cast<int>(b.column)),
                      "TOML syntax error: " + std::string(e.description()));
   }
+}
 
+// The frames a scene asks for, simulated and drawn, within what a run can allocate.
+void checkFrameCounts(const Reader& r, const toml::table& root, const SceneSpec& spec) {
+  // Frame k is at k / fps for k = 0 .. floor(duration * fps): keep that count allocatable.
+  if (spec.duration * spec.fps > kMaxSceneFrames) {
+    const toml::node* n = root.at_path("simulation.duration").node();
+    throw InputError(n != nullptr ? r.where(*n) : spec.path,
+                     "duration * fps = " + formatNumber(spec.duration * spec.fps) +
+                         " frames; at most " + formatNumber(kMaxSceneFrames) + " are supported");
+  }
+  // Drawn frames: duration * fps / speed (slow motion makes more).
+  if (spec.duration * spec.fps / spec.output.speed > kMaxSceneFrames) {
+    const toml::node* n = root.at_path("output.speed").node();
+    throw InputError(
+        n != nullptr ? r.where(*n) : spec.path,
+        "duration * fps / speed = " + formatNumber(spec.duration * spec.fps / spec.output.speed) +
+            " frames; at most " + formatNumber(kMaxSceneFrames) + " are supported");
+  }
+}
+
+}  // namespace
+
+SceneSpec loadScene(const std::string& path) {
+  SceneSpec spec;
+  spec.path = path;
+  spec.name = fs::path(path).stem().string();
+
+  const toml::table root = parseSceneFile(path);
   const Reader r(path);
   r.checkKeys(root, sceneKeysOf(""), "the scene's top level");
   const fs::path sceneFolder = fs::path(path).parent_path();
@@ -176,22 +210,7 @@ SceneSpec loadScene(const std::string& path) {
     readEvaluationLines(r, arrayOfTables(r, *n, "evaluation_lines"), sceneFolder, spec);
   if (const auto* n = root.get("barriers"))
     readBarriers(r, arrayOfTables(r, *n, "barriers"), sceneFolder, spec);
-
-  // Frame k is at k / fps for k = 0 .. floor(duration * fps): keep that count allocatable.
-  if (spec.duration * spec.fps > kMaxSceneFrames) {
-    const toml::node* n = root.at_path("simulation.duration").node();
-    throw InputError(n != nullptr ? r.where(*n) : path,
-                     "duration * fps = " + formatNumber(spec.duration * spec.fps) +
-                         " frames; at most " + formatNumber(kMaxSceneFrames) + " are supported");
-  }
-  // Drawn frames: duration * fps / speed (slow motion makes more).
-  if (spec.duration * spec.fps / spec.output.speed > kMaxSceneFrames) {
-    const toml::node* n = root.at_path("output.speed").node();
-    throw InputError(
-        n != nullptr ? r.where(*n) : path,
-        "duration * fps / speed = " + formatNumber(spec.duration * spec.fps / spec.output.speed) +
-            " frames; at most " + formatNumber(kMaxSceneFrames) + " are supported");
-  }
+  checkFrameCounts(r, root, spec);
   return spec;
 }
 

@@ -207,6 +207,78 @@ void readRelease(const Reader& r, const toml::node& n, const fs::path& sceneFold
   e.releases.push_back(readReleaseSource(r, r.table(n, "release"), sceneFolder, "release"));
 }
 
+// An entry of 'shape' or 'shapes' names a shape, or a rock family: all its variants, equally
+// likely. `names` are the scene's shapes, for the message.
+std::vector<std::string> shapeEntry(const Reader& r, const SceneSpec& spec,
+                                    const std::vector<std::string>& names, const toml::node& n,
+                                    const std::string& key) {
+  const std::string name = r.string(n, key);
+  if (isShapeName(spec, name)) return std::vector<std::string>{name};
+  if (auto members = familyMembers(spec, name); !members.empty()) return members;
+  std::string message = "unknown shape '" + name + "'";
+  if (auto guess = nearestName(name, names))
+    message += "; did you mean '" + *guess + "'?";
+  else
+    message += "; defined shapes: " + (names.empty() ? std::string("none") : joinNames(names));
+  r.fail(n, message);
+}
+
+// 'shape' or 'shapes': the entries drawn from, each a list of shape names.
+std::vector<std::vector<std::string>> readShapeEntries(const Reader& r, const toml::table& t,
+                                                       const SceneSpec& spec) {
+  const toml::node* one = t.get("shape");
+  const toml::node* many = t.get("shapes");
+  if (one != nullptr && many != nullptr)
+    r.fail(*many, "give either 'shape' or 'shapes' in [ensemble], not both");
+  const auto names = shapeNames(spec);
+  std::vector<std::vector<std::string>> entries;
+  if (one != nullptr) {
+    entries.push_back(shapeEntry(r, spec, names, *one, "shape"));
+  } else if (many != nullptr) {
+    const toml::array* a = many->as_array();
+    if (a == nullptr || a->empty())
+      r.fail(*many, "'shapes' must be a non-empty array of shape names, got " +
+                        (a == nullptr ? typeName(*many) : std::string("an empty array")));
+    for (std::size_t i = 0; i < a->size(); ++i)
+      entries.push_back(
+          shapeEntry(r, spec, names, *a->get(i), "shapes[" + std::to_string(i) + "]"));
+  } else {
+    r.fail(t, "missing required key 'shape' (or 'shapes', drawn with 'weights') in [ensemble]");
+  }
+  return entries;
+}
+
+// The shapes and their weights from the entries and 'weights' (1 each without it); a family's
+// weight is shared equally by its variants.
+void readShapeWeights(const Reader& r, const toml::table& t,
+                      const std::vector<std::vector<std::string>>& entries, EnsembleSpec& e) {
+  std::vector<double> entryWeights(entries.size(), 1.0);
+  if (const auto* n = t.get("weights")) {
+    const toml::array* a = n->as_array();
+    if (a == nullptr || a->size() != entries.size())
+      r.fail(*n, "'weights' must be an array of " + std::to_string(entries.size()) +
+                     " numbers, one per entry of 'shapes'");
+    for (std::size_t i = 0; i < a->size(); ++i)
+      entryWeights[i] = r.positive(*a->get(i), "weights[" + std::to_string(i) + "]", "");
+  }
+  for (std::size_t i = 0; i < entries.size(); ++i)
+    for (const std::string& name : entries[i]) {
+      e.shapes.push_back(name);
+      e.weights.push_back(entryWeights[i] / static_cast<double>(entries[i].size()));
+    }
+}
+
+// 'orientation': "random" or "fixed".
+bool readRandomOrientation(const Reader& r, const toml::node& n) {
+  const std::string v = r.string(n, "orientation");
+  if (v != "random" && v != "fixed")
+    r.fail(n,
+           "'orientation' must be \"random\" (uniform over all rotations, the default) "
+           "or \"fixed\" (the mesh file's axes), got \"" +
+               v + "\"");
+  return v == "random";
+}
+
 }  // namespace
 
 void readEnsemble(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
@@ -219,63 +291,11 @@ void readEnsemble(const Reader& r, const toml::table& t, const fs::path& sceneFo
     if (seed < 0) r.fail(*n, "'seed' must be an integer >= 0, got " + std::to_string(seed));
     e.seed = static_cast<std::uint64_t>(seed);
   }
-  const toml::node* one = t.get("shape");
-  const toml::node* many = t.get("shapes");
-  if (one != nullptr && many != nullptr)
-    r.fail(*many, "give either 'shape' or 'shapes' in [ensemble], not both");
-  const auto names = shapeNames(spec);
-  // An entry names a shape, or a rock family: all its variants, equally likely.
-  auto shapeEntry = [&](const toml::node& n, const std::string& key) {
-    const std::string name = r.string(n, key);
-    if (isShapeName(spec, name)) return std::vector<std::string>{name};
-    if (auto members = familyMembers(spec, name); !members.empty()) return members;
-    std::string message = "unknown shape '" + name + "'";
-    if (auto guess = nearestName(name, names))
-      message += "; did you mean '" + *guess + "'?";
-    else
-      message += "; defined shapes: " + (names.empty() ? std::string("none") : joinNames(names));
-    r.fail(n, message);
-  };
-  std::vector<std::vector<std::string>> entries;
-  if (one != nullptr) {
-    entries.push_back(shapeEntry(*one, "shape"));
-  } else if (many != nullptr) {
-    const toml::array* a = many->as_array();
-    if (a == nullptr || a->empty())
-      r.fail(*many, "'shapes' must be a non-empty array of shape names, got " +
-                        (a == nullptr ? typeName(*many) : std::string("an empty array")));
-    for (std::size_t i = 0; i < a->size(); ++i)
-      entries.push_back(shapeEntry(*a->get(i), "shapes[" + std::to_string(i) + "]"));
-  } else {
-    r.fail(t, "missing required key 'shape' (or 'shapes', drawn with 'weights') in [ensemble]");
-  }
-  std::vector<double> entryWeights(entries.size(), 1.0);
-  if (const auto* n = t.get("weights")) {
-    const toml::array* a = n->as_array();
-    if (a == nullptr || a->size() != entries.size())
-      r.fail(*n, "'weights' must be an array of " + std::to_string(entries.size()) +
-                     " numbers, one per entry of 'shapes'");
-    for (std::size_t i = 0; i < a->size(); ++i)
-      entryWeights[i] = r.positive(*a->get(i), "weights[" + std::to_string(i) + "]", "");
-  }
-  // A family's weight is shared equally by its variants.
-  for (std::size_t i = 0; i < entries.size(); ++i)
-    for (const std::string& name : entries[i]) {
-      e.shapes.push_back(name);
-      e.weights.push_back(entryWeights[i] / static_cast<double>(entries[i].size()));
-    }
+  readShapeWeights(r, t, readShapeEntries(r, t, spec), e);
   readRelease(r, r.require(t, "release", "[ensemble]"), sceneFolder, e);
   if (const auto* n = t.get("drop_height"))
     e.dropHeight = r.nonNegative(*n, "drop_height", " m (lowest point above the surface)");
-  if (const auto* n = t.get("orientation")) {
-    const std::string v = r.string(*n, "orientation");
-    if (v != "random" && v != "fixed")
-      r.fail(*n,
-             "'orientation' must be \"random\" (uniform over all rotations, the default) "
-             "or \"fixed\" (the mesh file's axes), got \"" +
-                 v + "\"");
-    e.randomOrientation = v == "random";
-  }
+  if (const auto* n = t.get("orientation")) e.randomOrientation = readRandomOrientation(r, *n);
   if (const auto* n = t.get("velocity"))
     readVectorRange(r, *n, "velocity", e.velocityMin, e.velocityMax);
   if (const auto* n = t.get("angular_velocity"))

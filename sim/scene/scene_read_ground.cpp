@@ -87,26 +87,24 @@ GroundMaterialSpec readGroundMaterial(const Reader& r, const toml::table& m,
   return g;
 }
 
-}  // namespace
+// 'edge': what the terrain's border does to a rock.
+void readTerrainEdge(const Reader& r, const toml::node& n, SceneSpec& spec) {
+  const std::string v = r.string(n, "edge");
+  if (v == "remove")
+    spec.terrainEdge = TerrainEdge::kRemove;
+  else if (v == "stop")
+    spec.terrainEdge = TerrainEdge::kStop;
+  else if (v == "wall")
+    spec.terrainEdge = TerrainEdge::kWall;
+  else
+    r.fail(n,
+           "'edge' must be \"remove\" (the default without a plane), \"stop\" or \"wall\", got \"" +
+               v + "\"");
+}
 
-void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
-                SceneSpec& spec) {
-  r.checkKeys(t, sceneKeysOf("ground"), "[ground]");
-  if (const auto* n = t.get("edge")) {
-    const std::string v = r.string(*n, "edge");
-    if (v == "remove")
-      spec.terrainEdge = TerrainEdge::kRemove;
-    else if (v == "stop")
-      spec.terrainEdge = TerrainEdge::kStop;
-    else if (v == "wall")
-      spec.terrainEdge = TerrainEdge::kWall;
-    else
-      r.fail(
-          *n,
-          "'edge' must be \"remove\" (the default without a plane), \"stop\" or \"wall\", got \"" +
-              v + "\"");
-  }
-  if (const auto* n = t.get("plane")) spec.groundPlane = r.number(*n, "plane");
+// 'heightfield' and what places and drapes it: 'offset', 'crs', 'texture'.
+void readTerrainGrid(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
+                     SceneSpec& spec) {
   if (const auto* n = t.get("heightfield")) {
     spec.terrainPath = existingFile(r, *n, "heightfield", sceneFolder, "terrain grid",
                                     " (a DEM GDAL reads, e.g. GeoTIFF or ESRI ASCII; relative "
@@ -135,51 +133,49 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
                      " (an RGB or grey raster GDAL reads, e.g. an orthophoto GeoTIFF; relative "
                      "paths resolve against the scene file's folder)");
   }
-  if (const auto* n = t.get("materials")) {
-    const toml::table& all = r.table(*n, "materials");
-    for (auto&& [k, v] : all) {
-      const std::string name(k.str());
-      spec.groundMaterials.push_back(
-          readGroundMaterial(r, r.table(v, "ground.materials." + name), name));
-    }
+}
+
+// A ground material's name at n: one of the scene's [ground.materials] or a preset.
+std::string materialName(const Reader& r, const SceneSpec& spec, const toml::node& n,
+                         const std::string& key) {
+  const std::string name = r.string(n, key);
+  std::vector<std::string> valid;
+  for (const auto& g : spec.groundMaterials) valid.push_back(g.name);
+  for (const auto& p : groundPresetNames()) valid.push_back(p);
+  if (std::find(valid.begin(), valid.end(), name) != valid.end()) return name;
+  std::string message = "unknown ground material '" + name + "'";
+  if (auto guess = nearestName(name, valid))
+    message += "; did you mean '" + *guess + "'?";
+  else
+    message += "; presets: " + joinNames(groundPresetNames()) + " (or define [ground.materials." +
+               name + "])";
+  r.fail(n, message);
+}
+
+// 'classes' (at n), the class raster, and 'class_materials', its class -> material table.
+void readGroundClasses(const Reader& r, const toml::table& t, const toml::node& n,
+                       const fs::path& sceneFolder, SceneSpec& spec) {
+  if (spec.terrainPath.empty())
+    r.fail(n, "'classes' is a raster on the heightfield's grid; give 'heightfield' too");
+  if (spec.groundMaterial.empty())
+    r.fail(n, "give 'material' too: it applies where the class raster has no mapped class");
+  spec.groundClassesPath = existingFile(r, n, "classes", sceneFolder, "class raster");
+  const toml::node* map = t.get("class_materials");
+  if (map == nullptr) r.fail(n, "give 'class_materials' too: a table class = \"material\"");
+  const toml::table& m = r.table(*map, "class_materials");
+  for (auto&& [k, v] : m) {
+    int cls = -1;
+    const std::string key(k.str());
+    const auto res = std::from_chars(key.data(), key.data() + key.size(), cls);
+    if (res.ec != std::errc() || res.ptr != key.data() + key.size() || cls < 0 || cls > 65535)
+      r.fail(k.source(),
+             "'class_materials' keys must be class numbers 0..65535, got '" + key + "'");
+    spec.classMaterials.emplace_back(cls, materialName(r, spec, v, "class_materials." + key));
   }
-  // A material name must be a custom one or a preset.
-  auto materialName = [&](const toml::node& n, const std::string& key) {
-    const std::string name = r.string(n, key);
-    std::vector<std::string> valid;
-    for (const auto& g : spec.groundMaterials) valid.push_back(g.name);
-    for (const auto& p : groundPresetNames()) valid.push_back(p);
-    if (std::find(valid.begin(), valid.end(), name) != valid.end()) return name;
-    std::string message = "unknown ground material '" + name + "'";
-    if (auto guess = nearestName(name, valid))
-      message += "; did you mean '" + *guess + "'?";
-    else
-      message += "; presets: " + joinNames(groundPresetNames()) + " (or define [ground.materials." +
-                 name + "])";
-    r.fail(n, message);
-  };
-  if (const auto* n = t.get("material")) spec.groundMaterial = materialName(*n, "material");
-  if (const auto* n = t.get("classes")) {
-    if (spec.terrainPath.empty())
-      r.fail(*n, "'classes' is a raster on the heightfield's grid; give 'heightfield' too");
-    if (spec.groundMaterial.empty())
-      r.fail(*n, "give 'material' too: it applies where the class raster has no mapped class");
-    spec.groundClassesPath = existingFile(r, *n, "classes", sceneFolder, "class raster");
-    const toml::node* map = t.get("class_materials");
-    if (map == nullptr) r.fail(*n, "give 'class_materials' too: a table class = \"material\"");
-    const toml::table& m = r.table(*map, "class_materials");
-    for (auto&& [k, v] : m) {
-      int cls = -1;
-      const std::string key(k.str());
-      const auto res = std::from_chars(key.data(), key.data() + key.size(), cls);
-      if (res.ec != std::errc() || res.ptr != key.data() + key.size() || cls < 0 || cls > 65535)
-        r.fail(k.source(),
-               "'class_materials' keys must be class numbers 0..65535, got '" + key + "'");
-      spec.classMaterials.emplace_back(cls, materialName(v, "class_materials." + key));
-    }
-  } else if (const auto* n = t.get("class_materials")) {
-    r.fail(*n, "'class_materials' needs 'classes' (the class raster)");
-  }
+}
+
+// 'variability' and 'variability_seed': the per-cell perturbation of the ground's coefficients.
+void readGroundVariability(const Reader& r, const toml::table& t, SceneSpec& spec) {
   if (const auto* n = t.get("variability")) {
     const double v = r.number(*n, "variability");
     if (v < 0 || v >= 1)
@@ -199,6 +195,32 @@ void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFold
     spec.groundVariabilitySeed = static_cast<std::uint64_t>(
         r.integerInRange(*n, "variability_seed", 0, std::numeric_limits<std::int64_t>::max()));
   }
+}
+
+}  // namespace
+
+void readGround(const Reader& r, const toml::table& t, const fs::path& sceneFolder,
+                SceneSpec& spec) {
+  r.checkKeys(t, sceneKeysOf("ground"), "[ground]");
+  if (const auto* n = t.get("edge")) readTerrainEdge(r, *n, spec);
+  if (const auto* n = t.get("plane")) spec.groundPlane = r.number(*n, "plane");
+  readTerrainGrid(r, t, sceneFolder, spec);
+  if (const auto* n = t.get("materials")) {
+    const toml::table& all = r.table(*n, "materials");
+    for (auto&& [k, v] : all) {
+      const std::string name(k.str());
+      spec.groundMaterials.push_back(
+          readGroundMaterial(r, r.table(v, "ground.materials." + name), name));
+    }
+  }
+  if (const auto* n = t.get("material"))
+    spec.groundMaterial = materialName(r, spec, *n, "material");
+  if (const auto* n = t.get("classes")) {
+    readGroundClasses(r, t, *n, sceneFolder, spec);
+  } else if (const auto* n = t.get("class_materials")) {
+    r.fail(*n, "'class_materials' needs 'classes' (the class raster)");
+  }
+  readGroundVariability(r, t, spec);
 }
 
 }  // namespace vf::scene_reading

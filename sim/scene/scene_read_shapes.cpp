@@ -128,6 +128,44 @@ void readMass(const Reader& r, const toml::table& t, const std::string& label, S
     s.density = r.positive(r.require(t, "density", label), "density", " kg/m^3");
 }
 
+// 'scale': one factor, or one per axis [sx, sy, sz], each > 0.
+Vec3 readScale(const Reader& r, const toml::node& n) {
+  if (n.is_number())
+    return Vec3::Constant(r.positive(n, "scale", " (a factor on the mesh file's units)"));
+  if (!n.is_array())
+    r.fail(n, "'scale' must be a number or an array of 3 numbers [sx, sy, sz], got " + typeName(n));
+  const Vec3 scale = r.vec3(n, "scale");
+  for (int i = 0; i < 3; ++i) {
+    // A zero factor flattens the mesh to no volume; negative ones would mirror it.
+    if (!(scale[i] > 0)) r.fail(n, "'scale' factors must be > 0, got " + formatNumber(scale[i]));
+  }
+  return scale;
+}
+
+// 'up': "z" or "y"; true for a y-up mesh.
+bool readYUp(const Reader& r, const toml::node& n) {
+  const std::string up = r.string(n, "up");
+  if (up != "z" && up != "y")
+    r.fail(n,
+           "'up' must be \"z\" (the default) or \"y\" (a y-up mesh, rotated so y becomes z), got "
+           "\"" +
+               up + "\"");
+  return up == "y";
+}
+
+// A rock family's variants: the shape s once per seed, named NAME#k, the rock's seed + k.
+std::vector<ShapeSpec> familyVariants(const ShapeSpec& s, std::int64_t seeds) {
+  std::vector<ShapeSpec> variants;
+  for (std::int64_t k = 0; k < seeds; ++k) {
+    ShapeSpec v = s;
+    v.name = s.name + "#" + std::to_string(k);
+    v.family = s.name;
+    v.rock->seed = s.rock->seed + static_cast<std::uint64_t>(k);
+    variants.push_back(std::move(v));
+  }
+  return variants;
+}
+
 // One [shapes.NAME] table: one shape, or a rock family's variants (rock.seeds).
 std::vector<ShapeSpec> readShape(const Reader& r, const std::string& name, const toml::table& t,
                                  const fs::path& sceneFolder) {
@@ -161,46 +199,15 @@ std::vector<ShapeSpec> readShape(const Reader& r, const std::string& name, const
     s.meshPath = readMeshPath(r, *meshNode, sceneFolder);
   }
 
-  if (const auto* n = t.get("scale")) {
-    if (n->is_number()) {
-      const double v = r.positive(*n, "scale", " (a factor on the mesh file's units)");
-      s.scale = Vec3::Constant(v);
-    } else if (n->is_array()) {
-      s.scale = r.vec3(*n, "scale");
-      for (int i = 0; i < 3; ++i) {
-        // A zero factor flattens the mesh to no volume; negative ones would mirror it.
-        if (!(s.scale[i] > 0))
-          r.fail(*n, "'scale' factors must be > 0, got " + formatNumber(s.scale[i]));
-      }
-    } else {
-      r.fail(*n,
-             "'scale' must be a number or an array of 3 numbers [sx, sy, sz], got " + typeName(*n));
-    }
-  }
+  if (const auto* n = t.get("scale")) s.scale = readScale(r, *n);
   readMass(r, t, label, s);
-  if (const auto* n = t.get("up")) {
-    const std::string up = r.string(*n, "up");
-    if (up != "z" && up != "y")
-      r.fail(*n,
-             "'up' must be \"z\" (the default) or \"y\" (a y-up mesh, rotated so y becomes z), got "
-             "\"" +
-                 up + "\"");
-    s.yUp = up == "y";
-  }
+  if (const auto* n = t.get("up")) s.yUp = readYUp(r, *n);
   if (const auto* n = t.get("level"))
     s.level = static_cast<int>(r.integerInRange(*n, "level", kMinLevel, kMaxLevel));
   if (const auto* n = t.get("color")) s.color = r.color(*n, "color");
   if (const auto* n = t.get("smooth")) s.smoothDegrees = r.inRange(*n, "smooth", 0, 180);
   if (seeds == 0) return {s};
-  std::vector<ShapeSpec> variants;
-  for (std::int64_t k = 0; k < seeds; ++k) {
-    ShapeSpec v = s;
-    v.name = name + "#" + std::to_string(k);
-    v.family = name;
-    v.rock->seed = s.rock->seed + static_cast<std::uint64_t>(k);
-    variants.push_back(std::move(v));
-  }
-  return variants;
+  return familyVariants(s, seeds);
 }
 
 }  // namespace
