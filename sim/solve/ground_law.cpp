@@ -44,6 +44,8 @@
 #include <cmath>
 #include <limits>
 
+#include "sim/shape/shape.h"
+
 namespace vf {
 
 void GroundLaw::beforeSolve(const std::vector<BodyInfo>& bodies,
