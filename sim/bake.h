@@ -2,8 +2,8 @@
 // body's state after every step of the scene's step sequence, and what drawing needs (the
 // shapes' mesh files, scales and colours, each body's colour and mass constants, the ground,
 // the terrain file, the camera and the output settings), so `voxfall render BAKE` and
-// `voxfall export BAKE` draw it without simulating. The file format is in the README ("Bakes").
-// Only bake.cpp includes the JSON library.
+// `voxfall export BAKE` draw it without simulating. The file format is in docs/output-formats.md
+// ("Bake files"). Only bake_write.cpp and bake_read.cpp include the JSON library.
 #pragma once
 
 #include <cstdint>
@@ -58,7 +58,7 @@ std::vector<std::shared_ptr<const Shape>> bakeShapes(const Bake& bake);
 Bake bakeHeader(const SceneSpec& spec, const BuiltScene& built);
 // Appends the world's current time and states as a record.
 void addBakeRecord(Bake& bake, const World& world);
-// Writes the bake (format in the README); `bakePath` is where it will live, so mesh and
+// Writes the bake (format in docs/output-formats.md); `bakePath` is where it will live, so mesh and
 // terrain paths are stored relative to its folder. Throws InputError on I/O failure.
 void writeBake(std::FILE* out, const std::string& bakePath, const Bake& bake);
 // True when the file starts with the bake signature.

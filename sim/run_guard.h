@@ -1,8 +1,9 @@
-// Runaway physics stops with a reason. Before a run, checkRunLength() refuses bodies that would
-// need more steps than a limit or that start faster than a physical bound; during a run the
-// RunGuard, called once per step by World, stops the run at the first non-finite state, body
-// faster than the bound, or rise of the total energy beyond what gravity and the energy the
-// bodies started with allow. See run_guard.cpp for the rules and their margins.
+// Runaway physics stops with a reason. During a run the RunGuard, called once per step by
+// World, stops the run at the first non-finite state, body faster than the bound, or rise of
+// the total energy beyond what gravity and the energy the bodies started with allow (see
+// run_guard.cpp for the rules and their margins). Before a run, checkRunLength()
+// (run_length.h) refuses bodies that would need more steps than a limit or that start faster
+// than the bound.
 #pragma once
 
 #include <cstdint>
@@ -17,7 +18,6 @@
 namespace vf {
 
 struct BodyState;
-class World;
 
 struct RunLimits {
   std::uint64_t maxSteps = 10'000'000;  // steps a run may need (estimated before it starts)
@@ -37,8 +37,8 @@ struct Runaway {
   std::string message() const;
 };
 
-// Thrown by World::advanceTo when the guard stopped the run; the state is that of the step in
-// which the trouble was found, before the bodies moved.
+// Thrown by World::step, stepNext and advanceTo when the guard stopped the run; the state is that
+// of the step in which the trouble was found, before the bodies moved.
 class RunawayError : public std::runtime_error {
  public:
   explicit RunawayError(const Runaway& r);
@@ -69,14 +69,9 @@ class RunGuard {
   double peakGainRatio_ = 0;
 };
 
-// Refuses (InputError at where[id]) a run of `duration` seconds in which a body starts faster
-// than limits.maxSpeed, or would need more than limits.maxSteps steps by the step rule (eq. 20,
-// the fixed step, and the world's step bounds). `where` holds one location per body id.
-void checkRunLength(const World& world, double duration, const RunLimits& limits,
-                    const std::vector<std::string>& where);
-
-// Steps the world's step rule would take for body `id` alone over `duration` seconds if it fell
-// freely from its initial state the whole time (an upper bound for a body that lands).
-double estimatedSteps(const World& world, int id, double duration);
+// The wording of the guard's messages, shared with run_length.cpp's: a number to 4 significant
+// digits, and "body 3 (shape 'rock')".
+std::string guardNumber(double x);
+std::string guardBodyName(int id, const std::string& shape);
 
 }  // namespace vf

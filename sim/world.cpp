@@ -1,4 +1,5 @@
-// World::step() reads as the table of contents of one step (README: How a step works):
+// World::stepToward(), behind step() and stepNext(), reads as the table of contents of one
+// step (docs/architecture.md, "One step"):
 //   step size (eq. 20)        solve/time_step.cpp
 //   gravity                   solve/integrate.cpp
 //   broad phase               collide/broad_phase.cpp
@@ -8,10 +9,13 @@
 //   ground law (opt-in, rock fall: bounce, rolling)   solve/ground_law.cpp
 //   scar drag (opt-in, rock fall: soft soil over the slip law)   solve/scar_drag.cpp
 //   slippage (opt-in, rock fall: mu(s))   solve/slip_law.cpp
+//   run guard (stops a runaway run before anything moves)   run_guard.cpp
 //   explicit Euler, renormalise q   solve/integrate.cpp
 //   forest (opt-in, rock fall: stems met on the step's path)   ground/forest_law.cpp
 //   sleeping islands          solve/sleep.cpp (optional)
 //   releases (emitters)       solve/release.cpp (drop-height placement)
+//   rock monitor (terrain: edges, holes, push-out, rest)   ground/rock_monitor.cpp
+//   step listeners (barriers)   ground/barriers.cpp
 // The diagnostics (World::measure) live in collide/penetration.cpp.
 #include "sim/world.h"
 
@@ -194,6 +198,36 @@ void World::stepToward(double target) {
   s.pairs = pairs_.size();
   s.secondsPairs = clock.lap();
 
+  findStepContacts(s);
+  s.secondsContacts = clock.lap();
+
+  solveStepContacts(s);
+  s.secondsSolve = clock.lap();
+
+  // Runaway check (run_guard.cpp) on the momenta of this step, before anything moves.
+  runaway_ = guard_.check(bodies_, states_, def_.gravity, time_, s.dt, def_.limits);
+  if (runaway_) return;
+
+  s.nonFinite = integrate(bodies_, states_, s.dt, def_.rotation, pool_.get());
+  time_ = lands ? target : time_ + s.dt;
+  if (def_.forest) forestLaw_.afterStep(*def_.forest, def_.forestSeed, bodies_, states_);
+  s.secondsIntegrate = clock.lap();
+
+  if (def_.sleep) updateSleep(contacts_, bodies_, states_, s.dt, def_.sleepSettings);
+  for (const BodyInfo& b : bodies_) s.sleeping += b.sleeping ? 1 : 0;
+  s.secondsSleep = clock.lap();
+
+  s.overlappingReleases = releaseBodies();
+  // Rock fall on terrain: edges, NODATA holes, push-out from below, rest (ground/rock_monitor).
+  if (def_.terrain) monitor_.afterStep(time_, bodies_, states_);
+  s.secondsRelease = clock.lap();
+
+  last_ = s;
+  totals_.add(s);
+  for (const auto& listener : listeners_) listener(*this);
+}
+
+void World::findStepContacts(StepStats& s) {
   // Contacts, reduced per collider pair by the narrow phase if asked (contact_reduction.h).
   const std::uint64_t served0 = candidates_.served, descents0 = candidates_.descents;
   auto contacts = [&] {
@@ -216,8 +250,9 @@ void World::stepToward(double target) {
   s.pairsByCandidates = candidates_.served - served0;
   s.pairsByDescent = candidates_.descents - descents0;
   s.contacts = contacts_.size();
-  s.secondsContacts = clock.lap();
+}
 
+void World::solveStepContacts(StepStats& s) {
   SolverSettings solver;
   solver.material = def_.contact;
   // With contact reduction a patch rests on a few points instead of dozens, and Gauss-Seidel
@@ -253,29 +288,6 @@ void World::stepToward(double target) {
     scarDrag_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground, groundLaw_,
                          s.dt, def_.terrain.get(), def_.groundHeight);
   if (slip) slipLaw_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground, s.dt);
-  s.secondsSolve = clock.lap();
-
-  // Runaway check (run_guard.cpp) on the momenta of this step, before anything moves.
-  runaway_ = guard_.check(bodies_, states_, def_.gravity, time_, s.dt, def_.limits);
-  if (runaway_) return;
-
-  s.nonFinite = integrate(bodies_, states_, s.dt, def_.rotation, pool_.get());
-  time_ = lands ? target : time_ + s.dt;
-  if (def_.forest) forestLaw_.afterStep(*def_.forest, def_.forestSeed, bodies_, states_);
-  s.secondsIntegrate = clock.lap();
-
-  if (def_.sleep) updateSleep(contacts_, bodies_, states_, s.dt, def_.sleepSettings);
-  for (const BodyInfo& b : bodies_) s.sleeping += b.sleeping ? 1 : 0;
-  s.secondsSleep = clock.lap();
-
-  s.overlappingReleases = releaseBodies();
-  // Rock fall on terrain: edges, NODATA holes, push-out from below, rest (ground/rock_monitor).
-  if (def_.terrain) monitor_.afterStep(time_, bodies_, states_);
-  s.secondsRelease = clock.lap();
-
-  last_ = s;
-  totals_.add(s);
-  for (const auto& listener : listeners_) listener(*this);
 }
 
 World::StepPlan World::planStep(double target) const {

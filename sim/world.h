@@ -1,6 +1,6 @@
 // The simulated world: immutable shapes, a compact array of body states, and step().
-// This is voxfall_sim's public interface; code outside sim/ includes only sim/*.h and
-// sim/scene/scene.h.
+// Code that runs a simulation reaches the step through this class; the stages it calls live
+// in sim/collide, sim/solve and sim/ground, and world.cpp lists them in step order.
 #pragma once
 
 #include <cstdint>
@@ -76,7 +76,7 @@ struct WorldDef {
   // results are merged in a fixed order, so the trajectory and the checksum do not depend on it.
   int threads = 1;
   // Time every stage of every step (StepStats::seconds*; benchmarks and the paper's figures):
-  // nine clock reads a step, several per cent of a step of one or two bodies. Off: those
+  // eight clock reads a step, several per cent of a step of one or two bodies. Off: those
   // fields stay 0.
   bool stageTimes = false;
   // Temporal coherence in the narrow phase (narrow_phase.h, PairCandidates): exact, the same
@@ -148,16 +148,18 @@ class World {
   // Adds a body and returns its id (ids are dense, in order of addition).
   int addBody(const BodyDef& def);
 
-  // Advances by one step of at most maxDt seconds (the eq.-20 or fixed step, whichever is
-  // smaller). Never throws; numerical trouble is counted in the returned stats.
+  // Advances by one step towards time() + maxDt: maxDt itself when the step rule (eq. 20, the
+  // clearance rule or the fixed step) allows it, else maxDt / n for the least n it allows.
+  // Throws RunawayError if the run guard stopped the run (see runaway()); a body whose state
+  // goes non-finite in the integration is frozen and counted in StepStats::nonFinite.
   const StepStats& step(double maxDt);
 
-  // The scene's own step sequence. Output never steers the simulation (README: Frames and steps):
-  // each step is the eq.-20 (or fixed) step, split only so that release times are hit exactly, so
-  // the steps depend on the bodies, their release times and the step rule alone, never on a frame
-  // rate. Time at which the next step of that sequence ends, s.
+  // The scene's own step sequence. Output never steers the simulation (docs/rendering.md, "Frames
+  // and steps"): each step is the eq.-20 (or fixed) step, split only so that release times are hit
+  // exactly, so the steps depend on the bodies, their release times and the step rule alone, never
+  // on a frame rate. Time at which the next step of that sequence ends, s.
   double nextStepEnd() const;
-  // Takes the next step of the sequence.
+  // Takes the next step of the sequence. Throws RunawayError as step() does.
   const StepStats& stepNext();
   // Takes the steps of the sequence that end at or before t (a step ending within 1e-9 s after
   // t counts as ending at t). Never shortens a step to land on t: afterwards
@@ -166,7 +168,8 @@ class World {
   // Throws RunawayError if the run guard stopped the run (see runaway()).
   void advanceTo(double t, const std::function<void()>& afterStep = {});
   // Set once a step found a non-finite state, a body over limits.maxSpeed or an energy gain
-  // over the margin (run_guard.h); from then on a step throws RunawayError instead.
+  // over the margin (run_guard.h); that step and every later one throw RunawayError, and the
+  // state stays that of the step that found it, before the bodies moved.
   const std::optional<Runaway>& runaway() const { return runaway_; }
   const RunGuard& runGuard() const { return guard_; }
   // Every body's state at time t, for t from time() up to nextStepEnd(): a COPY of the current
@@ -204,7 +207,8 @@ class World {
   const RunStats& totals() const { return totals_; }
   const StepStats& lastStep() const { return last_; }
 
-  // The eq.-20 step for the current state (before clamping to frame or release times).
+  // The step rule's step for the current state (eq. 20, or the clearance rule when
+  // WorldDef::step asks for it), before it is split to land on a release time or a step()'s end.
   double stableStep() const;
   // Hash of time and every body's state, bit-exact (see core/hash.h).
   std::uint64_t stateHash() const;
@@ -246,6 +250,10 @@ class World {
   // Steps once towards `target` (> time_), never past it; lands on it exactly when the step
   // rule allows reaching it in one step.
   void stepToward(double target);
+  // Stages of stepToward that fill `s`: the contacts of the step (narrow phase, contact
+  // reduction, waking sleepers), and the contact solve with the ground-contact laws after it.
+  void findStepContacts(StepStats& s);
+  void solveStepContacts(StepStats& s);
   // The step stepToward(target) would take: its length, whether it lands on `target`, and
   // whether eq. 20 asked for less than the floor.
   struct StepPlan {

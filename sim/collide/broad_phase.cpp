@@ -11,6 +11,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "sim/shape/shape.h"
+
 namespace vf {
 
 void findPairs(const std::vector<BodyInfo>& bodies, const std::vector<BodyState>& states,

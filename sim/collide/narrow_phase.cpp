@@ -18,6 +18,7 @@
 #include "sim/core/error.h"
 #include "sim/core/worker_pool.h"
 #include "sim/shape/convex_polyhedron.h"
+#include "sim/shape/shape.h"
 
 namespace vf {
 namespace {

@@ -37,6 +37,7 @@
 #include <cmath>
 
 #include "sim/shape/convex_polyhedron.h"
+#include "sim/shape/shape.h"
 
 namespace vf {
 namespace {

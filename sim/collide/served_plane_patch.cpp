@@ -8,6 +8,7 @@
 
 #include "sim/collide/contact_reduction.h"
 #include "sim/collide/descent_common.h"
+#include "sim/shape/shape.h"
 
 namespace vf {
 namespace {

@@ -8,6 +8,7 @@
 #include "sim/collide/descent_common.h"
 #include "sim/geometry/mesh_bvh.h"
 #include "sim/shape/heightfield.h"
+#include "sim/shape/shape.h"
 
 namespace vf {
 namespace {

@@ -28,6 +28,7 @@
 #endif
 
 #include "sim/collide/descent_common.h"
+#include "sim/shape/shape.h"
 
 namespace vf {
 namespace {

@@ -1,13 +1,16 @@
 // What every step stage reads: the mutable per-body state array, the per-body constants beside
-// it, and the contact materials. Stage headers include this, never sim/world.h.
+// it, and the contact materials. Stage headers include this, never sim/world.h. The shape is
+// only named here (sim/core sits below sim/shape, docs/architecture.md "Layers"): a stage that
+// reads a body's mesh, tree or mass includes sim/shape/shape.h itself.
 #pragma once
 
 #include <memory>
 
 #include "sim/core/math.h"
-#include "sim/shape/shape.h"
 
 namespace vf {
+
+struct Shape;
 
 // Rigid-body state y = {x, q, P, L} (eqs. 1-7): centre of mass (m), unit orientation
 // quaternion (body -> world), linear momentum (kg m/s), angular momentum (kg m^2/s).

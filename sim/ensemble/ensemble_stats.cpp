@@ -43,13 +43,6 @@ PassageTable tabulate(std::size_t cells, const std::vector<RealisationResult>& r
 
 }  // namespace
 
-double nearestRankPercentile(const double* sorted, std::size_t n, int p) {
-  VF_ASSERT(n > 0 && p > 0 && p <= 100);
-  // ceil(p n / 100) in integers: no rounding where p n / 100 is whole.
-  const std::size_t k = (static_cast<std::size_t>(p) * n + 99) / 100;
-  return sorted[k - 1];
-}
-
 std::vector<StatLayer> cellStatistics(const Heightfield& dem,
                                       const std::vector<RealisationResult>& runs) {
   const std::size_t cells = static_cast<std::size_t>(dem.nx) * static_cast<std::size_t>(dem.ny);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/core/percentile.h"
 #include "sim/ensemble/ensemble.h"
 #include "sim/shape/heightfield.h"
 
@@ -19,11 +20,6 @@ struct StatLayer {
   std::string units;           // e.g. "kJ"
   std::vector<double> values;  // dem.nx * dem.ny; NaN = no value
 };
-
-// The nearest-rank p-th percentile (p = 1 .. 100, in per cent) of n >= 1 values sorted
-// ascending: the smallest value with at least p % of the values at or below it,
-// sorted[ceil(p n / 100) - 1].
-double nearestRankPercentile(const double* sorted, std::size_t n, int p);
 
 // The statistics of `runs` (complete realisations, in index order) in this fixed order:
 // passages, reach_probability, energy_mean, energy_p50, energy_p95, energy_max, height_p95,

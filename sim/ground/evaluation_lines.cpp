@@ -5,7 +5,7 @@
 #include <limits>
 #include <set>
 
-#include "sim/ensemble/ensemble_stats.h"
+#include "sim/core/percentile.h"
 
 namespace vf {
 namespace {

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "sim/core/hash.h"
+#include "sim/shape/shape.h"
 
 namespace vf {
 

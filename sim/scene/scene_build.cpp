@@ -20,6 +20,7 @@
 #include "sim/geometry/mesh_repair.h"
 #include "sim/geometry/rock_mesh.h"
 #include "sim/ground/ground_material.h"
+#include "sim/run_length.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/convex_polyhedron.h"
 #include "sim/shape/crs.h"

@@ -32,6 +32,8 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "sim/shape/shape.h"
+
 namespace vf {
 
 namespace {

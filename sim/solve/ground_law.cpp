@@ -33,7 +33,7 @@
 // normal impulse counts up to its weight's share, m |g.n| dt. An impact's impulse (a 60 kg
 // block landing at 8 m/s: about 500 N s, against 0.6 N s of weight in a millisecond step) is
 // not rolling: fed to mu_r h N it would end all spin at every landing, and stop the Tschamut
-// blocks about half way (README "Validation: Tschamut 2014").
+// blocks about half way (docs/validation.md, "Tschamut 2014").
 //
 // Alternatives rejected: a rotational spring-dashpot (LIGGGHTS epsd, Rockable) needs a
 // stiffness nobody has published for rock on soil; velocity-dependent scarring friction
@@ -43,6 +43,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "sim/shape/shape.h"
 
 namespace vf {
 
@@ -65,31 +67,7 @@ GroundLawStats GroundLaw::afterSolve(const std::vector<Contact>& contacts,
   GroundLawStats stats;
   if (modes_.size() < bodies.size()) modes_.resize(bodies.size());
   const std::size_t nb = bodies.size();
-  // Per body, summed over its ground contacts in contact order (deterministic): the rolling
-  // limit sum mu_r,k h_k jn_k, the normal impulse (all ground contacts, and those on STONE
-  // materials), the impulse-weighted normal and Rt. A contact on a slip material (slip_law.cpp)
-  // keeps the body out of flight but takes no STONE bounce or brake: it counts with Rt = 1.
-  limit_.assign(nb, 0.0);
-  impulse_.assign(nb, 0.0);
-  stoneImpulse_.assign(nb, 0.0);
-  rt_.assign(nb, 0.0);
-  normal_.assign(nb, Vec3::Zero());
-  for (std::size_t k = 0; k < contacts.size(); ++k) {
-    const Contact& c = contacts[k];
-    const double jn = normalImpulses[k];
-    if (c.b != kGround || !(jn > 0)) continue;
-    const GroundCoefficients m = ground.coefficientsAt(c.point.x(), c.point.y());
-    impulse_[c.a] += jn;
-    normal_[c.a] += jn * c.normal;
-    if (m.law == GroundLawKind::kSlip) {
-      rt_[c.a] += jn;
-      continue;
-    }
-    const double lever = -(c.point - states[c.a].x).dot(c.normal);
-    if (m.rollingResistance > 0 && lever > 0) limit_[c.a] += m.rollingResistance * lever * jn;
-    stoneImpulse_[c.a] += jn;
-    rt_[c.a] += m.tangentialRestitution * jn;
-  }
+  sumGroundContacts(nb, contacts, normalImpulses, states, ground);
   for (std::size_t i = 0; i < nb; ++i) {
     const BodyInfo& b = bodies[i];
     if (!b.moves()) continue;
@@ -140,6 +118,36 @@ GroundLawStats GroundLaw::afterSolve(const std::vector<Contact>& contacts,
     ++stats.braked;
   }
   return stats;
+}
+
+void GroundLaw::sumGroundContacts(std::size_t nb, const std::vector<Contact>& contacts,
+                                  const std::vector<double>& normalImpulses,
+                                  const std::vector<BodyState>& states, const GroundMap& ground) {
+  // Per body, summed over its ground contacts in contact order (deterministic): the rolling
+  // limit sum mu_r,k h_k jn_k, the normal impulse (all ground contacts, and those on STONE
+  // materials), the impulse-weighted normal and Rt. A contact on a slip material (slip_law.cpp)
+  // keeps the body out of flight but takes no STONE bounce or brake: it counts with Rt = 1.
+  limit_.assign(nb, 0.0);
+  impulse_.assign(nb, 0.0);
+  stoneImpulse_.assign(nb, 0.0);
+  rt_.assign(nb, 0.0);
+  normal_.assign(nb, Vec3::Zero());
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const Contact& c = contacts[k];
+    const double jn = normalImpulses[k];
+    if (c.b != kGround || !(jn > 0)) continue;
+    const GroundCoefficients m = ground.coefficientsAt(c.point.x(), c.point.y());
+    impulse_[c.a] += jn;
+    normal_[c.a] += jn * c.normal;
+    if (m.law == GroundLawKind::kSlip) {
+      rt_[c.a] += jn;
+      continue;
+    }
+    const double lever = -(c.point - states[c.a].x).dot(c.normal);
+    if (m.rollingResistance > 0 && lever > 0) limit_[c.a] += m.rollingResistance * lever * jn;
+    stoneImpulse_[c.a] += jn;
+    rt_[c.a] += m.tangentialRestitution * jn;
+  }
 }
 
 bool clearOfGround(const BodyInfo& b, const BodyState& y, const Heightfield* terrain,

@@ -59,6 +59,11 @@ class GroundLaw {
     Vec3 incomingSpin;           // angular momentum before this step's solve (kg m^2/s)
     std::uint32_t nearLeaf = 0;  // clearOfGround's hint: the leaf last found near the ground
   };
+  // Sums the ground contacts of this step into the scratch below, per body of `bodyCount`.
+  void sumGroundContacts(std::size_t bodyCount, const std::vector<Contact>& contacts,
+                         const std::vector<double>& normalImpulses,
+                         const std::vector<BodyState>& states, const GroundMap& ground);
+
   std::vector<Mode> modes_;
   // Per-step scratch, per body (kept to spare the step four allocations).
   std::vector<double> limit_, impulse_, stoneImpulse_, rt_;

@@ -57,6 +57,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/shape/shape.h"
+
 namespace vf {
 
 double scarDepth(double mass, double modulus, double normalSpeed) {

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 
+#include "sim/shape/shape.h"
 #include "sim/solve/islands.h"
 
 namespace vf {

@@ -19,6 +19,7 @@
 #include "sim/collide/broad_phase.h"
 #include "sim/collide/contact.h"
 #include "sim/shape/heightfield.h"
+#include "sim/shape/shape.h"
 
 namespace vf {
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sim/core/error.h"
+#include "sim/run_length.h"
 #include "sim/world.h"
 #include "tests/support/test_world.h"
 
