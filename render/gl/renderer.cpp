@@ -13,6 +13,7 @@
 #include "render/gl/shader_program.h"
 #include "render/redraw_region.h"
 #include "sim/scene/scene.h"
+#include "sim/shape/drape_import.h"
 
 namespace vf::gl {
 namespace {
