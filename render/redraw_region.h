@@ -71,7 +71,7 @@ struct RectSplit {
 RectSplit splitRect(const PixelRect& r, std::span<const PixelRect> cover);
 
 // The floor is pushed back in depth by glPolygonOffset(factor, units), so that a terrain at
-// its level wins (render/gl/renderer.cpp); floorCovers() allows for exactly this offset.
+// its level wins (render/gl/render_passes.cpp); floorCovers() allows for exactly this offset.
 constexpr float kFloorOffsetFactor = 1.0f;
 constexpr float kFloorOffsetUnits = 4.0f;
 
