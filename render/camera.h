@@ -7,7 +7,7 @@
 #include <span>
 
 #include "sim/core/math.h"
-#include "sim/scene/scene.h"
+#include "sim/scene/drawing_spec.h"
 
 namespace vf {
 

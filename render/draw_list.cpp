@@ -10,6 +10,9 @@
 #include "render/terrain_solid.h"
 #include "sim/core/error.h"
 #include "sim/geometry/cell_grid.h"
+#include "sim/scene/scene.h"
+#include "sim/shape/drape_import.h"
+#include "sim/world.h"
 
 namespace vf {
 namespace {
@@ -73,13 +76,6 @@ Mat4 bodyModelMatrix(const Vec3& x, const Quat& q) {
   m.block<3, 3>(0, 0) = q.normalized().toRotationMatrix();
   m.block<3, 1>(0, 3) = x;
   return m;
-}
-
-GpuTransform gpuTransform(const Mat4& model) {
-  GpuTransform t;
-  t.model = model.cast<float>();
-  t.normal = model.block<3, 3>(0, 0).inverse().transpose().cast<float>();
-  return t;
 }
 
 std::vector<BodyView> bodyViews(const World& world, const std::vector<Color>& colors) {
@@ -460,16 +456,7 @@ CameraView DrawListBuilder::automaticCamera() {
   return cam;
 }
 
-DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
-  VF_ASSERT(frame >= 0 && frame < observedFrames());
-  DrawList list;
-  list.groundHeight = ground_;
-
-  // Camera.
-  const Sphere region = framing_.empty() ? Sphere{Vec3::Zero(), 1} : framing_.region();
-  CameraView& cam = list.camera;
-  cam = chooseCamera(bodies, frame);
-
+void DrawListBuilder::addBodies(DrawList& list, std::span<const BodyView> bodies) {
   // Meshes in order of first use, so the list is the same for the same bodies. A body smaller
   // on screen than min_pixels is drawn as a flat marker of that size: its own shape, scaled
   // up about its centre, unlit in its colour, casting no shadow.
@@ -486,7 +473,7 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
     inst.color = b.color;
     inst.id = static_cast<int>(id);
     if (spec_.minPixels > 0) {
-      const double pixels = projectedDiameter(cam, b.x, shapeRadius(b.shape), height_);
+      const double pixels = projectedDiameter(list.camera, b.x, shapeRadius(b.shape), height_);
       if (pixels < spec_.minPixels) {
         const double scale = spec_.minPixels / std::max(pixels, 1e-9);
         inst.model.block<3, 3>(0, 0) *= scale;
@@ -496,6 +483,9 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
     }
     list.instances.push_back(inst);
   }
+}
+
+void DrawListBuilder::addTerrain(DrawList& list) const {
   for (const TerrainTile& tile : terrainTiles_) {
     list.meshes.push_back(DrawMesh{tile.mesh.get(), tile.mesh, tile.normals});
     DrawInstance inst;
@@ -514,23 +504,25 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
     inst.surface = Surface::body;
     list.instances.push_back(inst);
   }
-  list.drape = drape_;
+}
 
-  // Shadow casters: every body on the stage in every observed frame (one map for the whole
-  // clip, so frames differ only where bodies moved: the renderer redraws just that part) and
-  // the terrain.
+Sphere DrawListBuilder::casterSphere() const {
+  // Every body on the stage in every observed frame (one map for the whole clip, so frames
+  // differ only where bodies moved: the renderer redraws just that part) and the terrain.
   std::vector<Sphere> casters;
   if (!casterBox_.isEmpty()) {
     casters.push_back(Sphere{casterBox_.center(), 0.5 * casterBox_.diagonal().norm()});
   }
   if (terrain_) casters.push_back(terrainSphere_);
   if (terrainSides_ && !terrainSides_->vertices.empty()) casters.push_back(sidesSphere_);
-  Sphere casterSphere = encloseAll(casters);
+  return encloseAll(casters);
+}
 
-  // Depth range and floor fade from the distances involved: near as far out as the framed
-  // region allows (depth precision where bodies touch the floor), far past the fade.
-  const double distance = std::max((cam.lookAt - cam.position).norm(), 1e-3);
-  const double extent = std::max(region.radius, 0.05);
+void DrawListBuilder::setDepthRange(DrawList& list, const Sphere& region, double distance,
+                                    double extent) const {
+  // Near as far out as the framed region allows (depth precision where bodies touch the
+  // floor), far past the fade.
+  CameraView& cam = list.camera;
   list.groundFadeStart = distance + 2.5 * extent;
   if (terrain_) {
     // The terrain is the set: it stays clear out to its far edge.
@@ -544,6 +536,29 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
   // Terrain may come much closer to the camera than any body.
   if (terrain_) cam.nearPlane = std::min(cam.nearPlane, 0.02 * distance);
   cam.farPlane = list.groundFadeEnd * 1.05 + 2 * extent;
+}
+
+DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
+  VF_ASSERT(frame >= 0 && frame < observedFrames());
+  DrawList list;
+  list.groundHeight = ground_;
+
+  // Camera.
+  const Sphere region = framing_.empty() ? Sphere{Vec3::Zero(), 1} : framing_.region();
+  CameraView& cam = list.camera;
+  cam = chooseCamera(bodies, frame);
+
+  addBodies(list, bodies);
+  addTerrain(list);
+  list.drape = drape_;
+
+  // Shadow casters.
+  Sphere casters = casterSphere();
+
+  // Depth range and floor fade from the distances involved.
+  const double distance = std::max((cam.lookAt - cam.position).norm(), 1e-3);
+  const double extent = std::max(region.radius, 0.05);
+  setDepthRange(list, region, distance, extent);
   if (spec_.trailSeconds > 0) addTrails(list, bodies, frame);
 
   // Kilometre scale: one 2048-texel map over a whole 2 km terrain has metre-wide texels, and a
@@ -551,9 +566,9 @@ DrawList DrawListBuilder::build(std::span<const BodyView> bodies, int frame) {
   // looks at (out to the framed bodies' far side) is much smaller than the casters, the map
   // covers that part only; casters further towards the sun still fall inside its depth range.
   const Sphere viewed = viewSlice(cam, aspect_, distance + 2 * extent);
-  if (viewed.radius < kShadowFitRatio * casterSphere.radius) casterSphere = viewed;
-  list.casterCentre = casterSphere.centre;
-  list.casterRadius = casterSphere.radius;
+  if (viewed.radius < kShadowFitRatio * casters.radius) casters = viewed;
+  list.casterCentre = casters.centre;
+  list.casterRadius = casters.radius;
 
   // Fixed in the world: the scene's sun, or the default for the automatic view (which the
   // first observed frame fixed), whatever camera draws this frame.

@@ -1,9 +1,9 @@
-// World state -> what to draw, as plain data (no GL): meshes, instances with model matrices
-// and colours, the ground, the camera and the sun. The renderer reads a DrawList and nothing
-// else, so everything decided here (framing, colours, what casts shadows) is unit-testable.
+// World state -> what to draw: DrawListBuilder turns the poses of a run's frames into the plain
+// draw data of render/draw_data.h (meshes, instances with model matrices and colours, the
+// ground, the camera and the sun). Everything decided here (framing, colours, what casts
+// shadows) is unit-testable without GL.
 #pragma once
 
-#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -11,65 +11,15 @@
 #include <vector>
 
 #include "render/auto_framing.h"
-#include "render/camera.h"
+#include "render/draw_data.h"
 #include "render/light.h"
 #include "render/smooth_normals.h"
-#include "sim/scene/scene.h"
-#include "sim/shape/drape_import.h"
 #include "sim/shape/heightfield.h"
-#include "sim/world.h"
+#include "sim/shape/shape.h"
 
 namespace vf {
 
-// A triangle mesh to draw, shared, not copied: the renderer uploads each key once.
-struct DrawMesh {
-  const void* key = nullptr;            // identity in the GPU cache: the Shape, or the terrain
-  std::shared_ptr<const TriMesh> mesh;  // body frame (centre of mass at the origin) or world
-  std::shared_ptr<const std::vector<Vec3>> normals;  // per-vertex smooth normals; null: faceted
-  bool transient = false;  // made for this frame only (trails): uploaded, drawn, dropped
-  // Back faces never seen, so they are culled: a closed surface wound outward (a body's shape)
-  // seen from outside, or a terrain's walls and base, wound outward, whose insides lie under
-  // its surface. llvmpipe shades every rasterised fragment, hidden or not, so they would cost
-  // as much as the faces seen.
-  bool closed = false;
-};
-
-// How an instance is shaded.
-enum class Surface {
-  body,     // colour lit by sun (with shadow), sky and fill light
-  terrain,  // as body, with the colour turned towards rock on steep slopes
-  unlit,    // the flat colour, no light, no shadow (overlays and read-back tests)
-};
-
-struct DrawInstance {
-  int mesh = 0;                   // index into DrawList::meshes
-  Mat4 model = Mat4::Identity();  // mesh frame -> world: [R(q) x; 0 1] for a body
-  Color color{0.8f, 0.8f, 0.8f};  // linear RGB albedo
-  Surface surface = Surface::body;
-  bool castsShadow = true;
-  // Identity across frames (the body id), so a frame can be compared with the last one when
-  // bodies appear or leave; -1 for the rest (terrain, trails), matched by their order.
-  int id = -1;
-};
-
-struct DrawList {
-  std::vector<DrawMesh> meshes;
-  std::vector<DrawInstance> instances;
-  std::optional<double> groundHeight;  // z of the floor plane, m; none: no floor drawn
-  CameraView camera;
-  Vec3 sunDirection = Vec3(0.3, -0.4, 0.87).normalized();  // unit, towards the sun
-  LightColors light;  // sun, sky and ambient light (render/light.h)
-  // A picture draped on the instances with Surface::terrain (world x, y to texel by its
-  // rectangle); null: they are coloured by slope.
-  std::shared_ptr<const DrapeImage> drape;
-  // Sphere around everything that casts a shadow: what the shadow map has to cover.
-  Vec3 casterCentre = Vec3::Zero();
-  double casterRadius = 1;
-  // The floor fades into the sky between these distances from the camera (m); its grid
-  // lines are 1 m apart with 0.1 m minor lines, so the picture shows scale.
-  double groundFadeStart = 20;
-  double groundFadeEnd = 60;
-};
+class World;  // sim/world.h
 
 // What the draw list needs from one body: a World-free view, so tests can build one directly.
 struct BodyView {
@@ -88,17 +38,6 @@ std::vector<BodyView> bodyViews(const World& world, const std::vector<Color>& co
 
 // Model matrix of a body: rotation R(q) and translation x.
 Mat4 bodyModelMatrix(const Vec3& x, const Quat& q);
-
-// What the GPU receives of a model matrix: the matrix and the one for normals (the inverse
-// transpose of its linear part), both in single precision. Two model matrices with equal
-// GpuTransforms draw the same pixels, however their doubles differ (a body at rest creeping
-// by 1e-12 m).
-struct GpuTransform {
-  Eigen::Matrix4f model;
-  Eigen::Matrix3f normal;
-  bool operator==(const GpuTransform& o) const { return model == o.model && normal == o.normal; }
-};
-GpuTransform gpuTransform(const Mat4& model);
 
 // Terrains of more than twice this many triangles are drawn in tiles of about this many.
 constexpr std::size_t kTerrainTileTriangles = 8192;
@@ -196,6 +135,14 @@ class DrawListBuilder {
   // Trails: each body's centre over the last trailSeconds up to `frame`, as a ribbon about
   // kTrailPixels wide facing the camera, unlit in the body's colour.
   void addTrails(DrawList& list, std::span<const BodyView> bodies, int frame);
+  // build()'s parts: the active bodies' meshes and instances, seen by list.camera; the
+  // terrain's tiles and sides; the sphere the shadow map covers (every body position observed
+  // and the terrain); the floor's fade and the camera's depth range, from the distance to what
+  // the camera looks at and the framed region's radius `extent`.
+  void addBodies(DrawList& list, std::span<const BodyView> bodies);
+  void addTerrain(DrawList& list) const;
+  Sphere casterSphere() const;
+  void setDepthRange(DrawList& list, const Sphere& region, double distance, double extent) const;
 
   // What one observed frame leaves for later draws.
   struct FrameRecord {

@@ -7,6 +7,7 @@
 #include "render/solar_position.h"
 #include "sim/core/error.h"
 #include "sim/shape/geo_location.h"
+#include "sim/shape/heightfield.h"
 
 namespace vf {
 namespace {

@@ -8,10 +8,11 @@
 #include <optional>
 
 #include "sim/core/math.h"
-#include "sim/scene/scene.h"
-#include "sim/shape/heightfield.h"
+#include "sim/scene/drawing_spec.h"
 
 namespace vf {
+
+struct Heightfield;  // sim/shape/heightfield.h
 
 // What the shaders light with (shaders/common.glsl, shade()), linear RGB. A surface with unit
 // normal n gets sun * max(0, n . toSun) (shadowed) + sky * (1 + n.z) / 2 +

@@ -220,10 +220,7 @@ bool RedrawTracker::shadowOn(const Frame& frame, std::size_t i, double shadowRea
   return true;
 }
 
-std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list,
-                                                            const ShadowProjection& shadow,
-                                                            double shadowReach) {
-  shadowRegion_.clear();
+RedrawTracker::Frame RedrawTracker::frameOf(const DrawList& list, const ShadowProjection& shadow) {
   Frame now;
   now.camera = list.camera;
   now.sun = list.sunDirection;
@@ -255,69 +252,83 @@ std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list
                                        kMarginPixels, kAlignPixels));
     now.keys.push_back(mesh.transient ? nullptr : mesh.key);
   }
+  return now;
+}
 
-  // Where any caster's shadow lookups can reach the floor, this frame.
+void RedrawTracker::findFloorShadows(const Frame& now, double shadowReach) {
   floorShadows_.reset();
-  if (now.ground) {
-    std::vector<PixelRect> rects;
-    bool bounded = true;
-    for (std::size_t i = 0; i < now.instances.size() && bounded; ++i) {
-      const DrawInstance& inst = now.instances[i];
-      if (!inst.castsShadow || inst.surface == Surface::unlit) continue;
-      bounded = shadowOn(now, i, shadowReach, *now.ground, *now.ground, std::nullopt, rects);
-    }
-    if (bounded) floorShadows_ = coverWithFewPieces(std::move(rects));
+  if (!now.ground) return;
+  std::vector<PixelRect> rects;
+  bool bounded = true;
+  for (std::size_t i = 0; i < now.instances.size() && bounded; ++i) {
+    const DrawInstance& inst = now.instances[i];
+    if (!inst.castsShadow || inst.surface == Surface::unlit) continue;
+    bounded = shadowOn(now, i, shadowReach, *now.ground, *now.ground, std::nullopt, rects);
   }
+  if (bounded) floorShadows_ = coverWithFewPieces(std::move(rects));
+}
 
-  std::optional<std::vector<PixelRect>> region;
-  if (last_ && sameCamera(last_->camera, now.camera) && last_->sun == now.sun &&
-      last_->light == now.light && last_->drape == now.drape && last_->ground == now.ground &&
-      last_->fadeStart == now.fadeStart && last_->fadeEnd == now.fadeEnd &&
-      last_->shadow == now.shadow) {
-    const Frame& before = *last_;
-    // Instances are matched by id (bodies appear and leave), those without one by order.
-    auto keys = [](const Frame& f) {
-      std::map<std::pair<int, int>, std::size_t> byKey;
-      int unnamed = 0;
-      for (std::size_t i = 0; i < f.instances.size(); ++i) {
-        const int id = f.instances[i].id;
-        byKey.emplace(std::make_pair(id, id < 0 ? unnamed++ : 0), i);
-      }
-      return byKey;
-    };
-    const auto was = keys(before), is = keys(now);
-    std::vector<PixelRect> rects, casters;
-    bool bounded = true;
-    for (const auto& [key, i] : is) {
-      if (!bounded) break;
-      const auto old = was.find(key);
-      if (old != was.end()) {
-        const std::size_t j = old->second;
-        if (now.keys[i] && before.keys[j] == now.keys[i] &&
-            sameInstance(before.instances[j], before.transforms[j], now.instances[i],
-                         now.transforms[i])) {
-          continue;
-        }
-        // Where it and its shadow were (on that frame's receivers).
-        bounded = reach(before, j, shadowReach, rects);
-        addCaster(before, j, casters);
-      }
-      // Where they are (on this frame's).
-      bounded = bounded && reach(now, i, shadowReach, rects);
-      addCaster(now, i, casters);
+bool RedrawTracker::sameView(const Frame& a, const Frame& b) {
+  return sameCamera(a.camera, b.camera) && a.sun == b.sun && a.light == b.light &&
+         a.drape == b.drape && a.ground == b.ground && a.fadeStart == b.fadeStart &&
+         a.fadeEnd == b.fadeEnd && a.shadow == b.shadow;
+}
+
+std::optional<std::vector<PixelRect>> RedrawTracker::changedRegion(const Frame& before,
+                                                                   const Frame& now,
+                                                                   double shadowReach) {
+  // Instances are matched by id (bodies appear and leave), those without one by order.
+  auto keys = [](const Frame& f) {
+    std::map<std::pair<int, int>, std::size_t> byKey;
+    int unnamed = 0;
+    for (std::size_t i = 0; i < f.instances.size(); ++i) {
+      const int id = f.instances[i].id;
+      byKey.emplace(std::make_pair(id, id < 0 ? unnamed++ : 0), i);
     }
-    for (const auto& [key, j] : was) {  // gone since
-      if (bounded && !is.contains(key)) {
-        bounded = reach(before, j, shadowReach, rects);
-        addCaster(before, j, casters);
+    return byKey;
+  };
+  const auto was = keys(before), is = keys(now);
+  std::vector<PixelRect> rects, casters;
+  bool bounded = true;
+  for (const auto& [key, i] : is) {
+    if (!bounded) break;
+    const auto old = was.find(key);
+    if (old != was.end()) {
+      const std::size_t j = old->second;
+      if (now.keys[i] && before.keys[j] == now.keys[i] &&
+          sameInstance(before.instances[j], before.transforms[j], now.instances[i],
+                       now.transforms[i])) {
+        continue;
       }
+      // Where it and its shadow were (on that frame's receivers).
+      bounded = reach(before, j, shadowReach, rects);
+      addCaster(before, j, casters);
     }
-    std::erase_if(rects, [](const PixelRect& r) { return r.empty(); });
-    if (bounded) {
-      region = coverWithFewPieces(std::move(rects));
-      shadowRegion_ = coverWithFewPieces(std::move(casters));
+    // Where they are (on this frame's).
+    bounded = bounded && reach(now, i, shadowReach, rects);
+    addCaster(now, i, casters);
+  }
+  for (const auto& [key, j] : was) {  // gone since
+    if (bounded && !is.contains(key)) {
+      bounded = reach(before, j, shadowReach, rects);
+      addCaster(before, j, casters);
     }
   }
+  std::erase_if(rects, [](const PixelRect& r) { return r.empty(); });
+  if (!bounded) return std::nullopt;
+  shadowRegion_ = coverWithFewPieces(std::move(casters));
+  return coverWithFewPieces(std::move(rects));
+}
+
+std::optional<std::vector<PixelRect>> RedrawTracker::update(const DrawList& list,
+                                                            const ShadowProjection& shadow,
+                                                            double shadowReach) {
+  shadowRegion_.clear();
+  Frame now = frameOf(list, shadow);
+  // Where any caster's shadow lookups can reach the floor, this frame.
+  findFloorShadows(now, shadowReach);
+  std::optional<std::vector<PixelRect>> region;
+  if (last_ && sameView(*last_, now)) region = changedRegion(*last_, now, shadowReach);
   last_ = std::move(now);
   return region;
 }

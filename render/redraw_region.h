@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "render/camera.h"
-#include "render/draw_list.h"
+#include "render/draw_data.h"
 
 namespace vf {
 
@@ -71,7 +71,7 @@ struct RectSplit {
 RectSplit splitRect(const PixelRect& r, std::span<const PixelRect> cover);
 
 // The floor is pushed back in depth by glPolygonOffset(factor, units), so that a terrain at
-// its level wins (render/gl/renderer.cpp); floorCovers() allows for exactly this offset.
+// its level wins (render/gl/render_passes.cpp); floorCovers() allows for exactly this offset.
 constexpr float kFloorOffsetFactor = 1.0f;
 constexpr float kFloorOffsetUnits = 4.0f;
 
@@ -144,6 +144,15 @@ class RedrawTracker {
   };
 
   Eigen::AlignedBox3d meshBox(const DrawMesh& mesh);
+  // update()'s parts: what of the list a later frame is compared with, with each instance's
+  // bounds; floorShadows_ for that frame; whether two frames share camera, light, floor and
+  // shadow map (else everything is redrawn); and the rectangles that can differ between two
+  // such frames, with shadowRegion_ (none when a bound fails).
+  Frame frameOf(const DrawList& list, const ShadowProjection& shadow);
+  void findFloorShadows(const Frame& now, double shadowReach);
+  static bool sameView(const Frame& a, const Frame& b);
+  std::optional<std::vector<PixelRect>> changedRegion(const Frame& before, const Frame& now,
+                                                      double shadowReach);
   // Adds to `rects` the screen rectangles instance i of `frame` covers and (if it casts a
   // shadow) those where its shadow can fall on that frame's receivers; false when a bound
   // reaches behind the eye or the sun is too low to bound the shadow.

@@ -17,6 +17,7 @@
 #include "render/overlay.h"
 #include "render/progress.h"
 #include "sim/core/error.h"
+#include "sim/shape/drape_import.h"
 
 namespace vf {
 namespace {

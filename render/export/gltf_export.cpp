@@ -229,24 +229,12 @@ std::string withRootExtras(const std::string& glb, const nlohmann::ordered_json&
   return out + text + rest;
 }
 
-}  // namespace
-
-std::string bodyNodeName(const std::string& shape, int id) {
-  return shape + "_" + std::to_string(id);
-}
-
-void writeGltfAnimation(const std::string& path, const AnimationExport& a,
-                        const OutputRules& rules) {
-  VF_ASSERT(!a.frames.empty() && a.fps > 0);
-  OutputFile out(path, rules);
-  const std::vector<BodyView>& first = a.frames.front();
-  const unsigned bodies = static_cast<unsigned>(first.size());
-  const MeshPlan plan = planMeshes(first, a.shapeNames);
+// The meshes and materials of `scene`: one per entry of `plan`, then the terrain (with its
+// draped picture embedded as a PNG texture) when the export has one.
+void addMeshes(aiScene& scene, const AnimationExport& a, const MeshPlan& plan,
+               const std::string& path) {
   const unsigned bodyMeshes = static_cast<unsigned>(plan.meshes.size());
   const unsigned meshes = bodyMeshes + (a.terrain ? 1 : 0);
-  const unsigned nodes = bodies + (a.terrain ? 1 : 0);
-
-  aiScene scene;  // its destructor frees everything below
   scene.mNumMeshes = meshes;
   scene.mMeshes = new aiMesh*[meshes];
   scene.mNumMaterials = meshes;
@@ -256,23 +244,28 @@ void writeGltfAnimation(const std::string& path, const AnimationExport& a,
     scene.mMeshes[i] = flatMesh(e.body->shape->mesh, i, e.name);
     scene.mMaterials[i] = toAiMaterial(e.body->color, e.name);
   }
-  if (a.terrain) {
-    VF_ASSERT(a.terrainNormals != nullptr);
-    const DrapeImage* drape = a.terrainTexture.get();
-    scene.mMeshes[bodyMeshes] =
-        smoothMesh(*a.terrain, *a.terrainNormals, bodyMeshes, "terrain", drape);
-    const Color terrainColour{0.16f, 0.22f, 0.09f};
-    if (drape) {
-      // glTF multiplies the texture by the base colour: white shows the picture as it is.
-      scene.mMaterials[bodyMeshes] = toAiMaterial(Color{1, 1, 1}, "terrain");
-      const aiString embedded("*0");
-      scene.mMaterials[bodyMeshes]->AddProperty(&embedded, AI_MATKEY_TEXTURE_DIFFUSE(0));
-      scene.mNumTextures = 1;
-      scene.mTextures = new aiTexture* [1] { embeddedPng(*drape, terrainColour, path) };
-    } else {
-      scene.mMaterials[bodyMeshes] = toAiMaterial(terrainColour, "terrain");
-    }
+  if (!a.terrain) return;
+  VF_ASSERT(a.terrainNormals != nullptr);
+  const DrapeImage* drape = a.terrainTexture.get();
+  scene.mMeshes[bodyMeshes] =
+      smoothMesh(*a.terrain, *a.terrainNormals, bodyMeshes, "terrain", drape);
+  const Color terrainColour{0.16f, 0.22f, 0.09f};
+  if (drape) {
+    // glTF multiplies the texture by the base colour: white shows the picture as it is.
+    scene.mMaterials[bodyMeshes] = toAiMaterial(Color{1, 1, 1}, "terrain");
+    const aiString embedded("*0");
+    scene.mMaterials[bodyMeshes]->AddProperty(&embedded, AI_MATKEY_TEXTURE_DIFFUSE(0));
+    scene.mNumTextures = 1;
+    scene.mTextures = new aiTexture* [1] { embeddedPng(*drape, terrainColour, path) };
+  } else {
+    scene.mMaterials[bodyMeshes] = toAiMaterial(terrainColour, "terrain");
   }
+}
+
+// The root node (z-up turned y-up) with one child per body, named by bodyNodeName, and the
+// terrain's last.
+void addNodes(aiScene& scene, const AnimationExport& a, const MeshPlan& plan, unsigned bodies) {
+  const unsigned nodes = bodies + (a.terrain ? 1 : 0);
   // Names are glTF ids in assimp's exporter: the root must not share the animation's name.
   scene.mRootNode = new aiNode("world");
   aiNode& root = *scene.mRootNode;
@@ -282,7 +275,7 @@ void writeGltfAnimation(const std::string& path, const AnimationExport& a,
   root.mChildren = new aiNode*[nodes];
   for (unsigned i = 0; i < nodes; ++i) {
     const bool terrain = i == bodies;
-    const unsigned mesh = terrain ? bodyMeshes : plan.ofBody[i];
+    const unsigned mesh = terrain ? static_cast<unsigned>(plan.meshes.size()) : plan.ofBody[i];
     auto* node = new aiNode(
         terrain ? std::string("terrain")
                 : bodyNodeName(i < a.shapeNames.size() ? a.shapeNames[i] : std::string("body"),
@@ -292,7 +285,10 @@ void writeGltfAnimation(const std::string& path, const AnimationExport& a,
     node->mMeshes = new unsigned[1]{mesh};
     root.mChildren[i] = node;
   }
+}
 
+// The animation: one channel per body, a key per frame.
+void addAnimation(aiScene& scene, const AnimationExport& a, unsigned bodies) {
   auto* anim = new aiAnimation();
   anim->mName = aiString(a.name.empty() ? std::string("voxfall") : a.name);
   anim->mTicksPerSecond = a.fps;
@@ -300,10 +296,13 @@ void writeGltfAnimation(const std::string& path, const AnimationExport& a,
   anim->mNumChannels = bodies;
   anim->mChannels = new aiNodeAnim*[bodies];
   for (unsigned b = 0; b < bodies; ++b)
-    anim->mChannels[b] = bodyChannel(a, b, root.mChildren[b]->mName);
+    anim->mChannels[b] = bodyChannel(a, b, scene.mRootNode->mChildren[b]->mName);
   scene.mNumAnimations = 1;
   scene.mAnimations = new aiAnimation* [1] { anim };
+}
 
+// The scene as GLB bytes, with the DEM's georeference in the root node's extras when given.
+std::string exportGlb(const aiScene& scene, const AnimationExport& a, const std::string& path) {
   Assimp::Exporter exporter;
   const aiExportDataBlob* blob = exporter.ExportToBlob(&scene, "glb2");
   if (blob == nullptr)
@@ -319,6 +318,27 @@ void writeGltfAnimation(const std::string& path, const AnimationExport& a,
     extras["dem_offset"] = {g.offset.x(), g.offset.y(), g.offset.z()};
     glb = withRootExtras(glb, extras, path);
   }
+  return glb;
+}
+
+}  // namespace
+
+std::string bodyNodeName(const std::string& shape, int id) {
+  return shape + "_" + std::to_string(id);
+}
+
+void writeGltfAnimation(const std::string& path, const AnimationExport& a,
+                        const OutputRules& rules) {
+  VF_ASSERT(!a.frames.empty() && a.fps > 0);
+  OutputFile out(path, rules);
+  const std::vector<BodyView>& first = a.frames.front();
+  const unsigned bodies = static_cast<unsigned>(first.size());
+  const MeshPlan plan = planMeshes(first, a.shapeNames);
+  aiScene scene;  // its destructor frees everything below
+  addMeshes(scene, a, plan, path);
+  addNodes(scene, a, plan, bodies);
+  addAnimation(scene, a, bodies);
+  const std::string glb = exportGlb(scene, a, path);
   if (std::fwrite(glb.data(), 1, glb.size(), out.stream()) != glb.size())
     throw InputError(path, "cannot write the glTF file");
   out.commit();

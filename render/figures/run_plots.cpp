@@ -85,34 +85,22 @@ void writeText(const std::string& path, const std::string& text) {
   out.commit();
 }
 
-}  // namespace
+// Where plotRun writes: two CSVs and three figures (each + .png and .svg).
+struct PlotFiles {
+  std::string energyCsv, bodiesCsv;
+  std::string energyBase, speedBase, tracksBase;
+};
 
-void plotRun(const std::string& runCsv, const RunPlotOptions& o) {
-  const fs::path dir(o.outDir);
-  const std::string energyCsv = (dir / "energy.csv").string();
-  const std::string bodiesCsv = (dir / "bodies.csv").string();
-  const std::string energyBase = (dir / "energy").string(), speedBase = (dir / "speed").string(),
-                    tracksBase = (dir / "trajectories").string();  // + .png, .svg
-  OutputRules rules = replaceOutputs();
-  rules.inputs = o.inputs;
-  rules.inputs.push_back(runCsv);
-  for (const std::string& path : {energyCsv, bodiesCsv})  // before anything is written
-    checkOutputPath(path, rules);
-  for (const std::string& base : {energyBase, speedBase, tracksBase}) {
-    checkOutputPath(base + ".png", rules);
-    checkOutputPath(base + ".svg", rules);
-  }
-  const std::vector<Row> rows = readRun(runCsv);
-  std::error_code ec;
-  fs::create_directories(o.outDir, ec);
-  if (ec) throw InputError(o.outDir, "cannot create the output folder: " + ec.message());
+PlotFiles plotFiles(const std::string& outDir) {
+  const fs::path dir(outDir);
+  return {(dir / "energy.csv").string(), (dir / "bodies.csv").string(), (dir / "energy").string(),
+          (dir / "speed").string(), (dir / "trajectories").string()};
+}
+
+// The energies per frame (energy.csv) and each body's speed and centre over time (bodies.csv),
+// from the run's rows. Without `o.bodies` every body counts as 1 kg, translation only.
+void writeRunTables(const std::vector<Row>& rows, const RunPlotOptions& o, const PlotFiles& files) {
   const bool perKg = o.bodies.empty();
-  int maxBody = 0;
-  for (const Row& r : rows) maxBody = std::max(maxBody, r.body);
-  if (!perKg && maxBody >= static_cast<int>(o.bodies.size()))
-    throw InputError(runCsv, "body " + std::to_string(maxBody) + " is not in the scene (" +
-                                 std::to_string(o.bodies.size()) + " bodies)");
-
   // Energies per frame, in frame order (rows of one frame are consecutive).
   std::ostringstream energy;
   energy << "frame,time_s,kinetic_J,potential_J,total_J\n";
@@ -142,12 +130,29 @@ void plotRun(const std::string& runCsv, const RunPlotOptions& o) {
   std::string bodies = "body,time_s,speed_m_s,x_m,y_m,z_m\n";
   for (const auto& [id, text] : perBodyRows) bodies += text;
 
-  writeText(energyCsv, energy.str());
-  writeText(bodiesCsv, bodies);
+  writeText(files.energyCsv, energy.str());
+  writeText(files.bodiesCsv, bodies);
+}
 
+// One series per body 0..maxBody of `csv`, plotting `xy` ("$x:$y") where column `bodyColumn`
+// is that body; named in the key only with fewer than ten bodies.
+std::vector<Series> perBodySeries(const std::string& csv, const std::string& xy, int bodyColumn,
+                                  const std::string& style, int maxBody) {
+  const bool legend = maxBody < 10;
+  std::vector<Series> s;
+  for (int b = 0; b <= maxBody; ++b)
+    s.push_back({legend ? "body " + std::to_string(b) : "", csv,
+                 "(column(" + std::to_string(bodyColumn) + ") == " + std::to_string(b) + " ? " +
+                     xy.substr(0, xy.find(':')) + " : NaN):(" + xy.substr(xy.find(':') + 1) + ")",
+                 style, b, false});
+  return s;
+}
+
+// The three figures: energy over time, each body's speed, and the centres' paths in plan and
+// side view.
+void drawRunFigures(const RunPlotOptions& o, const PlotFiles& files, int maxBody,
+                    const std::string& note, bool perKg) {
   const std::string unit = perKg ? "energy per kg, translation only (J/kg)" : "energy (J)";
-  const std::string note = "from " + fs::path(runCsv).filename().string() +
-                           (perKg ? "; no scene given: every body counts as 1 kg" : "");
   Figure e;
   e.title = o.title + ": energy";
   e.footnote = note;
@@ -156,23 +161,14 @@ void plotRun(const std::string& runCsv, const RunPlotOptions& o) {
                unit,
                false,
                false,
-               {{"kinetic", energyCsv, "2:3", "lines", 0, false},
-                {"potential", energyCsv, "2:4", "lines", 1, false},
-                {"total", energyCsv, "2:5", "lines", 6, false}},
+               {{"kinetic", files.energyCsv, "2:3", "lines", 0, false},
+                {"potential", files.energyCsv, "2:4", "lines", 1, false},
+                {"total", files.energyCsv, "2:5", "lines", 6, false}},
                {"set key top right"}}};
-  drawFigure(e, energyBase);
+  drawFigure(e, files.energyBase);
 
   const bool legend = maxBody < 10;
-  auto perBody = [&](const std::string& csv, const std::string& xy, int bodyColumn,
-                     const std::string& style) {
-    std::vector<Series> s;
-    for (int b = 0; b <= maxBody; ++b)
-      s.push_back({legend ? "body " + std::to_string(b) : "", csv,
-                   "(column(" + std::to_string(bodyColumn) + ") == " + std::to_string(b) + " ? " +
-                       xy.substr(0, xy.find(':')) + " : NaN):(" + xy.substr(xy.find(':') + 1) + ")",
-                   style, b, false});
-    return s;
-  };
+  const std::string& csv = files.bodiesCsv;
   Figure v;
   v.title = o.title + ": speed of each body";
   v.footnote = note;
@@ -181,9 +177,9 @@ void plotRun(const std::string& runCsv, const RunPlotOptions& o) {
                "speed (m/s)",
                false,
                false,
-               perBody(bodiesCsv, "$2:$3", 1, "lines"),
+               perBodySeries(csv, "$2:$3", 1, "lines", maxBody),
                {legend ? "set key top right" : "unset key"}}};
-  drawFigure(v, speedBase);
+  drawFigure(v, files.speedBase);
 
   Figure t;
   t.title = o.title + ": trajectories of the centres of mass";
@@ -193,17 +189,46 @@ void plotRun(const std::string& runCsv, const RunPlotOptions& o) {
                "y (m)",
                false,
                false,
-               perBody(bodiesCsv, "$4:$5", 1, "lines"),
+               perBodySeries(csv, "$4:$5", 1, "lines", maxBody),
                {"set size ratio -1", legend ? "set key top left" : "unset key"}},
               {"side view",
                "x (m)",
                "z (m)",
                false,
                false,
-               perBody(bodiesCsv, "$4:$6", 1, "lines"),
+               perBodySeries(csv, "$4:$6", 1, "lines", maxBody),
                {"set size ratio -1", "unset key"}}};
   t.width = 1200;
-  drawFigure(t, tracksBase);
+  drawFigure(t, files.tracksBase);
+}
+
+}  // namespace
+
+void plotRun(const std::string& runCsv, const RunPlotOptions& o) {
+  const PlotFiles files = plotFiles(o.outDir);
+  OutputRules rules = replaceOutputs();
+  rules.inputs = o.inputs;
+  rules.inputs.push_back(runCsv);
+  for (const std::string& path : {files.energyCsv, files.bodiesCsv})  // before anything is written
+    checkOutputPath(path, rules);
+  for (const std::string& base : {files.energyBase, files.speedBase, files.tracksBase}) {
+    checkOutputPath(base + ".png", rules);
+    checkOutputPath(base + ".svg", rules);
+  }
+  const std::vector<Row> rows = readRun(runCsv);
+  std::error_code ec;
+  fs::create_directories(o.outDir, ec);
+  if (ec) throw InputError(o.outDir, "cannot create the output folder: " + ec.message());
+  const bool perKg = o.bodies.empty();
+  int maxBody = 0;
+  for (const Row& r : rows) maxBody = std::max(maxBody, r.body);
+  if (!perKg && maxBody >= static_cast<int>(o.bodies.size()))
+    throw InputError(runCsv, "body " + std::to_string(maxBody) + " is not in the scene (" +
+                                 std::to_string(o.bodies.size()) + " bodies)");
+  writeRunTables(rows, o, files);
+  const std::string note = "from " + fs::path(runCsv).filename().string() +
+                           (perKg ? "; no scene given: every body counts as 1 kg" : "");
+  drawRunFigures(o, files, maxBody, note, perKg);
 }
 
 }  // namespace vf::fig

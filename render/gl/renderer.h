@@ -12,7 +12,7 @@
 #include <memory>
 #include <string>
 
-#include "render/draw_list.h"
+#include "render/draw_data.h"
 #include "render/image.h"
 
 namespace vf::gl {

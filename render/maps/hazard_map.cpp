@@ -13,6 +13,8 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <tuple>
 
 #include "render/figures/gnuplot.h"
 #include "render/maps/colour_map.h"
@@ -311,54 +313,61 @@ std::vector<double> mappedValues(const std::string& name, const std::vector<doub
   return out;
 }
 
-void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
-                    const std::vector<std::vector<Vec2>>& releaseAreas, const std::string& pngPath,
-                    const OutputRules& rules, const MapWindow& window,
-                    const std::vector<MapPolyline>& polylines) {
-  if (dem.nx < 1 || dem.ny < 1 || dem.z.size() != static_cast<std::size_t>(dem.nx) * dem.ny)
-    throw InputError(pngPath, "hazard map: the DEM has no samples");
-  if (layer.values.size() != dem.z.size())
-    throw InputError(pngPath, "hazard map '" + layer.name + "': " +
-                                  std::to_string(layer.values.size()) + " values for a grid of " +
-                                  std::to_string(dem.nx) + " x " + std::to_string(dem.ny));
-  OutputFile out(pngPath, rules);
-  out.closeStream();  // gnuplot writes the temporary file by name
+namespace {
 
+// The range of a layer's finite values (positive only on a log scale); lo > hi without any.
+struct ValueRange {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  bool any() const { return lo <= hi; }
+};
+
+ValueRange valueRange(const MapLayer& layer) {
+  ValueRange r;
   for (double v : layer.values)
-    if (std::isfinite(v) && (!layer.logScale || v > 0)) lo = std::min(lo, v), hi = std::max(hi, v);
-  const bool anyValue = lo <= hi;
-  // The colour box needs a range: an empty layer shows 0..1, a constant one its value +- 1.
-  const double cbLo = !anyValue ? 0 : hi > lo ? lo : lo - 1;
-  const double cbHi = !anyValue ? 1 : hi > lo ? hi : hi + 1;
+    if (std::isfinite(v) && (!layer.logScale || v > 0))
+      r.lo = std::min(r.lo, v), r.hi = std::max(r.hi, v);
+  return r;
+}
 
-  const MapFrame f = hazardMapFrame(dem, window);
-  const fig::ScratchFolder scratch;
-  const std::string image = scratch.file("map.rgba");
+// The data files gnuplot reads for a map, in a scratch folder, and which of them hold anything.
+struct MapData {
+  std::string image, lines, points, evaluation, barriers, forest;
+  bool anyLine = false, anyPoint = false, anyEvaluation = false, anyBarrier = false,
+       anyForest = false;
+};
+
+MapData writeMapData(const fig::ScratchFolder& scratch, const Heightfield& dem,
+                     const MapLayer& layer, const MapFrame& f, const ValueRange& range,
+                     const std::vector<std::vector<Vec2>>& releaseAreas,
+                     const std::vector<MapPolyline>& polylines, const std::string& pngPath) {
+  MapData d;
+  d.image = scratch.file("map.rgba");
   {
-    const std::vector<std::uint8_t> rgba = mapPixels(dem, layer, f, lo, hi);
-    std::ofstream o(image, std::ios::binary);
+    const std::vector<std::uint8_t> rgba = mapPixels(dem, layer, f, range.lo, range.hi);
+    std::ofstream o(d.image, std::ios::binary);
     o.write(reinterpret_cast<const char*>(rgba.data()), static_cast<std::streamsize>(rgba.size()));
-    if (!o) throw InputError(pngPath, "cannot write the temporary file " + image);
+    if (!o) throw InputError(pngPath, "cannot write the temporary file " + d.image);
   }
-  const std::string lines = scratch.file("release_lines.dat");
-  const std::string points = scratch.file("release_points.dat");
-  const auto [anyLine, anyPoint] = writeReleaseAreas(releaseAreas, f, lines, points);
-  const std::string evaluation = scratch.file("evaluation_lines.dat");
-  const std::string barriers = scratch.file("barriers.dat");
-  const bool anyEvaluation =
-      writePolylines(polylines, MapPolyline::Kind::kEvaluationLine, f, evaluation);
-  const bool anyBarrier = writePolylines(polylines, MapPolyline::Kind::kBarrier, f, barriers);
-  const std::string forest = scratch.file("forest_edges.dat");
-  const bool anyForest = writePolylines(polylines, MapPolyline::Kind::kForestEdge, f, forest);
+  d.lines = scratch.file("release_lines.dat");
+  d.points = scratch.file("release_points.dat");
+  std::tie(d.anyLine, d.anyPoint) = writeReleaseAreas(releaseAreas, f, d.lines, d.points);
+  d.evaluation = scratch.file("evaluation_lines.dat");
+  d.barriers = scratch.file("barriers.dat");
+  d.anyEvaluation = writePolylines(polylines, MapPolyline::Kind::kEvaluationLine, f, d.evaluation);
+  d.anyBarrier = writePolylines(polylines, MapPolyline::Kind::kBarrier, f, d.barriers);
+  d.forest = scratch.file("forest_edges.dat");
+  d.anyForest = writePolylines(polylines, MapPolyline::Kind::kForestEdge, f, d.forest);
+  return d;
+}
 
+// The PNG terminal, the map area's margins and ranges, title and axes.
+void writeMapAxes(std::ostringstream& s, const MapFrame& f, const MapLayer& layer,
+                  const std::string& output) {
   const double w = f.xMax - f.xMin, h = f.yMax - f.yMin;
-  const double mPerPx = w / f.plotWidth;                   // same along y
   const int plotBottom = f.height - f.top - f.plotHeight;  // px from the PNG's bottom edge
-  std::ostringstream s;
   s << "set terminal pngcairo noenhanced size " << f.width << "," << f.height
     << " font 'DejaVu Sans,11' background '#ffffff'\n"
-    << "set encoding utf8\nset output " << gnuplotString(out.tempPath()) << "\n"
+    << "set encoding utf8\nset output " << gnuplotString(output) << "\n"
     << "set lmargin at " << screenX(f, f.left) << "\nset rmargin at "
     << screenX(f, f.left + f.plotWidth) << "\nset bmargin at " << screenY(f, plotBottom)
     << "\nset tmargin at " << screenY(f, plotBottom + f.plotHeight) << "\n"
@@ -370,7 +379,16 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
     << "set format x '" << (w >= 50 ? "%.0f" : "%g") << "'\nset format y '"
     << (h >= 50 ? "%.0f" : "%g") << "'\n"
     << "set tics out nomirror\nset border front\n";
-  // Legend: the colour box beside the map, as tall as the map (at least kMinLegendPx).
+}
+
+// The colour box beside the map, as tall as the map (at least kMinLegendPx), and the small
+// print: how the relief is drawn and which CRS the axes are in.
+void writeMapLegend(std::ostringstream& s, const MapFrame& f, const MapLayer& layer,
+                    const ValueRange& range, const Heightfield& dem) {
+  // The colour box needs a range: an empty layer shows 0..1, a constant one its value +- 1.
+  const double lo = range.lo, hi = range.hi;
+  const double cbLo = !range.any() ? 0 : hi > lo ? lo : lo - 1;
+  const double cbHi = !range.any() ? 1 : hi > lo ? hi : hi + 1;
   const int legendPx = std::max(f.plotHeight, kMinLegendPx);
   const int legendBottom = f.height - f.top - legendPx;
   const bool classed = !layer.classes.edges.empty();
@@ -379,7 +397,7 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
   } else {
     writeViridisPalette(s);
     // gnuplot maps the colour box's palette by log10 too, so the legend reads as the pixels do.
-    if (layer.logScale && anyValue && hi > lo) s << "set logscale cb\n";
+    if (layer.logScale && range.any() && hi > lo) s << "set logscale cb\n";
     s << "set cbrange [" << number(cbLo) << ":" << number(cbHi) << "]\nset format cb '%g'\n";
   }
   s << "set colorbox user origin " << screenX(f, f.left + f.plotWidth + 30) << ", "
@@ -387,16 +405,20 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
     << "\nset cbtics out\n"
     << "set cblabel offset " << (classed ? "3.5" : "1.5") << ",0 "
     << gnuplotString(layer.title + (layer.units.empty() ? "" : " (" + layer.units + ")") +
-                     (anyValue ? "" : ": no values"))
+                     (range.any() ? "" : ": no values"))
     << "\n";
-  // Small print: how the relief is drawn and which CRS the axes are in.
   std::string note = "Hillshade: Horn slopes, sun azimuth 315°, altitude 45°. Grey: no value.";
   if (f.fileCoordinates)
     note += dem.crsName.empty() ? " Axes in the DEM's CRS." : " CRS " + dem.crsName + ".";
   s << "set label 1 " << gnuplotString(note) << " at " << screenX(f, 8) << ", " << screenY(f, 8)
     << " font ',9'\n";
+}
 
-  // Scale bar, bottom left inside the map on a white panel: a black and a white half, 8 px tall.
+// Scale bar, bottom left inside the map on a white panel: a black and a white half, 8 px tall;
+// north arrow, top right inside the map (the grid is north-up).
+void writeScaleAndNorth(std::ostringstream& s, const MapFrame& f) {
+  const double w = f.xMax - f.xMin;
+  const double mPerPx = w / f.plotWidth;  // same along y
   const double bar = roundLength(0.25 * w);
   const double bx = f.xMin + 20 * mPerPx, by = f.yMin + 20 * mPerPx, bh = 8 * mPerPx;
   const auto rect = [&s](int tag, double x0, double y0, double x1, double y1, const char* fill,
@@ -411,7 +433,6 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
   rect(3, bx + bar / 2, by, bx + bar, by + bh, "#ffffff", "border lc rgb '#000000'");
   s << "set label 2 " << gnuplotString(lengthLabel(bar)) << " at " << number(bx + bar / 2) << ","
     << number(by + bh + 12 * mPerPx) << " center front\n";
-  // North arrow, top right inside the map (the grid is north-up).
   const double nx = f.xMax - 25 * mPerPx, ny0 = f.yMax - 80 * mPerPx, ny1 = f.yMax - 40 * mPerPx;
   rect(4, nx - 15 * mPerPx, ny0 - 8 * mPerPx, nx + 15 * mPerPx, f.yMax - 4 * mPerPx, "#ffffff",
        "noborder");
@@ -419,11 +440,16 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
     << number(ny1) << " front filled size screen 0.015,25 lw 2 lc rgb '#000000'\n"
     << "set label 3 'N' at " << number(nx) << "," << number(ny1 + 14 * mPerPx)
     << " center front font ',12'\n";
+}
 
+// The key and the plot command: the map's pixels, then the release areas, evaluation lines,
+// barriers and forest edges that have anything to draw.
+void writeMapPlot(std::ostringstream& s, const MapFrame& f, const MapData& d) {
+  const double mPerPx = (f.xMax - f.xMin) / f.plotWidth;
   // Under the colour box's lowest tick label: the release, lines and barriers may add rows.
   s << "set key at " << screenX(f, f.left + f.plotWidth + 10) << ", " << screenY(f, 6)
     << " left bottom Left reverse samplen 2\n";
-  s << "plot " << gnuplotString(image) << " binary array=(" << f.plotWidth << "," << f.plotHeight
+  s << "plot " << gnuplotString(d.image) << " binary array=(" << f.plotWidth << "," << f.plotHeight
     << ") format='%uchar' dx=" << number(mPerPx) << " dy=" << number(mPerPx) << " origin=("
     << number(f.xMin + mPerPx / 2) << "," << number(f.yMin + mPerPx / 2)
     << ") with rgbalpha notitle";
@@ -435,22 +461,49 @@ void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
     titled = true;
     return first ? " title 'Release area'" : " notitle";
   };
-  if (anyLine)
-    s << ", " << gnuplotString(lines) << " using 1:2 with lines lw 3 lc rgb '" << kReleaseColour
+  if (d.anyLine)
+    s << ", " << gnuplotString(d.lines) << " using 1:2 with lines lw 3 lc rgb '" << kReleaseColour
       << "'" << key();
-  if (anyPoint)
-    s << ", " << gnuplotString(points) << " using 1:2 with points pt 7 ps 1.6 lc rgb '"
+  if (d.anyPoint)
+    s << ", " << gnuplotString(d.points) << " using 1:2 with points pt 7 ps 1.6 lc rgb '"
       << kReleaseColour << "'" << key();
-  if (anyEvaluation)
-    s << ", " << gnuplotString(evaluation)
+  if (d.anyEvaluation)
+    s << ", " << gnuplotString(d.evaluation)
       << " using 1:2 with lines lw 2.5 lc rgb '#0072b2' title 'Evaluation line'";
-  if (anyBarrier)
-    s << ", " << gnuplotString(barriers) << " using 1:2 with lines lw 4 lc rgb '#000000' title "
+  if (d.anyBarrier)
+    s << ", " << gnuplotString(d.barriers) << " using 1:2 with lines lw 4 lc rgb '#000000' title "
       << "'Barrier'";
-  if (anyForest)
-    s << ", " << gnuplotString(forest) << " using 1:2 with lines lw 1.5 lc rgb '" << kForestColour
+  if (d.anyForest)
+    s << ", " << gnuplotString(d.forest) << " using 1:2 with lines lw 1.5 lc rgb '" << kForestColour
       << "' title 'Forest edge'";
   s << "\nset output\n";
+}
+
+}  // namespace
+
+void writeHazardMap(const Heightfield& dem, const MapLayer& layer,
+                    const std::vector<std::vector<Vec2>>& releaseAreas, const std::string& pngPath,
+                    const OutputRules& rules, const MapWindow& window,
+                    const std::vector<MapPolyline>& polylines) {
+  if (dem.nx < 1 || dem.ny < 1 || dem.z.size() != static_cast<std::size_t>(dem.nx) * dem.ny)
+    throw InputError(pngPath, "hazard map: the DEM has no samples");
+  if (layer.values.size() != dem.z.size())
+    throw InputError(pngPath, "hazard map '" + layer.name + "': " +
+                                  std::to_string(layer.values.size()) + " values for a grid of " +
+                                  std::to_string(dem.nx) + " x " + std::to_string(dem.ny));
+  OutputFile out(pngPath, rules);
+  out.closeStream();  // gnuplot writes the temporary file by name
+
+  const ValueRange range = valueRange(layer);
+  const MapFrame f = hazardMapFrame(dem, window);
+  const fig::ScratchFolder scratch;
+  const MapData data =
+      writeMapData(scratch, dem, layer, f, range, releaseAreas, polylines, pngPath);
+  std::ostringstream s;
+  writeMapAxes(s, f, layer, out.tempPath());
+  writeMapLegend(s, f, layer, range, dem);
+  writeScaleAndNorth(s, f);
+  writeMapPlot(s, f, data);
   fig::runGnuplot(s.str(), pngPath);
   out.commit();
 }

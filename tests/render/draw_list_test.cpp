@@ -12,6 +12,7 @@
 
 #include "render/camera.h"
 #include "render_test_util.h"
+#include "sim/scene/scene.h"
 
 namespace vf {
 namespace {

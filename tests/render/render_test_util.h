@@ -11,6 +11,7 @@
 #include <string>
 
 #include "render/draw_list.h"
+#include "sim/scene/scene.h"
 #include "sim/shape/shape.h"
 
 namespace vf::test {
