@@ -2,8 +2,6 @@
 // process exit code through the callback's `exitCode`.
 #pragma once
 
-#include <string>
-
 namespace CLI {
 class App;
 }
@@ -32,11 +30,5 @@ void addPlotCommand(CLI::App& app, int& exitCode);
 void addEnsembleCommand(CLI::App& app, int& exitCode);
 // voxfall ensemble-merge DIR... -o OUT [--converge] [--maps] [--video-runs K]
 void addEnsembleMergeCommand(CLI::App& app, int& exitCode);
-
-// Renders a scene or bake to `output` (an MP4, or PNGs) exactly as `voxfall render INPUT -o
-// OUTPUT [-y|-n] [--quiet]` does; returns that command's exit code (errors are thrown as
-// there). For commands that make a bake and want its video too (ensemble --video-runs).
-int renderToFile(const std::string& input, const std::string& output, bool overwrite,
-                 bool neverOverwrite, bool quiet);
 
 }  // namespace vf::cli

@@ -93,6 +93,18 @@ std::string toleranceText(const DiffTolerance& t) {
   return text;
 }
 
+// The folder of the diff images. They take the frames' names: in either compared folder they
+// would replace the frames themselves.
+void makeDiffFolder(const DiffOptions& o) {
+  std::error_code ec;
+  for (const std::string& compared : {o.expected, o.actual})
+    if (fs::equivalent(o.out, compared, ec))
+      throw InputError(o.out, "is the folder of the compared frames (" + compared +
+                                  "); the diff images would overwrite them: give another folder");
+  fs::create_directories(o.out, ec);
+  if (ec) throw InputError(o.out, "cannot create the diff folder: " + ec.message());
+}
+
 int runDiff(const DiffOptions& o) {
   std::error_code ec;
   const bool expectedIsFolder = fs::is_directory(o.expected, ec);
@@ -115,16 +127,7 @@ int runDiff(const DiffOptions& o) {
 
   const std::vector<std::string> expectedNames = pngNames(o.expected);
   if (expectedNames.empty()) throw InputError(o.expected, "no PNG files in this folder");
-  if (!o.out.empty()) {
-    // The diff images take the frames' names: in either compared folder they would replace
-    // the frames themselves.
-    for (const std::string& compared : {o.expected, o.actual})
-      if (fs::equivalent(o.out, compared, ec))
-        throw InputError(o.out, "is the folder of the compared frames (" + compared +
-                                    "); the diff images would overwrite them: give another folder");
-    fs::create_directories(o.out, ec);
-    if (ec) throw InputError(o.out, "cannot create the diff folder: " + ec.message());
-  }
+  if (!o.out.empty()) makeDiffFolder(o);
   int passed = 0, failed = 0, missing = 0;
   for (const std::string& name : expectedNames) {
     const fs::path actualPath = fs::path(o.actual) / name;

@@ -16,12 +16,12 @@
 
 #include "render/cli/commands.h"
 #include "render/cli/options.h"
-#include "render/cli/run_output.h"
 #include "render/figures/filmstrip.h"
 #include "render/gl/gl_context.h"
 #include "render/gl/shader_program.h"
 #include "render/output/output_file.h"
 #include "render/output/png_writer.h"
+#include "render/run/run_output.h"
 #include "render/scene_playback.h"
 #include "sim/core/error.h"
 #include "sim/scene/scene.h"

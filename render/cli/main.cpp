@@ -9,6 +9,7 @@
 
 #include "render/cli/commands.h"
 #include "render/cli/options.h"
+#include "render/run/run_output.h"
 #include "sim/core/error.h"
 
 namespace {
@@ -45,7 +46,7 @@ int main(int argc, char** argv) {
       "voxfall: rigid bodies with voxel sphere-tree collisions "
       "(Suzuki, Kubota & Ohtsubo 2003)",
       "voxfall"};
-  app.set_version_flag("--version", std::string("voxfall ") + vf::cli::voxfallVersion());
+  app.set_version_flag("--version", std::string("voxfall ") + vf::voxfallVersion());
   app.require_subcommand(1);
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return "voxfall: error: " + std::string(e.what()) + "\nRun with --help for more information.\n";

@@ -9,17 +9,11 @@
 #include <optional>
 #include <string>
 
+#include "render/run/render_run.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/sphere_tree.h"
 
 namespace vf::cli {
-
-// The build may pass the project version; this fallback must match project() in CMakeLists.txt.
-#ifndef VOXFALL_VERSION
-#define VOXFALL_VERSION "0.1.0"
-#endif
-
-const char* voxfallVersion() { return VOXFALL_VERSION; }
 
 void addOverwriteFlags(CLI::App& command, bool& overwrite, bool& neverOverwrite) {
   CLI::Option* yes =

@@ -9,7 +9,8 @@
 
 namespace vf {
 struct SceneOverrides;
-}
+struct OverlayChoice;  // render/run/render_run.h
+}  // namespace vf
 
 namespace CLI {
 class App;
@@ -20,9 +21,6 @@ namespace vf::cli {
 
 // A check for a number option: its text read whole as a finite number from lo to hi. CLI11's
 // own Range lets "nan" through (every comparison with it is false).
-// voxfall's version, as `voxfall --version` prints it (after "voxfall ").
-const char* voxfallVersion();
-
 CLI::Validator finiteNumberIn(double lo, double hi);
 
 // A check for an integer option: its text read whole as an integer from lo to hi (no sign, no
@@ -55,11 +53,6 @@ void addSizeOption(CLI::App& command, std::optional<std::pair<int, int>>& size);
 // times slower, 10: a time-lapse).
 void addSpeedOption(CLI::App& command, std::optional<double>& speed);
 
-// What --overlay asks for: the overlays by name, each at most once ("none": no overlay).
-struct OverlayChoice {
-  bool time = false;
-  bool scale = false;
-};
 // "time", "scale", "time,scale" (any order) or "none"; nothing for anything else.
 std::optional<OverlayChoice> parseOverlay(const std::string& text);
 // --alpha (a transparent background, PNG only) and --overlay LIST, overriding [output] alpha

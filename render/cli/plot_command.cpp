@@ -9,8 +9,8 @@
 #include <string>
 
 #include "render/cli/commands.h"
-#include "render/cli/run_output.h"
 #include "render/figures/run_plots.h"
+#include "render/run/run_output.h"
 #include "sim/scene/scene.h"
 
 namespace vf::cli {

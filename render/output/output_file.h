@@ -7,10 +7,10 @@
 // convention (-y overwrites, -n never does, neither: refused with a message), and a file the
 // run reads (scene, mesh, terrain, bake) is never written, whatever the flags.
 //
-// One stop mechanism: in a command that polls (simulate, render: installStopHandlers()) the
-// first SIGINT or SIGTERM only raises a flag read between frames (stopSignal()), so the
-// command finishes the frame in hand, finalises what it has (a playable MP4, a valid CSV up to
-// the last complete frame), says what was written and exits with 128 + the signal (130, 143).
+// One stop mechanism: in a run that polls (installStopHandlers(), called through the stop
+// policy of render/run/stop_policy.h, which says what a stopped run writes and its exit
+// status) the first SIGINT or SIGTERM only raises a flag read between frames (stopSignal()),
+// so the run finishes the frame in hand and finalises what it has.
 // A second signal, or the first in a command that does not poll, removes every pending
 // temporary file and ends the process as the signal would.
 #pragma once

@@ -8,12 +8,12 @@
 #include <optional>
 #include <vector>
 
-#include "render/cli/ensemble_files.h"
+#include "render/run/ensemble_files.h"
 #include "sim/ensemble/ensemble.h"
 #include "sim/ensemble/ensemble_stats.h"
 #include "sim/scene/scene.h"
 
-namespace vf::cli {
+namespace vf {
 
 // One row per realisation: index, seed, shape, release x/y/z, stop x/y/z and time, runout (m),
 // reach angle (deg), max speed (m/s), max energy (kJ), max jump height (m), state, steps,
@@ -36,4 +36,4 @@ void writeEnsembleSummary(std::FILE* out, const SceneSpec& spec, const Heightfie
                           const std::vector<StatLayer>& layers,
                           const std::vector<ConvergenceRow>& convergence);
 
-}  // namespace vf::cli
+}  // namespace vf

@@ -16,7 +16,7 @@
 #include "sim/ground/barriers.h"
 #include "sim/ground/evaluation_lines.h"
 
-namespace vf::cli {
+namespace vf {
 
 // One row per crossing, in the order given: line, name, rock, time (s), x, y, z (m, DEM file
 // coordinates), vx, vy, vz (m/s), speed (m/s), translational, rotational and total kinetic
@@ -55,4 +55,4 @@ class LineFiles {
   std::unique_ptr<OutputFile> crossings_, summary_;
 };
 
-}  // namespace vf::cli
+}  // namespace vf

@@ -1,10 +1,10 @@
 // Per-rock outcomes as CSV and GeoJSON (nlohmann-json writes the JSON).
-#include "render/cli/outcomes_output.h"
+#include "render/run/outcomes_output.h"
 
 #include <cinttypes>
 #include <nlohmann/json.hpp>
 
-namespace vf::cli {
+namespace vf {
 namespace {
 
 // World -> the DEM file's coordinates (a scene's [ground] offset undone).
@@ -72,4 +72,4 @@ void writeOutcomesGeoJson(std::FILE* out, const World& world) {
   std::fputs(text.c_str(), out);
 }
 
-}  // namespace vf::cli
+}  // namespace vf

@@ -1,5 +1,5 @@
 // The ensemble's tables and summary (see ensemble_output.h).
-#include "render/cli/ensemble_output.h"
+#include "render/run/ensemble_output.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include "sim/ensemble/ensemble_shards.h"
 #include "sim/recorder.h"
 
-namespace vf::cli {
+namespace vf {
 namespace {
 
 // A number in `format`, or nothing (an empty CSV field) when it is not finite.
@@ -96,6 +96,26 @@ void writeConvergence(std::FILE* out, std::FILE* table, const Heightfield& dem,
   }
 }
 
+namespace {
+
+// Per statistic: its name, title, units, largest value and files.
+nlohmann::ordered_json statisticsJson(const std::vector<StatLayer>& layers) {
+  nlohmann::ordered_json stats = nlohmann::ordered_json::array();
+  for (const StatLayer& l : layers) {
+    double most = NAN;
+    for (double v : l.values)
+      if (!std::isnan(v) && !(most >= v)) most = v;
+    stats.push_back({{"name", l.name},
+                     {"title", l.title},
+                     {"units", l.units},
+                     {"max", number(most)},
+                     {"files", {l.name + ".tif", l.name + ".asc"}}});
+  }
+  return stats;
+}
+
+}  // namespace
+
 void writeEnsembleSummary(std::FILE* out, const SceneSpec& spec, const Heightfield& dem,
                           const EnsembleRunInfo& info, const std::vector<RealisationResult>& runs,
                           const std::vector<StatLayer>& layers,
@@ -130,18 +150,7 @@ void writeEnsembleSummary(std::FILE* out, const SceneSpec& spec, const Heightfie
               {"ny", dem.ny},
               {"cell", dem.cell},
               {"crs", dem.crsName}};
-  nlohmann::ordered_json stats = nlohmann::ordered_json::array();
-  for (const StatLayer& l : layers) {
-    double most = NAN;
-    for (double v : l.values)
-      if (!std::isnan(v) && !(most >= v)) most = v;
-    stats.push_back({{"name", l.name},
-                     {"title", l.title},
-                     {"units", l.units},
-                     {"max", number(most)},
-                     {"files", {l.name + ".tif", l.name + ".asc"}}});
-  }
-  s["statistics"] = stats;
+  s["statistics"] = statisticsJson(layers);
   s["passage"] =
       "a realisation passes a cell (the DEM pixel) when its centre of mass's straight path over "
       "some step meets the cell; counted once per realisation and cell";
@@ -160,4 +169,4 @@ void writeEnsembleSummary(std::FILE* out, const SceneSpec& spec, const Heightfie
   std::fputs(text.c_str(), out);
 }
 
-}  // namespace vf::cli
+}  // namespace vf

@@ -15,7 +15,10 @@
 #include "sim/scene/scene.h"
 #include "sim/world.h"
 
-namespace vf::cli {
+namespace vf {
+
+// voxfall's version, as `voxfall --version` prints it (after "voxfall ") and journals record it.
+const char* voxfallVersion();
 
 // Per-frame trajectory CSV: one row per ACTIVE body per frame, position = centre of mass (m),
 // q = orientation (w, x, y, z), v (m/s) and w (rad/s, world frame), numbers in %.17g so that
@@ -62,4 +65,4 @@ void applyFrameRateOverrides(SceneSpec& spec, std::optional<double> fps,
 OutputRules runOutputRules(const SceneSpec& spec, const std::string& inputFile, bool overwrite,
                            bool neverOverwrite);
 
-}  // namespace vf::cli
+}  // namespace vf

@@ -1,5 +1,5 @@
 // The reduced outputs of an ensemble (see ensemble_files.h).
-#include "render/cli/ensemble_files.h"
+#include "render/run/ensemble_files.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,16 +7,16 @@
 #include <iterator>
 #include <stdexcept>
 
-#include "render/cli/commands.h"
-#include "render/cli/ensemble_output.h"
-#include "render/cli/lines_output.h"
 #include "render/maps/hazard_map.h"
+#include "render/run/ensemble_output.h"
+#include "render/run/lines_output.h"
+#include "render/run/render_run.h"
 #include "sim/core/error.h"
 #include "sim/ensemble/ensemble_bake.h"
 #include "sim/ensemble/raster_output.h"
 #include "sim/ground/forest_outline.h"
 
-namespace vf::cli {
+namespace vf {
 
 namespace fs = std::filesystem;
 
@@ -136,20 +136,24 @@ void EnsembleFiles::writeRasters(const Ensemble& ens, const std::vector<StatLaye
 // The first --video-runs realisations (or the --only one), stepped again frame by frame for
 // `voxfall render ensemble_subset.bake`, and their video over the terrain, as `voxfall render`
 // draws the bake (not after an interrupt: the realisations' files come first).
-int EnsembleFiles::writeVideo(const Ensemble& ens, const EnsembleRunInfo& info,
-                              const std::vector<RealisationResult>& runs) {
+RunStatus EnsembleFiles::writeVideo(const Ensemble& ens, const EnsembleRunInfo& info,
+                                    const std::vector<RealisationResult>& runs) {
   std::vector<std::int64_t> chosen;
   for (std::size_t k = 0; k < runs.size() && static_cast<int>(k) < options_.videoRuns; ++k)
     chosen.push_back(runs[k].index);
   const Bake bake = ensembleBake(ens, info.seed, chosen);
   writeBake(files_->bake->stream(), files_->bake->path(), bake);
   commit(*files_->bake);
-  if (info.stopSignal) return 0;
-  const std::string video = (fs::path(options_.outDir) / "trajectories.mp4").string();
-  const int code = renderToFile(files_->bake->path(), video, options_.overwrite,
-                                options_.neverOverwrite, options_.quiet);
-  if (code == 0) written_ += ", trajectories.mp4";
-  return code;
+  if (info.stopSignal) return RunStatus::done();
+  RenderRequest render;
+  render.input = files_->bake->path();
+  render.output = (fs::path(options_.outDir) / "trajectories.mp4").string();
+  render.overwrite = options_.overwrite;
+  render.neverOverwrite = options_.neverOverwrite;
+  render.quiet = options_.quiet;
+  const RunStatus status = runRender(render);
+  if (status.isDone()) written_ += ", trajectories.mp4";
+  return status;
 }
 
 // Hazard maps over the DEM's hillshade with the release areas, and the runout plot.
@@ -214,8 +218,8 @@ void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>&
   written_ += ", " + files_->maps.back().filename().string();
 }
 
-int EnsembleFiles::write(const Ensemble& ens, const EnsembleRunInfo& info,
-                         const std::vector<RealisationResult>& runs) {
+RunStatus EnsembleFiles::write(const Ensemble& ens, const EnsembleRunInfo& info,
+                               const std::vector<RealisationResult>& runs) {
   const Heightfield& dem = ens.dem();
   const std::vector<StatLayer> layers = cellStatistics(dem, runs);
   writeRasters(ens, layers);
@@ -225,7 +229,7 @@ int EnsembleFiles::write(const Ensemble& ens, const EnsembleRunInfo& info,
     writePathsCsv(files_->paths->stream(), dem, runs);
     commit(*files_->paths);
   }
-  const int videoCode = files_->bake ? writeVideo(ens, info, runs) : 0;
+  const RunStatus video = files_->bake ? writeVideo(ens, info, runs) : RunStatus::done();
   std::vector<ConvergenceRow> conv;
   if (files_->converge) {
     conv = convergence(dem, runs, kConvergenceCells);
@@ -259,7 +263,7 @@ int EnsembleFiles::write(const Ensemble& ens, const EnsembleRunInfo& info,
   }
   writeEnsembleSummary(files_->summary->stream(), ens.spec(), dem, info, runs, layers, conv);
   commit(*files_->summary);
-  return videoCode;
+  return video;
 }
 
 void reportEnsemble(const Ensemble& ens, const EnsembleRunInfo& info,
@@ -284,4 +288,4 @@ void reportEnsemble(const Ensemble& ens, const EnsembleRunInfo& info,
                  states[0], runs.size(), spec.duration);
 }
 
-}  // namespace vf::cli
+}  // namespace vf

@@ -1,5 +1,5 @@
 // The processes of an ensemble run: one, or the ranks of an `mpirun` launch when voxfall was
-// built with MPI (render/cli/ensemble_mpi.cpp is the only MPI include, and the only file
+// built with MPI (render/run/ensemble_mpi.cpp is the only MPI include, and the only file
 // compiled with VOXFALL_WITH_MPI). MPI is started only by the ensemble command, and only when
 // the process was launched by mpirun or srun; every other voxfall invocation never touches it.
 #pragma once
@@ -7,7 +7,7 @@
 #include <functional>
 #include <string>
 
-namespace vf::cli {
+namespace vf {
 
 class MpiSession {
  public:
@@ -40,4 +40,4 @@ class MpiSession {
 // True when this voxfall was built with MPI.
 bool builtWithMpi();
 
-}  // namespace vf::cli
+}  // namespace vf

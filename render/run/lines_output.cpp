@@ -1,10 +1,10 @@
-#include "render/cli/lines_output.h"
+#include "render/run/lines_output.h"
 
 #include <cmath>
 
 #include "render/maps/line_plots.h"
 
-namespace vf::cli {
+namespace vf {
 namespace {
 
 // %.17g, or nothing for NaN (an empty CSV field).
@@ -103,4 +103,4 @@ std::string LineFiles::write(const std::vector<EvaluationLine>& lines,
   return written;
 }
 
-}  // namespace vf::cli
+}  // namespace vf

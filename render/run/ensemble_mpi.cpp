@@ -4,7 +4,7 @@
 // the command then reduces the journal in index order, so the outputs are the bytes one process
 // would write. Only the thread that called MPI_Init calls MPI (MPI_THREAD_FUNNELED): the
 // worker threads hand their results to it.
-#include "render/cli/ensemble_mpi.h"
+#include "render/run/ensemble_mpi.h"
 
 #include <cstdlib>
 #include <string>
@@ -15,7 +15,7 @@
 
 #include "sim/core/error.h"
 
-namespace vf::cli {
+namespace vf {
 
 #ifdef VOXFALL_WITH_MPI
 
@@ -128,4 +128,4 @@ void MpiSession::receive(bool, const std::function<void(const std::string&)>&) {
 
 #endif
 
-}  // namespace vf::cli
+}  // namespace vf

@@ -13,10 +13,11 @@
 
 #include "render/maps/hazard_map.h"
 #include "render/output/output_file.h"
+#include "render/run/stop_policy.h"
 #include "sim/ensemble/ensemble.h"
 #include "sim/ensemble/ensemble_stats.h"
 
-namespace vf::cli {
+namespace vf {
 
 // What to write, and how (the options of the command).
 struct EnsembleFileOptions {
@@ -51,10 +52,10 @@ class EnsembleFiles {
   EnsembleFiles(const EnsembleFileOptions& options, const OutputRules& rules,
                 const Heightfield& dem);
   ~EnsembleFiles();
-  // Reduces `runs` (complete, in index order) into every file; returns 0, or the video's
-  // render's exit code (130/143 when it was interrupted).
-  int write(const Ensemble& ensemble, const EnsembleRunInfo& info,
-            const std::vector<RealisationResult>& runs);
+  // Reduces `runs` (complete, in index order) into every file; returns done, or the status of
+  // the video's render (stopped when it was interrupted).
+  RunStatus write(const Ensemble& ensemble, const EnsembleRunInfo& info,
+                  const std::vector<RealisationResult>& runs);
   // The files written, by name: "passages.tif, ..., summary.json".
   const std::string& written() const { return written_; }
   const EnsembleFileOptions& options() const { return options_; }
@@ -64,8 +65,8 @@ class EnsembleFiles {
   void writeRasters(const Ensemble& ensemble, const std::vector<StatLayer>& layers);
   void writeRasterFile(OutputFile& file, int format, const std::vector<double>& values,
                        const Ensemble& ensemble);
-  int writeVideo(const Ensemble& ensemble, const EnsembleRunInfo& info,
-                 const std::vector<RealisationResult>& runs);
+  RunStatus writeVideo(const Ensemble& ensemble, const EnsembleRunInfo& info,
+                       const std::vector<RealisationResult>& runs);
   void writeMaps(const Ensemble& ensemble, const std::vector<StatLayer>& layers,
                  const std::vector<RealisationResult>& runs);
   void commit(OutputFile& file);
@@ -82,4 +83,4 @@ class EnsembleFiles {
 void reportEnsemble(const Ensemble& ensemble, const EnsembleRunInfo& info,
                     const std::vector<RealisationResult>& runs, const EnsembleFiles& files);
 
-}  // namespace vf::cli
+}  // namespace vf

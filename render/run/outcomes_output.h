@@ -6,7 +6,7 @@
 
 #include "sim/world.h"
 
-namespace vf::cli {
+namespace vf {
 
 // One row per released dynamic body: release point and time, state, stop or exit point and
 // time, horizontal runout, reach angle, maximum speed, maximum translational and rotational
@@ -17,4 +17,4 @@ void writeOutcomesCsv(std::FILE* out, const World& world);
 // properties.
 void writeOutcomesGeoJson(std::FILE* out, const World& world);
 
-}  // namespace vf::cli
+}  // namespace vf

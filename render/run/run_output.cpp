@@ -1,4 +1,4 @@
-#include "render/cli/run_output.h"
+#include "render/run/run_output.h"
 
 #include <unistd.h>
 
@@ -11,7 +11,14 @@
 
 #include "sim/core/error.h"
 
-namespace vf::cli {
+namespace vf {
+
+// The build may pass the project version; this fallback must match project() in CMakeLists.txt.
+#ifndef VOXFALL_VERSION
+#define VOXFALL_VERSION "0.1.0"
+#endif
+
+const char* voxfallVersion() { return VOXFALL_VERSION; }
 
 // --- Input -----------------------------------------------------------------------------------
 
@@ -189,4 +196,4 @@ void printSummary(std::FILE* out, const std::string& scene, const RunSummary& s)
                  s.totals.floored);
 }
 
-}  // namespace vf::cli
+}  // namespace vf
