@@ -1,5 +1,9 @@
 // Interrupted means said, and no litter, with real child processes: an interrupted `simulate
-// --summary` writes a summary that says it was interrupted and at which frame; the temporary
+// --summary` writes a summary that says it was interrupted and at which frame; the stop policy
+// (render/run/stop_policy.h) of the commands that output_rules_test and ensemble_command_test do
+// not stop: `export` stopped while it simulates writes nothing and exits 130 / 143, `ensemble`
+// stopped by SIGTERM keeps its complete realisations and exits 143, and a command that does not
+// poll (`filmstrip`) is ended by the signal with its temporary file removed; the temporary
 // files of a run killed with SIGKILL are removed by the next run that writes into the same
 // folder (only those whose process is gone); and on a full disk (a small tmpfs, where this
 // machine lets the test mount one) a run fails with one clear error and leaves nothing but
@@ -97,6 +101,61 @@ TEST_F(InterruptedOutputs, AnInterruptedSimulateSummarySaysSo) {
   EXPECT_LT(frames, 18001);
   // The time of the last frame written (30 fps).
   EXPECT_DOUBLE_EQ(cut.at("time").get<double>(), (frames - 1) / 30.0);
+}
+
+// The signal goes once the first progress line is on stderr: the simulation is under way
+// (progress starts after a quiet second, long after the stop handlers are in place).
+TEST_F(InterruptedOutputs, AnExportStoppedWhileSimulatingWritesNothing) {
+  fs::create_directories(dir_ / "out");
+  for (const int sig : {SIGINT, SIGTERM}) {
+    fs::remove(dir_ / "stderr.txt");
+    const int status = vf::test::interruptVoxfall(
+        kExe, dir_, {"export", "long.toml", "-o", "out/long.glb"}, sig,
+        [&] { return !readFile(dir_ / "stderr.txt").empty(); }, "stderr.txt");
+    ASSERT_TRUE(WIFEXITED(status)) << "signal " << sig;
+    EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
+    const std::string err = readFile(dir_ / "stderr.txt");
+    EXPECT_NE(err.find("voxfall: interrupted; nothing written\n"), std::string::npos) << err;
+    EXPECT_TRUE(fs::is_empty(dir_ / "out")) << "neither the .glb nor a temporary file";
+  }
+}
+
+TEST_F(InterruptedOutputs, AnEnsembleStoppedBySigtermKeepsItsCompleteRealisations) {
+  ASSERT_TRUE(vf::test::writeChuteDem(dir_ / "chute.tif"));
+  vf::test::writeChuteScene(dir_, vf::test::kChuteEnsemble, 10.0);
+  const std::regex done("ensemble: ([0-9]+)/");
+  const int status = vf::test::interruptVoxfall(
+      kExe, dir_, {"ensemble", "scene.toml", "--runs", "100000", "--jobs", "2", "-o", "int"},
+      SIGTERM,
+      [&] {  // a progress line that counts a complete realisation
+        const std::string err = readFile(dir_ / "stderr.txt");
+        std::smatch m;
+        return std::regex_search(err, m, done) && std::stoll(m[1]) > 0;
+      },
+      "stderr.txt");
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 143);
+  const std::string err = readFile(dir_ / "stderr.txt");
+  EXPECT_NE(err.find("voxfall: interrupted; the files hold the "), std::string::npos) << err;
+  std::size_t rows = 0;
+  const std::string runs = readFile(dir_ / "int" / "runs.csv");
+  for (const char c : runs) rows += c == '\n';
+  ASSERT_GE(rows, 2u) << "a header and at least one realisation";
+  const auto json = nlohmann::json::parse(readFile(dir_ / "int" / "summary.json"));
+  EXPECT_EQ(json.at("interrupted").at("signal"), "SIGTERM") << json.dump();
+  EXPECT_EQ(json.at("interrupted").at("runs").get<std::size_t>(), rows - 1) << json.dump();
+  EXPECT_TRUE(partials(dir_ / "int").empty());
+}
+
+TEST_F(InterruptedOutputs, ACommandThatDoesNotPollEndsByTheSignalAndLeavesNoTemporaryFile) {
+  fs::create_directories(dir_ / "out");
+  // The filmstrip's PNG is open as a temporary file while the 600 s scene is simulated.
+  const int status = interrupt(
+      {"filmstrip", "long.toml", "--times", "590", "--size", "64x48", "-o", "out/strip.png"},
+      SIGTERM, [&] { return !partials(dir_ / "out").empty(); });
+  ASSERT_TRUE(WIFSIGNALED(status));
+  EXPECT_EQ(WTERMSIG(status), SIGTERM);
+  EXPECT_TRUE(fs::is_empty(dir_ / "out"));
 }
 
 TEST_F(InterruptedOutputs, AKilledRunsTemporaryFilesAreGoneAfterTheNextRun) {
