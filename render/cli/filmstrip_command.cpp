@@ -1,108 +1,16 @@
-// voxfall filmstrip SCENE --times 0.5,1,2,4 -o FILE.png [--size WxH] [--columns N]: frames of a
-// scene side by side with their times (the paper's figs. 20-26). Each frame is drawn by the
-// same two-pass playback as `voxfall render` (renderSceneFrames), so the frame at t = k / fps
-// is exactly the one `voxfall render --frames k:k` writes; a time between frames takes the
-// nearest frame and is labelled with that frame's time.
+// voxfall filmstrip SCENE --times T,T,...: options into a FilmstripRequest; the run is
+// render/run/filmstrip_run.h.
 #include <CLI/CLI.hpp>
-#include <cmath>
-#include <cstdio>
 #include <memory>
-#include <optional>
-#include <sstream>
-#include <string>
-#include <tuple>
-#include <utility>
-#include <vector>
 
 #include "render/cli/commands.h"
 #include "render/cli/options.h"
-#include "render/figures/filmstrip.h"
-#include "render/gl/gl_context.h"
-#include "render/gl/shader_program.h"
-#include "render/output/output_file.h"
-#include "render/output/png_writer.h"
-#include "render/run/run_output.h"
-#include "render/scene_playback.h"
-#include "sim/core/error.h"
-#include "sim/scene/scene.h"
-#include "sim/shape/sphere_tree.h"
+#include "render/run/filmstrip_run.h"
 
 namespace vf::cli {
-namespace {
-
-struct FilmstripOptions {
-  std::string scene;
-  std::string times;
-  std::string output;
-  std::optional<std::pair<int, int>> size;
-  int columns = 0;              // 0: one row
-  SceneOverrides overrides;     // --level, --step, --collider, run limits, --repair
-  bool overwrite = false;       // -y
-  bool neverOverwrite = false;  // -n
-  std::string gl = "osmesa";
-  std::string shaders;
-};
-
-// "0.5,1,2,4" -> seconds; InputError for anything that is not a list of times >= 0.
-std::vector<double> parseTimes(const std::string& text) {
-  std::vector<double> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    char* end = nullptr;
-    const double t = std::strtod(item.c_str(), &end);
-    if (item.empty() || *end != '\0' || !std::isfinite(t) || t < 0)
-      throw InputError("--times", "'" + item + "' is not a time in seconds >= 0");
-    out.push_back(t);
-  }
-  if (out.empty()) throw InputError("--times", "give at least one time, e.g. 0.5,1,2,4");
-  return out;
-}
-
-int runFilmstrip(const FilmstripOptions& o) {
-  RunInput input = loadRunInput(o.scene, o.overrides);
-  if (input.bake)
-    throw InputError(o.scene,
-                     "filmstrip draws a scene; render a bake's frames with voxfall render");
-  SceneSpec& spec = input.spec;
-  if (o.size) std::tie(spec.output.width, spec.output.height) = *o.size;
-  // A filmstrip picks its frames by time and labels them itself, on an opaque picture.
-  spec.output.speed = 1;
-  spec.output.alpha = spec.output.overlayTime = spec.output.overlayScale = false;
-  const std::vector<double> times = parseTimes(o.times);
-  const int last = Recorder::frameCountFor(spec.fps, spec.duration) - 1;
-  std::vector<int> frames;
-  std::vector<std::string> labels;
-  for (double t : times) {
-    const int k = static_cast<int>(std::lround(t * spec.fps));
-    if (k > last)
-      throw InputError("--times", "time " + fig::timeLabel(t).substr(4) +
-                                      " is after the scene's end (" +
-                                      fig::timeLabel(last / spec.fps).substr(4) + ")");
-    frames.push_back(k);
-    labels.push_back(fig::timeLabel(k / spec.fps));
-  }
-  const std::string path = o.output.empty() ? "out/" + spec.name + "_filmstrip.png" : o.output;
-  // An existing or unwritable destination fails before any simulation.
-  OutputFile out(path, runOutputRules(spec, o.scene, o.overwrite, o.neverOverwrite));
-
-  auto context = gl::createContext(gl::parseBackend(o.gl));
-  const RenderedFrames rendered =
-      renderSceneFrames(spec, frames, *context, gl::findShaderDir(o.shaders));
-  const int columns = o.columns > 0 ? o.columns : static_cast<int>(frames.size());
-  const Image strip = fig::composeFilmstrip(rendered.images, labels, columns);
-  out.closeStream();
-  writePng(out.tempPath(), strip);
-  out.commit();
-  std::printf("%s: %zu frames -> %s (%dx%d)\n", spec.name.c_str(), frames.size(), path.c_str(),
-              strip.width, strip.height);
-  return 0;
-}
-
-}  // namespace
 
 void addFilmstripCommand(CLI::App& app, int& exitCode) {
-  auto o = std::make_shared<FilmstripOptions>();
+  auto o = std::make_shared<FilmstripRequest>();
   CLI::App* sub = app.add_subcommand(
       "filmstrip", "Frames of a scene at chosen times side by side in one PNG, labelled");
   sub->add_option("SCENE", o->scene, "scene file (TOML)")->required()->type_name("");
@@ -120,7 +28,7 @@ void addFilmstripCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--gl", o->gl, "OpenGL backend: osmesa (default) or egl (surfaceless)")
       ->check(CLI::IsMember({"osmesa", "egl"}));
   sub->add_option("--shaders", o->shaders, "folder of the GLSL shaders")->type_name("DIR");
-  sub->callback([o, &exitCode] { exitCode = runFilmstrip(*o); });
+  sub->callback([o, &exitCode] { exitCode = vf::exitCode(runFilmstrip(*o)); });
 }
 
 }  // namespace vf::cli
