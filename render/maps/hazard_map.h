@@ -46,7 +46,7 @@ struct MapLayer {
   // Colours by log10 of the value between the smallest positive value and the largest (values
   // at or below that smallest take the bottom colour), with a logarithmic legend.
   bool logScale = false;
-  MapClasses classes;  // no edges: the continuous colour map
+  MapClasses classes{};  // no edges: the continuous colour map
 };
 
 // Whether the ensemble's statistic `name` is mapped on a logarithmic scale: the reach

@@ -194,15 +194,14 @@ void EnsembleFiles::writeMaps(const Ensemble& ens, const std::vector<StatLayer>&
         std::find(std::begin(kLayerNames), std::end(kLayerNames), std::string(name)) -
         std::begin(kLayerNames))];
   };
-  std::vector<MapLayer> classed{
-      {"intensity", "Intensity: energy p95 low < 30, medium 30-300, high > 300 kJ", "",
-       mappedValues("energy_p95", layerOf("energy_p95").values, passages)}};
-  classed.back().classes = swissRockfallIntensity();
-  if (!options_.heightClasses.empty()) {
+  std::vector<MapLayer> classed{{"intensity",
+                                 "Intensity: energy p95 low < 30, medium 30-300, high > 300 kJ", "",
+                                 mappedValues("energy_p95", layerOf("energy_p95").values, passages),
+                                 false, swissRockfallIntensity()}};
+  if (!options_.heightClasses.empty())
     classed.push_back({"height_classes", "Passing height p95", "",
-                       mappedValues("height_p95", layerOf("height_p95").values, passages)});
-    classed.back().classes = passingHeightClasses(options_.heightClasses);
-  }
+                       mappedValues("height_p95", layerOf("height_p95").values, passages), false,
+                       passingHeightClasses(options_.heightClasses)});
   for (std::size_t k = 0; k < classed.size(); ++k) {
     const fs::path& png = files_->maps[layers.size() + k];
     writeHazardMap(ens.dem(), classed[k], areas, png.string(), rules_, window, polylines);
