@@ -31,9 +31,10 @@ struct MapClasses {
 MapClasses swissRockfallIntensity();
 
 // Passing-height classes with the given limits (m, ascending, 1 to 5 of them), labelled
-// "< a m", "a-b m", ..., "> z m", in purples from light to dark (ColorBrewer's Purples: no
-// colour a map's lines, barriers or release areas use). No standard fixes these limits the
-// way the Swiss classes fix the energies; a barrier's height is a natural one.
+// "< a m", "a-b m", ..., "> z m", in purples from light to dark (ColorBrewer's Purples
+// without its near-white: no colour a map's lines, barriers or release areas use). No standard
+// fixes these limits the way the Swiss classes fix the energies; a barrier's height is a natural
+// one.
 MapClasses passingHeightClasses(const std::vector<double>& limits);
 
 // One per-cell statistic to map.
