@@ -1,7 +1,7 @@
 // Rock fall bookkeeping after each step: what happens at the terrain's edges and holes, bodies
 // found below the surface, when a rock counts as at rest, and each rock's outcome (release,
-// stop or exit, runout, reach angle, maxima, path). Owned by the World; reads and, for the
-// edge policy and push-out, writes the body arrays.
+// stop or exit, runout, reach angle, maxima, path). Owned by the rock-fall step listener
+// (rock_fall.h); reads and, for the edge policy and push-out, writes the body arrays.
 #pragma once
 
 #include <optional>
