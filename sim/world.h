@@ -18,8 +18,7 @@
 #include "sim/core/body.h"
 #include "sim/core/math.h"
 #include "sim/core/worker_pool.h"
-#include "sim/ground/forest_law.h"
-#include "sim/ground/rock_monitor.h"
+#include "sim/ground/rock_monitor_settings.h"
 #include "sim/run_guard.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
@@ -31,8 +30,11 @@
 
 namespace vf {
 
+struct Forest;
 struct GroundMap;
 class RockFall;
+struct RockOutcome;  // sim/ground/rock_monitor.h
+struct TreeHits;     // sim/ground/forest_law.h
 
 // Times closer than this are the same instant, s: release times are computed as
 // start + i * interval and frame times as k / fps, which can differ in the last bit where they
