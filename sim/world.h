@@ -171,9 +171,9 @@ class World {
   // `afterStep`, when given, is called after every step (a bake records each one).
   // Throws RunawayError if the run guard stopped the run (see runaway()).
   void advanceTo(double t, const std::function<void()>& afterStep = {});
-  // Set once a step found a non-finite state, a body over limits.maxSpeed or an energy gain
-  // over the margin (run_guard.h); that step and every later one throw RunawayError, and the
-  // state stays that of the step that found it, before the bodies moved.
+  // Set once a step listener's beforeMove stopped the run: the run guard at a non-finite state,
+  // a body over limits.maxSpeed or an energy gain over the margin (run_guard.h); that step and
+  // every later one throw RunawayError, the state that of the step before the bodies moved.
   const std::optional<Runaway>& runaway() const { return runaway_; }
   // Every body's state at time t, for t from time() up to nextStepEnd(): a COPY of the current
   // states moved by the step's own free motion over t - time() (gravity, then explicit Euler
