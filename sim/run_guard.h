@@ -1,19 +1,19 @@
-// Runaway physics stops with a reason. During a run the RunGuard, called once per step by
-// World, stops the run at the first non-finite state, body faster than the bound, or rise of
-// the total energy beyond what gravity and the energy the bodies started with allow (see
-// run_guard.cpp for the rules and their margins). Before a run, checkRunLength()
-// (run_length.h) refuses bodies that would need more steps than a limit or that start faster
-// than the bound.
+// Runaway physics stops with a reason. During a run the RunGuard, attached to every World as a
+// step listener (RunGuardListener) and called once per step, stops the run at the first non-finite
+// state, body faster than the bound, or rise of the total energy beyond what gravity and the energy
+// the bodies started with allow (see run_guard.cpp for the rules and their margins). Before a run,
+// checkRunLength() (run_length.h) refuses bodies that would need more steps than a limit or that
+// start faster than the bound.
 #pragma once
 
 #include <cstdint>
 #include <optional>
-#include <stdexcept>
-#include <string>
 #include <vector>
 
 #include "sim/core/body.h"
 #include "sim/core/math.h"
+#include "sim/core/runaway.h"
+#include "sim/solve/step_listener.h"
 
 namespace vf {
 
@@ -23,29 +23,6 @@ struct RunLimits {
   std::uint64_t maxSteps = 10'000'000;  // steps a run may need (estimated before it starts)
   double maxSpeed = 1000;               // m/s, of a body's fastest point: |v| + (l/2) |w|
   double energyMargin = 0.5;            // allowed energy gain, as a fraction of the energy scale
-};
-
-// Why a run was stopped.
-struct Runaway {
-  int body = -1;         // the body concerned
-  std::string shape;     // its shape's name
-  double time = 0;       // s, the step during which it happened began here
-  std::string quantity;  // "non-finite state", "speed", "energy"
-  double value = 0;      // the measured value (m/s, J); NaN for a non-finite state
-  double limit = 0;      // the bound it crossed
-  // One line: "body 3 at t = 1.25 s: speed 4.5e4 m/s exceeds the limit of 1000 m/s; ...".
-  std::string message() const;
-};
-
-// Thrown by World::step, stepNext and advanceTo when the guard stopped the run; the state is that
-// of the step in which the trouble was found, before the bodies moved.
-class RunawayError : public std::runtime_error {
- public:
-  explicit RunawayError(const Runaway& r);
-  const Runaway& runaway() const { return runaway_; }
-
- private:
-  Runaway runaway_;
 };
 
 // Per-run bookkeeping of the energy budget. check() is called after the impulses of every step
@@ -69,9 +46,17 @@ class RunGuard {
   double peakGainRatio_ = 0;
 };
 
-// The wording of the guard's messages, shared with run_length.cpp's: a number to 4 significant
-// digits, and "body 3 (shape 'rock')".
-std::string guardNumber(double x);
-std::string guardBodyName(int id, const std::string& shape);
+// The guard attached to a World (every World has one): checks each step before anything moves.
+class RunGuardListener : public StepListener {
+ public:
+  RunGuardListener(const RunLimits& limits, const Vec3& gravity);
+  std::optional<Runaway> beforeMove(const StepContext& c) override;
+  const RunGuard& guard() const { return guard_; }
+
+ private:
+  RunGuard guard_;
+  RunLimits limits_;
+  Vec3 gravity_;
+};
 
 }  // namespace vf

@@ -5,17 +5,16 @@
 //   broad phase               collide/broad_phase.cpp
 //   narrow phase (fig. 3)     collide/narrow_phase.cpp (waking sleepers: solve/sleep.cpp)
 //   contact reduction         collide/contact_reduction.cpp (optional)
-//   impulses (eq. 15)         solve/impulse.cpp
-//   ground law (opt-in, rock fall: bounce, rolling)   solve/ground_law.cpp
-//   scar drag (opt-in, rock fall: soft soil over the slip law)   solve/scar_drag.cpp
-//   slippage (opt-in, rock fall: mu(s))   solve/slip_law.cpp
-//   run guard (stops a runaway run before anything moves)   run_guard.cpp
-//   explicit Euler, renormalise q   solve/integrate.cpp
-//   forest (opt-in, rock fall: stems met on the step's path)   ground/forest_law.cpp
+//   impulses (eq. 15)         solve/impulse.cpp, with the listeners' beforeSolve and afterSolve
+//                             around it
+//   listeners' beforeMove     may stop the run before anything moves (the run guard)
+//   explicit Euler, renormalise q   solve/integrate.cpp; then the listeners' afterIntegrate
 //   sleeping islands          solve/sleep.cpp (optional)
-//   releases (emitters)       solve/release.cpp (drop-height placement)
-//   rock monitor (terrain: edges, holes, push-out, rest)   ground/rock_monitor.cpp
-//   step listeners (barriers)   ground/barriers.cpp
+//   releases (emitters)       solve/release.cpp (drop-height placement); listeners' onRelease
+//   listeners' afterStep, then the World-level step listeners (addStepListener)
+// The step listeners (solve/step_listener.h) are what is not the paper's method: rock fall
+// (ground/rock_fall.cpp: ground law, scar drag, slip law, forest law, rock monitor), attached
+// when WorldDef asks for it, and the run guard (run_guard.cpp), attached to every World.
 // The diagnostics (World::measure) live in collide/penetration.cpp.
 #include "sim/world.h"
 
@@ -27,12 +26,11 @@
 #include "sim/collide/narrow_phase.h"
 #include "sim/core/error.h"
 #include "sim/core/hash.h"
-#include "sim/solve/ground_law.h"
+#include "sim/ground/rock_fall.h"
 #include "sim/solve/impulse.h"
 #include "sim/solve/integrate.h"
 #include "sim/solve/release.h"
 #include "sim/solve/sleep.h"
-#include "sim/solve/slip_law.h"
 #include "sim/solve/time_step.h"
 
 namespace vf {
@@ -89,9 +87,22 @@ void RunStats::add(const StepStats& s) {
 
 World::World(WorldDef def) : def_(std::move(def)), stepsHash_(Hasher().value()) {
   if (def_.threads > 1) pool_ = std::make_unique<WorkerPool>(def_.threads);
-  monitor_.configure(def_.terrainEdge, def_.rest, def_.terrain.get(), def_.groundHeight,
-                     def_.gravity);
+  // WorldDef keeps the rock-fall settings so that every way of building a world (scenes, bakes,
+  // ensembles, tests) gets the same listeners from the same description.
+  RockFallDef rockFall{def_.ground,       def_.forest,  def_.forestSeed,  def_.terrain,
+                       def_.groundHeight, def_.gravity, def_.terrainEdge, def_.rest};
+  if (rockFall.any())
+    rockFall_ = static_cast<RockFall*>(attach(std::make_unique<RockFall>(std::move(rockFall))));
+  attach(std::make_unique<RunGuardListener>(def_.limits, def_.gravity));
 }
+
+StepListener* World::attach(std::unique_ptr<StepListener> listener) {
+  VF_ASSERT(listener);
+  stepListeners_.push_back(std::move(listener));
+  return stepListeners_.back().get();
+}
+
+StepContext World::context(double dt) { return {bodies_, states_, contacts_, time_, dt}; }
 
 int World::addBody(const BodyDef& d) {
   VF_ASSERT(d.shape && d.shape->tree && d.shape->mass > 0);
@@ -117,8 +128,10 @@ int World::addBody(const BodyDef& d) {
   bodies_.push_back(std::move(b));
   states_.push_back(y);
   if (placeNow) liftForRelease(bodyCount() - 1);
-  if (def_.terrain && bodies_.back().active && !d.isStatic)
-    monitor_.onRelease(bodyCount() - 1, time_, bodies_, states_);
+  if (bodies_.back().active) {
+    StepContext c = context(0);
+    for (const auto& l : stepListeners_) l->onRelease(c, bodyCount() - 1);
+  }
   return bodyCount() - 1;
 }
 
@@ -204,13 +217,15 @@ void World::stepToward(double target) {
   solveStepContacts(s);
   s.secondsSolve = clock.lap();
 
-  // Runaway check (run_guard.cpp) on the momenta of this step, before anything moves.
-  runaway_ = guard_.check(bodies_, states_, def_.gravity, time_, s.dt, def_.limits);
-  if (runaway_) return;
+  // The listeners may stop the run (the run guard) on the momenta of this step, before
+  // anything moves.
+  for (const auto& l : stepListeners_)
+    if ((runaway_ = l->beforeMove(context(s.dt)))) return;
 
   s.nonFinite = integrate(bodies_, states_, s.dt, def_.rotation, pool_.get());
   time_ = lands ? target : time_ + s.dt;
-  if (def_.forest) forestLaw_.afterStep(*def_.forest, def_.forestSeed, bodies_, states_);
+  StepContext after = context(s.dt);
+  for (const auto& l : stepListeners_) l->afterIntegrate(after);
   s.secondsIntegrate = clock.lap();
 
   if (def_.sleep) updateSleep(contacts_, bodies_, states_, s.dt, def_.sleepSettings);
@@ -218,8 +233,7 @@ void World::stepToward(double target) {
   s.secondsSleep = clock.lap();
 
   s.overlappingReleases = releaseBodies();
-  // Rock fall on terrain: edges, NODATA holes, push-out from below, rest (ground/rock_monitor).
-  if (def_.terrain) monitor_.afterStep(time_, bodies_, states_);
+  for (const auto& l : stepListeners_) l->afterStep(after);
   s.secondsRelease = clock.lap();
 
   last_ = s;
@@ -266,28 +280,13 @@ void World::solveStepContacts(StepStats& s) {
   solver.restingSpeed = 2 * def_.gravity.norm() * s.dt;  // what gravity adds in two steps
   solver.dt = s.dt;
   solver.pool = pool_.get();
-  solver.ground = def_.ground.get();
-  solver.normalImpulses = def_.ground ? &normalImpulses_ : nullptr;
   int passes = 0;
   solver.passes = &passes;
-  const bool slip = def_.ground && def_.ground->hasSlip();
-  if (def_.ground) groundLaw_.beforeSolve(bodies_, states_);
-  if (slip) {
-    slipLaw_.resize(bodies_.size());
-    solver.slippage = &slipLaw_.slippage();
-  }
+  StepContext c = context(s.dt);
+  for (const auto& l : stepListeners_) l->beforeSolve(c, solver);
   solveContacts(contacts_, bodies_, states_, solver, contactCache_);
   s.solverPasses = static_cast<std::uint64_t>(passes);
-  if (def_.ground) {
-    const GroundLawStats law =
-        groundLaw_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground,
-                              def_.gravity, s.dt, def_.terrain.get(), def_.groundHeight);
-    for (int id : law.bounced) monitor_.countBounce(id);
-  }
-  if (slip && def_.ground->hasScar())
-    scarDrag_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground, groundLaw_,
-                         s.dt, def_.terrain.get(), def_.groundHeight);
-  if (slip) slipLaw_.afterSolve(contacts_, normalImpulses_, bodies_, states_, *def_.ground, s.dt);
+  for (const auto& l : stepListeners_) l->afterSolve(c);
 }
 
 World::StepPlan World::planStep(double target) const {
@@ -318,7 +317,8 @@ std::uint64_t World::releaseBodies() {
     }
     overlapping += overlaps ? 1 : 0;
     b.active = true;
-    if (def_.terrain && !b.isStatic) monitor_.onRelease(i, time_, bodies_, states_);
+    StepContext c = context(0);
+    for (const auto& l : stepListeners_) l->onRelease(c, i);
   }
   return overlapping;
 }
@@ -330,10 +330,28 @@ double World::nextReleaseAfter(double t) const {
   return next;
 }
 
-double World::slippage(int id) const {
-  const std::vector<double>& s = slipLaw_.slippage();
-  return static_cast<std::size_t>(id) < s.size() ? s[static_cast<std::size_t>(id)] : 0.0;
+double World::slippage(int id) const { return rockFall_ ? rockFall_->slippage(id) : 0.0; }
+
+double World::scarDepth(int id) const { return rockFall_ ? rockFall_->scarDepth(id) : 0.0; }
+
+const std::vector<RockOutcome>& World::outcomes() const {
+  static const std::vector<RockOutcome> kNone;
+  return rockFall_ ? rockFall_->outcomes() : kNone;
 }
+
+bool World::allSettled() const { return rockFall_ && rockFall_->allSettled(bodies_); }
+
+const std::string& World::stopReason() const {
+  static const std::string kNone;
+  return rockFall_ ? rockFall_->stopReason() : kNone;
+}
+
+const std::vector<std::string>& World::terrainMessages() const {
+  static const std::vector<std::string> kNone;
+  return rockFall_ ? rockFall_->terrainMessages() : kNone;
+}
+
+TreeHits World::treeHits(int id) const { return rockFall_ ? rockFall_->treeHits(id) : TreeHits{}; }
 
 void World::setMotion(int id, const Vec3& v, const Vec3& w) {
   BodyInfo& b = bodies_[id];

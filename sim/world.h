@@ -1,6 +1,8 @@
 // The simulated world: immutable shapes, a compact array of body states, and step().
 // Code that runs a simulation reaches the step through this class; the stages it calls live
-// in sim/collide, sim/solve and sim/ground, and world.cpp lists them in step order.
+// in sim/collide and sim/solve, and world.cpp lists them in step order. What is not the
+// paper's method acts through step listeners (sim/solve/step_listener.h): rock fall
+// (sim/ground/rock_fall.h) when WorldDef asks for it, and the run guard (sim/run_guard.h).
 #pragma once
 
 #include <cstdint>
@@ -16,22 +18,23 @@
 #include "sim/core/body.h"
 #include "sim/core/math.h"
 #include "sim/core/worker_pool.h"
-#include "sim/ground/forest.h"
-#include "sim/ground/forest_law.h"
-#include "sim/ground/ground_material.h"
-#include "sim/ground/rock_monitor.h"
+#include "sim/ground/rock_monitor_settings.h"
 #include "sim/run_guard.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
 #include "sim/solve/contact_cache.h"
-#include "sim/solve/ground_law.h"
 #include "sim/solve/rotation_update.h"
-#include "sim/solve/scar_drag.h"
 #include "sim/solve/sleep.h"
-#include "sim/solve/slip_law.h"
+#include "sim/solve/step_listener.h"
 #include "sim/solve/time_step.h"
 
 namespace vf {
+
+struct Forest;
+struct GroundMap;
+class RockFall;
+struct RockOutcome;  // sim/ground/rock_monitor.h
+struct TreeHits;     // sim/ground/forest_law.h
 
 // Times closer than this are the same instant, s: release times are computed as
 // start + i * interval and frame times as k / fps, which can differ in the last bit where they
@@ -82,8 +85,9 @@ struct WorldDef {
   // Temporal coherence in the narrow phase (narrow_phase.h, PairCandidates): exact, the same
   // contacts; off only to test that.
   bool coherence = true;
-  // Rock fall (opt-in): ground materials with STONE's law or the slip law (sim/ground/). Null:
-  // the paper's model, [contact] body_ground for every ground contact.
+  // Rock fall (opt-in; the World attaches a RockFall listener, sim/ground/rock_fall.h, when
+  // any of ground, forest or terrain is set): ground materials with STONE's law or the slip
+  // law (sim/ground/). Null: the paper's model, [contact] body_ground for every ground contact.
   std::shared_ptr<const GroundMap> ground;
   // Rock fall through forest (opt-in; sim/ground/forest_law.h): stems hit statistically, each
   // body drawing from a stream of `forestSeed` and its id (an ensemble draws the seed per
@@ -97,7 +101,7 @@ struct WorldDef {
   // Orientation update; the paper's explicit Euler by default, so the paper's scenes keep
   // their pinned trajectories (solve/integrate.h).
   RotationUpdate rotation = RotationUpdate::kExplicitEuler;
-  RunLimits limits;  // runaway bounds checked every step (run_guard.h)
+  RunLimits limits;  // runaway bounds checked every step (run_guard.h, RunGuardListener)
 };
 
 // What one step did. Counters are deterministic; the stage times are wall-clock and are never
@@ -167,11 +171,10 @@ class World {
   // `afterStep`, when given, is called after every step (a bake records each one).
   // Throws RunawayError if the run guard stopped the run (see runaway()).
   void advanceTo(double t, const std::function<void()>& afterStep = {});
-  // Set once a step found a non-finite state, a body over limits.maxSpeed or an energy gain
-  // over the margin (run_guard.h); that step and every later one throw RunawayError, and the
-  // state stays that of the step that found it, before the bodies moved.
+  // Set once a step listener's beforeMove stopped the run: the run guard at a non-finite state,
+  // a body over limits.maxSpeed or an energy gain over the margin (run_guard.h); that step and
+  // every later one throw RunawayError, the state that of the step before the bodies moved.
   const std::optional<Runaway>& runaway() const { return runaway_; }
-  const RunGuard& runGuard() const { return guard_; }
   // Every body's state at time t, for t from time() up to nextStepEnd(): a COPY of the current
   // states moved by the step's own free motion over t - time() (gravity, then explicit Euler
   // on x and q; no contacts). The simulated state is not touched. Eq. 17 bounds what this can
@@ -197,7 +200,7 @@ class World {
   double slippage(int id) const;
   // The scar depth d of body id in the slip law's soft-soil layer (m; solve/scar_drag.h): 0 out
   // of contact with scar ground.
-  double scarDepth(int id) const { return scarDrag_.depth(static_cast<std::size_t>(id)); }
+  double scarDepth(int id) const;
   Vec3 velocity(int id) const;         // m/s
   Vec3 angularVelocity(int id) const;  // rad/s, world frame
   // The same for body id in state y (e.g. one of statesAt(t)).
@@ -228,30 +231,37 @@ class World {
   // takes body `id` out of the world (it no longer collides, moves or draws).
   void setMotion(int id, const Vec3& v, const Vec3& w);
   void deactivate(int id);
-  // Calls `listener` at the end of every step, after the rock monitor and before the step's
-  // state is hashed (Jolt's PhysicsStepListener): how a policy such as the barriers' acts on
-  // the world without being part of the step. Listeners run in the order added.
+  // Attaches `listener` to every later step, after the listeners attached before it (the
+  // constructor attaches rock fall, if WorldDef asks for it, and then the run guard); returns
+  // it, still owned by the World.
+  StepListener* attach(std::unique_ptr<StepListener> listener);
+  // Calls `listener` at the end of every step, after every StepListener's afterStep and before
+  // the step's state is hashed: how a policy that needs the whole World, such as the barriers'
+  // (setMotion, deactivate), acts on it without being part of the step. Listeners run in the
+  // order added.
   void addStepListener(std::function<void(World&)> listener) {
     listeners_.push_back(std::move(listener));
   }
 
-  // Rock fall on terrain (empty without terrain): per body, its outcome so far.
-  const std::vector<RockOutcome>& outcomes() const { return monitor_.outcomes(); }
+  // Rock fall (sim/ground/rock_fall.h), read through the World; without it (no ground, forest
+  // or terrain in WorldDef) empty, zero or false.
+  // On terrain: per body, its outcome so far.
+  const std::vector<RockOutcome>& outcomes() const;
   // Every released dynamic body is at rest (RestCriterion), has left, or is buried.
-  bool allSettled() const { return monitor_.allSettled(bodies_); }
+  bool allSettled() const;
   // Non-empty when the run must end (TerrainEdge::kStop fired): names the rock and time.
-  const std::string& stopReason() const { return monitor_.stopReason(); }
+  const std::string& stopReason() const;
   // Bodies removed, stopped or pushed out from below the surface, with body and time.
-  const std::vector<std::string>& terrainMessages() const { return monitor_.messages(); }
+  const std::vector<std::string>& terrainMessages() const;
   // Stems body id met and the energy they took (WorldDef::forest; zero without forest).
-  TreeHits treeHits(int id) const { return forestLaw_.hits(id); }
+  TreeHits treeHits(int id) const;
 
  private:
   // Steps once towards `target` (> time_), never past it; lands on it exactly when the step
   // rule allows reaching it in one step.
   void stepToward(double target);
   // Stages of stepToward that fill `s`: the contacts of the step (narrow phase, contact
-  // reduction, waking sleepers), and the contact solve with the ground-contact laws after it.
+  // reduction, waking sleepers), and the contact solve with the listeners around it.
   void findStepContacts(StepStats& s);
   void solveStepContacts(StepStats& s);
   // The step stepToward(target) would take: its length, whether it lands on `target`, and
@@ -263,6 +273,8 @@ class World {
   };
   StepPlan planStep(double target) const;
   void foldStepHash();
+  // The arrays and clock handed to the step listeners; dt 0 outside a step.
+  StepContext context(double dt);
   // Activates bodies whose release time has come, each lifted by its drop height
   // (solve/release.h); returns how many of them were released overlapping an active body's
   // leaf spheres (an emitter aimed into a pile).
@@ -277,21 +289,16 @@ class World {
   std::vector<BodyState> states_;
   RunStats totals_;
   StepStats last_;
-  std::vector<BodyPair> pairs_;         // scratch, reused every step
-  std::vector<int> sweepOrder_;         // the broad phase's last sweep order (findPairs)
-  std::vector<Contact> contacts_;       // scratch, reused every step
-  CandidateCache candidates_;           // leaf-pair candidates from step to step (narrow phase)
-  std::unique_ptr<WorkerPool> pool_;    // def_.threads > 1: the threads of every step
-  ContactCache contactCache_;           // last step's contact impulses (warm starting)
-  std::uint64_t stepsHash_;             // see stepsHash()
-  std::vector<double> normalImpulses_;  // scratch: per contact, for the ground law
-  GroundLaw groundLaw_;                 // rock fall: flight, bounce, rolling (per body)
-  SlipLaw slipLaw_;                     // rock fall: slippage s of the slip law (per body)
-  ScarDrag scarDrag_;                   // rock fall: the slip law's soft-soil scar layer
-  RockMonitor monitor_;                 // terrain edges, push-out, rest, outcomes
-  ForestLaw forestLaw_;                 // rock fall: stems met in forest (per body)
-  RunGuard guard_;                      // runaway checks (run_guard.h)
-  std::optional<Runaway> runaway_;      // see runaway()
+  std::vector<BodyPair> pairs_;       // scratch, reused every step
+  std::vector<int> sweepOrder_;       // the broad phase's last sweep order (findPairs)
+  std::vector<Contact> contacts_;     // scratch, reused every step
+  CandidateCache candidates_;         // leaf-pair candidates from step to step (narrow phase)
+  std::unique_ptr<WorkerPool> pool_;  // def_.threads > 1: the threads of every step
+  ContactCache contactCache_;         // last step's contact impulses (warm starting)
+  std::uint64_t stepsHash_;           // see stepsHash()
+  std::optional<Runaway> runaway_;    // see runaway()
+  std::vector<std::unique_ptr<StepListener>> stepListeners_;  // attach(), in order
+  RockFall* rockFall_ = nullptr;  // the rock-fall listener among them, if attached
   std::vector<std::function<void(World&)>> listeners_;  // addStepListener
   // stableStep() of the current state, NaN until asked: advanceTo asks for the next step's end
   // and the step then plans with the same state. Cleared wherever states_ or bodies_ change.

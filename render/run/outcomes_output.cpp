@@ -4,6 +4,8 @@
 #include <cinttypes>
 #include <nlohmann/json.hpp>
 
+#include "sim/ground/rock_monitor.h"
+
 namespace vf {
 namespace {
 

@@ -13,6 +13,7 @@
 #include "render/run/run_output.h"
 #include "sim/bake.h"
 #include "sim/core/error.h"
+#include "sim/ground/rock_monitor.h"
 #include "sim/recorder.h"
 #include "sim/run_guard.h"
 #include "sim/shape/sphere_tree.h"

@@ -1,7 +1,7 @@
 // Rock fall bookkeeping after each step: what happens at the terrain's edges and holes, bodies
 // found below the surface, when a rock counts as at rest, and each rock's outcome (release,
-// stop or exit, runout, reach angle, maxima, path). Owned by the World; reads and, for the
-// edge policy and push-out, writes the body arrays.
+// stop or exit, runout, reach angle, maxima, path). Owned by the rock-fall step listener
+// (rock_fall.h); reads and, for the edge policy and push-out, writes the body arrays.
 #pragma once
 
 #include <optional>
@@ -10,29 +10,12 @@
 
 #include "sim/core/body.h"
 #include "sim/core/math.h"
+#include "sim/ground/rock_monitor_settings.h"
 #include "sim/shape/heightfield.h"
 
 namespace vf {
 
 struct BodyState;
-
-// What lies beyond the terrain grid and in its NODATA cells.
-enum class TerrainEdge {
-  kAuto,    // kRemove, except in a scene with a floor plane, where the plane catches rocks
-            // (the paper's cliff scene: keeps its trajectories)
-  kRemove,  // the rock leaves the simulation; where and when is recorded
-  kStop,    // the run ends, naming the rock and the time
-  kWall,    // a vertical wall: the rock is put back and its horizontal velocity reflected
-};
-
-// "At rest": speed below `speed` and spin times the body's radius below `speed`, for `time`
-// seconds without a break. voxfall's decision (the literature's lumped-mass codes stop a rock
-// the first time it is slower than 0.5 m/s, RockGIS, or 1 m/s, r.stone's example): a held
-// threshold does not call a rock stopped at the top of a bounce.
-struct RestCriterion {
-  double speed = 0.1;  // m/s
-  double time = 1.0;   // s
-};
 
 enum class RockState { kMoving, kStopped, kLeft, kBuried };
 const char* rockStateName(RockState s);

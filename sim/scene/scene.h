@@ -15,6 +15,7 @@
 #include "sim/geometry/rock_mesh.h"
 #include "sim/ground/barriers.h"
 #include "sim/ground/evaluation_lines.h"
+#include "sim/ground/ground_material.h"
 #include "sim/scene/drawing_spec.h"
 #include "sim/world.h"
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sim/core/error.h"
+#include "sim/ground/forest.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/dem_grid_raster.h"
 #include "sim/shape/tree_points.h"

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "sim/ground/forest.h"
+#include "sim/ground/forest_law.h"
 #include "sim/ground/ground_material.h"
 #include "sim/world.h"
 #include "tests/support/smooth_ball.h"

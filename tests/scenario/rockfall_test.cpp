@@ -6,6 +6,7 @@
 
 #include "sim/core/prng.h"
 #include "sim/ground/ground_material.h"
+#include "sim/ground/rock_monitor.h"
 #include "sim/solve/ground_law.h"
 #include "sim/world.h"
 #include "tests/support/smooth_ball.h"

@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "sim/ground/ground_material.h"
+#include "sim/ground/rock_monitor.h"
 #include "sim/world.h"
 #include "tests/support/test_world.h"
 

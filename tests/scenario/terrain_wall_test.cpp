@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <string>
 
+#include "sim/ground/rock_monitor.h"
 #include "sim/recorder.h"
 #include "sim/scene/scene.h"
 #include "tests/support/test_world.h"

@@ -16,6 +16,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "sim/ground/rock_monitor.h"
 #include "sim/scene/scene.h"
 #include "tests/support/test_world.h"
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sim/core/error.h"
+#include "sim/ground/forest.h"
 #include "sim/scene/scene.h"
 #include "tests/support/chute_dem.h"
 
