@@ -3,6 +3,7 @@
 // each vertex checked to lie on the DEM.
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "sim/core/error.h"
 #include "sim/scene/scene.h"
@@ -17,14 +18,14 @@ struct SourceLine {
   std::string name;
   std::vector<Point2> points;
   std::vector<std::string> pointWhere;
-  const VectorFeature* feature = nullptr;  // the file's feature; null for `points`
+  std::optional<VectorFeature> feature;  // the file's feature it came from; none for `points`
 };
 
 std::vector<SourceLine> sourceLines(const EvaluationLineSpec& s, const Heightfield& dem,
-                                    const std::string& what, std::vector<VectorFeature>& features) {
+                                    const std::string& what) {
   if (s.file.empty()) return {SourceLine{s.name, s.points, s.pointWhere}};
   std::vector<SourceLine> out;
-  features = readVectorFile(s.file, dem.crsWkt, s.layer);
+  const std::vector<VectorFeature> features = readVectorFile(s.file, dem.crsWkt, s.layer);
   for (const VectorFeature& f : features) {
     const std::string where = s.file + ": feature " + std::to_string(f.id);
     if (f.kind != VectorFeature::Kind::kLine)
@@ -35,7 +36,7 @@ std::vector<SourceLine> sourceLines(const EvaluationLineSpec& s, const Heightfie
     line.name = features.size() == 1 ? s.name : s.name + "#" + std::to_string(f.id);
     line.points = f.rings.at(0);
     line.pointWhere.assign(line.points.size(), where);
-    line.feature = &f;
+    line.feature = f;
     if (line.points.size() < 2) throw InputError(where, "a line needs at least 2 vertices");
     out.push_back(std::move(line));
   }
@@ -43,12 +44,10 @@ std::vector<SourceLine> sourceLines(const EvaluationLineSpec& s, const Heightfie
   return out;
 }
 
-// The polylines of one table in world coordinates, each vertex checked to lie on the DEM;
-// `features` keeps a file's features, which the lines point to.
+// The polylines of one table in world coordinates, each vertex checked to lie on the DEM.
 std::vector<SourceLine> worldLines(const EvaluationLineSpec& s, const Heightfield& dem,
-                                   const std::string& what, const std::string& terrainPath,
-                                   std::vector<VectorFeature>& features) {
-  std::vector<SourceLine> out = sourceLines(s, dem, what, features);
+                                   const std::string& what, const std::string& terrainPath) {
+  std::vector<SourceLine> out = sourceLines(s, dem, what);
   for (SourceLine& line : out)
     for (std::size_t k = 0; k < line.points.size(); ++k) {
       Point2& p = line.points[k];
@@ -93,19 +92,16 @@ double barrierValue(const SourceLine& line, const BarrierSpec& s, double value,
 
 std::vector<EvaluationLine> sceneEvaluationLines(const SceneSpec& spec, const Heightfield& dem) {
   std::vector<EvaluationLine> out;
-  for (const EvaluationLineSpec& s : spec.evaluationLines) {
-    std::vector<VectorFeature> features;
-    for (SourceLine& l : worldLines(s, dem, "evaluation line", spec.terrainPath, features))
+  for (const EvaluationLineSpec& s : spec.evaluationLines)
+    for (SourceLine& l : worldLines(s, dem, "evaluation line", spec.terrainPath))
       out.push_back(EvaluationLine{l.name, l.points});
-  }
   return out;
 }
 
 std::vector<Barrier> sceneBarriers(const SceneSpec& spec, const Heightfield& dem) {
   std::vector<Barrier> out;
   for (const BarrierSpec& s : spec.barriers) {
-    std::vector<VectorFeature> features;
-    for (SourceLine& l : worldLines(s.line, dem, "barrier", spec.terrainPath, features)) {
+    for (SourceLine& l : worldLines(s.line, dem, "barrier", spec.terrainPath)) {
       const double height = barrierValue(l, s, s.height, s.heightField, "height, m", 0, true);
       const double capacity =
           barrierValue(l, s, s.capacity, s.capacityField, "capacity, kJ", 0, false);
