@@ -10,10 +10,13 @@
 // is byte for byte what `render` writes.
 #include "render/scene_playback.h"
 
+#include <chrono>
+#include <cstdio>
 #include <optional>
 
 #include "render/gl/gl_context.h"
 #include "render/gl/renderer.h"
+#include "render/output/frame_sink.h"
 #include "render/overlay.h"
 #include "render/progress.h"
 #include "sim/core/error.h"
@@ -44,6 +47,10 @@ void applyPoses(const std::vector<BodyPose>& poses, std::vector<BodyView>& bodie
     bodies[i].q = poses[i].q;
     bodies[i].active = poses[i].active;
   }
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace
@@ -193,6 +200,50 @@ bool ScenePlayback::simulate(bool progress, const std::function<bool()>& stop) {
     p.keepDrawnFrame(k, p.posesAt(p.frameTime(k)));
   }
   return true;
+}
+
+std::string DrawnFrames::span() const {
+  return first == last ? "frame " + std::to_string(first)
+                       : "frames " + std::to_string(first) + ".." + std::to_string(last);
+}
+
+DrawnFrames ScenePlayback::drawFrames(gl::Renderer& renderer, FrameSink& sink, int first, int last,
+                                      bool progress, const std::function<bool()>& stop) {
+  VF_ASSERT(first >= 0 && first <= last && last < frameCount());
+  DrawnFrames d;
+  d.first = first;
+  d.last = first - 1;
+  Progress drawing(impl_->spec.name + " (drawing)", last - first + 1, progress);
+  const auto start = std::chrono::steady_clock::now();
+  Image image;
+  try {
+    for (int k = first; k <= last && !(stop && stop()); ++k) {
+      const auto frameStart = std::chrono::steady_clock::now();
+      draw(renderer, k, image);
+      d.redrawn += renderer.redrawnFraction();
+      sink.write(k, image);
+      d.seconds += secondsSince(frameStart);
+      d.last = k;
+      char detail[64];
+      const double seconds = secondsSince(start);
+      std::snprintf(detail, sizeof detail, "frame %d, %.2f frames/s", k,
+                    seconds > 0 ? (k - first + 1) / seconds : 0.0);
+      drawing.update(k - first + 1, detail);
+    }
+    drawing.finish();
+    if (sink.framesWritten() > 0) sink.finish();
+  } catch (const std::exception&) {
+    if (sink.framesWritten() > 0) {
+      try {
+        sink.finish();
+        std::fprintf(stderr, "voxfall: incomplete output: %s written to %s\n", d.span().c_str(),
+                     sink.path().c_str());
+      } catch (const std::exception&) {
+      }
+    }
+    throw;
+  }
+  return d;
 }
 
 double ScenePlayback::frameTime(int k) const { return impl_->frameTime(k); }

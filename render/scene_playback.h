@@ -22,7 +22,18 @@ class Renderer;
 
 namespace vf {
 
+class FrameSink;
 struct Heightfield;
+
+// What pass 2 measured (ScenePlayback::drawFrames).
+struct DrawnFrames {
+  int first = 0;       // the first frame asked for
+  int last = -1;       // the last frame written; first - 1 when none was
+  double seconds = 0;  // drawing and writing the frames
+  double redrawn = 0;  // sum over frames of the share of pixels the renderer drew
+  // "frame 7" or "frames 0..60": the frames written, for messages.
+  std::string span() const;
+};
 
 class ScenePlayback {
  public:
@@ -54,6 +65,14 @@ class ScenePlayback {
   // `adjust`, when given, may change the draw list first (a test aid).
   void draw(gl::Renderer& renderer, int k, Image& out,
             const std::function<void(DrawList&)>& adjust = {});
+  // Pass 2 for an output: frames first..last drawn into `sink`, in order, and the sink
+  // finalised. `stop` is asked before each frame; stopped before the first, the sink is left
+  // unfinished (its destructor removes the temporary file) and nothing is written; stopped
+  // later, the frames so far are finalised (an MP4 stays playable). An error while drawing or
+  // writing finalises the frames written, says so on stderr and is rethrown. `progress`: a
+  // progress line on stderr.
+  DrawnFrames drawFrames(gl::Renderer& renderer, FrameSink& sink, int first, int last,
+                         bool progress, const std::function<bool()>& stop = {});
   // Every body (shape, colour) posed at frame k (after simulate()), for export.
   std::vector<BodyView> bodiesAt(int k);
   // The terrain in world coordinates, as drawn, and its smooth vertex normals; null without

@@ -1,7 +1,7 @@
 // The voxfall command: subcommands register themselves (commands.h); main() owns the one place
 // where errors become a message and an exit code, so every failure is reported exactly once:
 //   0 success, 1 bad input or failed run, 2 usage error. SIGINT/SIGTERM end the process as
-// usual (shell status 130/143) after removing unfinished outputs (run_output.h).
+// usual (shell status 130/143) after removing unfinished outputs (render/run/stop_policy.h).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
@@ -9,7 +9,7 @@
 
 #include "render/cli/commands.h"
 #include "render/cli/options.h"
-#include "render/run/run_output.h"
+#include "render/run/run_report.h"
 #include "sim/core/error.h"
 
 namespace {

@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "render/run/render_run.h"
+#include "render/run/run_input.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/sphere_tree.h"
 

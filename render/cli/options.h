@@ -9,7 +9,7 @@
 
 namespace vf {
 struct SceneOverrides;
-struct OverlayChoice;  // render/run/render_run.h
+struct OverlayChoice;  // render/run/run_input.h
 }  // namespace vf
 
 namespace CLI {

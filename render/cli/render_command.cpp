@@ -26,15 +26,15 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "frames to draw, A:B inclusive (30:30 is one frame; the simulation still "
                   "starts at t = 0)")
       ->type_name("A:B");
-  addSizeOption(*sub, o->size);
-  sub->add_option("--fps", o->fps, "frames per second (overrides [simulation] fps)")
+  addSizeOption(*sub, o->drawing.size);
+  sub->add_option("--fps", o->drawing.fps, "frames per second (overrides [simulation] fps)")
       ->check(finiteNumberIn(0.001, 1000.0))
       ->type_name("N");
-  addSpeedOption(*sub, o->speed);
-  addFrameLookOptions(*sub, o->alpha, o->overlay);
+  addSpeedOption(*sub, o->drawing.speed);
+  addFrameLookOptions(*sub, o->drawing.alpha, o->drawing.overlay);
   addPhysicsOptions(*sub, o->overrides, " (scenes only)");
   addThreadsOption(*sub, o->overrides, " (scenes only)");
-  sub->add_option("--crf", o->crf, "H.264 quality, 0..51, lower is better (default: 18)")
+  sub->add_option("--crf", o->drawing.crf, "H.264 quality, 0..51, lower is better (default: 18)")
       ->check(CLI::Range(0, 51))
       ->type_name("N");
   sub->add_option("--gl", o->gl, "OpenGL backend: osmesa (default) or egl (surfaceless)")
@@ -44,7 +44,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
                   "folder of the GLSL sources (default: next to the binary, else the source "
                   "tree's shaders/)")
       ->type_name("DIR");
-  sub->add_option("--camera", o->camera,
+  sub->add_option("--camera", o->drawing.camera,
                   "which of the scene's cameras to use: a [cameras.NAME] table, or 'camera' for "
                   "[camera] (the default)")
       ->type_name("NAME");

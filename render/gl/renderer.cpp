@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "render/gl/renderer_impl.h"
+#include "render/gl/shader_program.h"
 #include "sim/scene/scene.h"
 
 namespace vf::gl {
@@ -18,7 +19,7 @@ Renderer::Renderer(Context& context, const RenderSettings& settings)
     if (!problem.empty()) throw GlError(problem);
   }
   Impl& r = *impl_;
-  const std::string& dir = settings.shaderDir;
+  const std::string dir = findShaderDir(settings.shaderDir);
   // The VF_ALPHA variants of the floor and present programs for a transparent background.
   auto defines = [&](std::vector<std::string> names) {
     if (settings.alpha) names.push_back("VF_ALPHA");

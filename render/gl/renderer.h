@@ -45,7 +45,7 @@ struct RenderSettings {
   // Wait for the GL after each pass and add its time to Renderer::passTimes() (benchmarks:
   // the waits cost llvmpipe some overlap between passes, so frames draw a little slower).
   bool timePasses = false;
-  std::string shaderDir;  // from findShaderDir()
+  std::string shaderDir;  // the GLSL folder; "": findShaderDir()'s default
 };
 
 // Wall time of each part of the frames drawn since the renderer was made, with

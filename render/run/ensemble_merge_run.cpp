@@ -5,7 +5,8 @@
 #include <vector>
 
 #include "render/run/ensemble_files.h"
-#include "render/run/run_output.h"
+#include "render/run/run_input.h"
+#include "render/run/run_report.h"
 #include "sim/core/error.h"
 #include "sim/ensemble/ensemble_journal.h"
 #include "sim/ensemble/ensemble_shards.h"

@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "render/export/gltf_export.h"
-#include "render/run/run_output.h"
+#include "render/run/run_input.h"
 #include "render/scene_playback.h"
 #include "sim/core/error.h"
 #include "sim/shape/heightfield.h"
@@ -17,9 +17,8 @@
 namespace vf {
 
 RunStatus runExport(const ExportRequest& o) {
-  RunInput input = loadRunInput(o.input, o.overrides);
-  SceneSpec& spec = input.spec;
-  applyFrameRateOverrides(spec, o.fps, o.speed);
+  RunInput input = loadRunInput(o.input, o.overrides, {.fps = o.fps, .speed = o.speed});
+  const SceneSpec& spec = input.spec;
   const std::string path = o.output.empty() ? "out/" + spec.name + ".glb" : o.output;
   if (std::filesystem::path(path).extension() != ".glb")
     throw InputError(path, "the glTF export writes binary glTF: give a .glb file name");

@@ -12,7 +12,7 @@
 #include "render/gl/shader_program.h"
 #include "render/output/output_file.h"
 #include "render/output/png_writer.h"
-#include "render/run/run_output.h"
+#include "render/run/run_input.h"
 #include "render/scene_playback.h"
 #include "sim/core/error.h"
 #include "sim/scene/scene.h"

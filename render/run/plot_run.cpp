@@ -5,7 +5,7 @@
 #include <string>
 
 #include "render/figures/run_plots.h"
-#include "render/run/run_output.h"
+#include "render/run/run_input.h"
 #include "sim/scene/scene.h"
 
 namespace vf {

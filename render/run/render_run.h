@@ -11,38 +11,25 @@
 // PNGs); stopped before the first frame, nothing is written.
 #pragma once
 
-#include <optional>
 #include <string>
-#include <utility>
 
+#include "render/run/run_input.h"
 #include "render/run/stop_policy.h"
 #include "sim/scene/scene.h"
 
 namespace vf {
 
-// What --overlay asks for: the overlays by name, each at most once ("none": no overlay).
-struct OverlayChoice {
-  bool time = false;
-  bool scale = false;
-};
-
 struct RenderRequest {
-  std::string input;                        // scene file (TOML) or bake
-  std::string output;                       // "": out/<scene name>.mp4, replaced unless -n
-  std::string frames;                       // "A:B", "A:", ":B" or "N"; "": all
-  std::optional<std::pair<int, int>> size;  // width, height in pixels
-  std::optional<double> fps;                // the output's frame rate
-  std::optional<double> speed;              // [output] speed
-  bool alpha = false;                       // a transparent background (PNG only)
-  std::optional<OverlayChoice> overlay;     // [output] overlay
-  SceneOverrides overrides;                 // level, step, collider, run limits (scenes only)
-  std::optional<int> crf;                   // H.264 quality
-  std::string gl = "osmesa";                // osmesa or egl
-  std::string shaders;                      // GLSL folder ("": gl::findShaderDir's default)
-  std::string camera;                       // [cameras.NAME]; "": the scene's [camera]
-  bool quiet = false;                       // no progress lines, no "replacing" note
-  bool overwrite = false;                   // -y
-  bool neverOverwrite = false;              // -n
+  std::string input;            // scene file (TOML) or bake
+  std::string output;           // "": out/<scene name>.mp4, replaced unless -n
+  std::string frames;           // "A:B", "A:", ":B" or "N"; "": all
+  DrawingOverrides drawing;     // fps, speed, size, crf, alpha, overlay, camera
+  SceneOverrides overrides;     // level, step, collider, run limits (scenes only)
+  std::string gl = "osmesa";    // osmesa or egl
+  std::string shaders;          // GLSL folder ("": gl::findShaderDir's default)
+  bool quiet = false;           // no progress lines, no "replacing" note
+  bool overwrite = false;       // -y
+  bool neverOverwrite = false;  // -n
 };
 
 // Renders as the request says. Bad input throws InputError; an error while drawing keeps the

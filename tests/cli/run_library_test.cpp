@@ -89,7 +89,7 @@ TEST_F(RunLibrary, RenderWritesTheCommandsFrames) {
   r.input = "cubes.toml";
   r.output = "lib/frame_####.png";
   r.frames = "10:12";
-  r.size = std::make_pair(96, 72);
+  r.drawing.size = std::make_pair(96, 72);
   r.quiet = true;
   ASSERT_TRUE(vf::runRender(r).isDone());
   const auto cli = runVoxfall(

@@ -1,7 +1,7 @@
 // Frames between steps invent no motion (sim/frame_interp.h): a body at rest in its step states
 // is at rest in every frame, at an output rate that does not divide the step (100 fps over
 // 1/60 s steps puts most frames inside a step). What is checked is what the CSV writes for a
-// frame (render/run/run_output.cpp): the frame's position and v = P / M, w = I^-1 L.
+// frame (render/run/run_report.cpp): the frame's position and v = P / M, w = I^-1 L.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,18 +1,13 @@
-// What a run of the voxfall command reads and writes, shared by `simulate`, `render` and
-// `export` so all report the same numbers the same way: the input (scene or bake), the
-// per-frame CSV, the summary JSON, the human summary, and the output rules of a run (files go
-// through render/output/output_file.h; the progress line is render/progress.h).
+// What a run of the voxfall command reports, shared by `simulate`, `render` and `export` so all
+// report the same numbers the same way: the per-frame CSV, the summary JSON and the human
+// summary (what a run reads is render/run/run_input.h; the progress line is render/progress.h).
 #pragma once
 
 #include <cstdio>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include "render/output/output_file.h"
-#include "sim/bake.h"
 #include "sim/recorder.h"
-#include "sim/scene/scene.h"
 #include "sim/world.h"
 
 namespace vf {
@@ -45,24 +40,5 @@ void writeSummaryJson(std::FILE* out, const std::string& scene, const RunSummary
                       const RunInterruption& interruption = {});
 // A few human-readable lines with the same numbers, ending with the checksum.
 void printSummary(std::FILE* out, const std::string& scene, const RunSummary& summary);
-
-// What a run reads: a scene file, or a bake (sim/bake.h) recognised by its first line. The
-// overrides apply to a scene; for a bake, whose steps are recorded, they are an error.
-struct RunInput {
-  SceneSpec spec;            // the scene, or the bake's scene data
-  std::optional<Bake> bake;  // set when the input is a bake
-};
-RunInput loadRunInput(const std::string& path, const SceneOverrides& overrides);
-
-// `--fps N` and `--speed X` of render and export: the frame rate of the output and [output]
-// speed, checked as the scene's own are (duration * fps / speed at most kMaxSceneFrames drawn
-// frames); InputError naming the options given otherwise.
-void applyFrameRateOverrides(SceneSpec& spec, std::optional<double> fps,
-                             std::optional<double> speed = std::nullopt);
-
-// The output rules of a run (-y, -n) protecting every file it reads: the scene (or bake),
-// each shape's mesh, and the terrain.
-OutputRules runOutputRules(const SceneSpec& spec, const std::string& inputFile, bool overwrite,
-                           bool neverOverwrite);
 
 }  // namespace vf

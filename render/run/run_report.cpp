@@ -1,14 +1,9 @@
-#include "render/run/run_output.h"
+#include "render/run/run_report.h"
 
-#include <unistd.h>
-
-#include <cerrno>
 #include <cinttypes>
 #include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <optional>
 
+#include "render/output/output_file.h"
 #include "sim/core/error.h"
 
 namespace vf {
@@ -19,60 +14,6 @@ namespace vf {
 #endif
 
 const char* voxfallVersion() { return VOXFALL_VERSION; }
-
-// --- Input -----------------------------------------------------------------------------------
-
-RunInput loadRunInput(const std::string& path, const SceneOverrides& overrides) {
-  RunInput in;
-  if (isBakeFile(path)) {
-    if (overrides.any())
-      throw InputError(path,
-                       "--level, --step, --collider, --max-steps, --max-speed and --repair change "
-                       "the run of a scene; a bake's steps are recorded (simulate the scene again "
-                       "with them)");
-    in.bake = readBake(path);
-    in.spec = in.bake->scene;
-    return in;
-  }
-  in.spec = loadScene(path);
-  applyOverrides(in.spec, overrides);
-  return in;
-}
-
-void applyFrameRateOverrides(SceneSpec& spec, std::optional<double> fps,
-                             std::optional<double> speed) {
-  if (!fps && !speed) return;
-  const double rate = fps.value_or(spec.fps), x = speed.value_or(spec.output.speed);
-  const double frames = spec.duration * rate / x;
-  if (frames > kMaxSceneFrames) {
-    char atSpeed[64] = "";
-    if (x != 1) std::snprintf(atSpeed, sizeof atSpeed, " at speed %g", x);
-    char what[240];
-    std::snprintf(what, sizeof what,
-                  "%g frames per second%s over the scene's %g s make %g frames; at most %g are "
-                  "supported",
-                  rate, atSpeed, spec.duration, frames, kMaxSceneFrames);
-    throw InputError(fps && speed ? "--fps and --speed" : fps ? "--fps" : "--speed", what);
-  }
-  spec.fps = rate;
-  spec.output.speed = x;
-}
-
-// --- Output rules ---------------------------------------------------------------------------
-
-OutputRules runOutputRules(const SceneSpec& spec, const std::string& inputFile, bool overwrite,
-                           bool neverOverwrite) {
-  OutputRules rules;
-  rules.overwrite = neverOverwrite ? Overwrite::never
-                    : overwrite    ? Overwrite::always
-                                   : Overwrite::refuse;
-  rules.inputs.push_back(inputFile);
-  if (!spec.path.empty()) rules.inputs.push_back(spec.path);
-  for (const ShapeSpec& s : spec.shapes)
-    if (!s.meshPath.empty()) rules.inputs.push_back(s.meshPath);  // "" for a generated rock
-  if (!spec.terrainPath.empty()) rules.inputs.push_back(spec.terrainPath);
-  return rules;
-}
 
 // --- CSV ------------------------------------------------------------------------------------
 
