@@ -12,9 +12,9 @@
 //   sleeping islands          solve/sleep.cpp (optional)
 //   releases (emitters)       solve/release.cpp (drop-height placement); listeners' onRelease
 //   listeners' afterStep, then the World-level step listeners (addStepListener)
-// The step listeners (solve/step_listener.h) are what is not the paper's method: rock fall
-// (ground/rock_fall.cpp: ground law, scar drag, slip law, forest law, rock monitor), attached
-// when WorldDef asks for it, and the run guard (run_guard.cpp), attached to every World.
+// The step listeners (solve/step_listener.h) are what is not the paper's method: extensions,
+// attached by whoever builds the world, and the run guard (run_guard.cpp), attached to every
+// World and called after them.
 // The diagnostics (World::measure) live in collide/penetration.cpp.
 #include "sim/world.h"
 
@@ -26,7 +26,6 @@
 #include "sim/collide/narrow_phase.h"
 #include "sim/core/error.h"
 #include "sim/core/hash.h"
-#include "sim/ground/rock_fall.h"
 #include "sim/solve/impulse.h"
 #include "sim/solve/integrate.h"
 #include "sim/solve/release.h"
@@ -87,19 +86,14 @@ void RunStats::add(const StepStats& s) {
 
 World::World(WorldDef def) : def_(std::move(def)), stepsHash_(Hasher().value()) {
   if (def_.threads > 1) pool_ = std::make_unique<WorkerPool>(def_.threads);
-  // WorldDef keeps the rock-fall settings so that every way of building a world (scenes, bakes,
-  // ensembles, tests) gets the same listeners from the same description.
-  RockFallDef rockFall{def_.ground,       def_.forest,  def_.forestSeed,  def_.terrain,
-                       def_.groundHeight, def_.gravity, def_.terrainEdge, def_.rest};
-  if (rockFall.any())
-    rockFall_ = static_cast<RockFall*>(attach(std::make_unique<RockFall>(std::move(rockFall))));
-  attach(std::make_unique<RunGuardListener>(def_.limits, def_.gravity));
+  // The run guard checks every world's step, last: it sees the momenta every other listener
+  // has left before anything moves.
+  stepListeners_.push_back(std::make_unique<RunGuardListener>(def_.limits, def_.gravity));
 }
 
 StepListener* World::attach(std::unique_ptr<StepListener> listener) {
   VF_ASSERT(listener);
-  stepListeners_.push_back(std::move(listener));
-  return stepListeners_.back().get();
+  return stepListeners_.insert(stepListeners_.end() - 1, std::move(listener))->get();
 }
 
 StepContext World::context(double dt) { return {bodies_, states_, contacts_, time_, dt}; }
@@ -329,29 +323,6 @@ double World::nextReleaseAfter(double t) const {
     if (!b.active && b.releaseTime > t + kTimeTolerance) next = std::min(next, b.releaseTime);
   return next;
 }
-
-double World::slippage(int id) const { return rockFall_ ? rockFall_->slippage(id) : 0.0; }
-
-double World::scarDepth(int id) const { return rockFall_ ? rockFall_->scarDepth(id) : 0.0; }
-
-const std::vector<RockOutcome>& World::outcomes() const {
-  static const std::vector<RockOutcome> kNone;
-  return rockFall_ ? rockFall_->outcomes() : kNone;
-}
-
-bool World::allSettled() const { return rockFall_ && rockFall_->allSettled(bodies_); }
-
-const std::string& World::stopReason() const {
-  static const std::string kNone;
-  return rockFall_ ? rockFall_->stopReason() : kNone;
-}
-
-const std::vector<std::string>& World::terrainMessages() const {
-  static const std::vector<std::string> kNone;
-  return rockFall_ ? rockFall_->terrainMessages() : kNone;
-}
-
-TreeHits World::treeHits(int id) const { return rockFall_ ? rockFall_->treeHits(id) : TreeHits{}; }
 
 void World::setMotion(int id, const Vec3& v, const Vec3& w) {
   BodyInfo& b = bodies_[id];

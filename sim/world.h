@@ -1,8 +1,9 @@
 // The simulated world: immutable shapes, a compact array of body states, and step().
 // Code that runs a simulation reaches the step through this class; the stages it calls live
 // in sim/collide and sim/solve, and world.cpp lists them in step order. What is not the
-// paper's method acts through step listeners (sim/solve/step_listener.h): rock fall
-// (sim/ground/rock_fall.h) when WorldDef asks for it, and the run guard (sim/run_guard.h).
+// paper's method acts through step listeners (sim/solve/step_listener.h): extensions are
+// attached by whoever builds the world (World::attach); the run guard (sim/run_guard.h), which
+// guards every world's step, is attached by the World itself.
 #pragma once
 
 #include <cstdint>
@@ -18,7 +19,6 @@
 #include "sim/core/body.h"
 #include "sim/core/math.h"
 #include "sim/core/worker_pool.h"
-#include "sim/ground/rock_monitor_settings.h"
 #include "sim/run_guard.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
@@ -29,12 +29,6 @@
 #include "sim/solve/time_step.h"
 
 namespace vf {
-
-struct Forest;
-struct GroundMap;
-class RockFall;
-struct RockOutcome;  // sim/ground/rock_monitor.h
-struct TreeHits;     // sim/ground/forest_law.h
 
 // Times closer than this are the same instant, s: release times are computed as
 // start + i * interval and frame times as k / fps, which can differ in the last bit where they
@@ -85,19 +79,6 @@ struct WorldDef {
   // Temporal coherence in the narrow phase (narrow_phase.h, PairCandidates): exact, the same
   // contacts; off only to test that.
   bool coherence = true;
-  // Rock fall (opt-in; the World attaches a RockFall listener, sim/ground/rock_fall.h, when
-  // any of ground, forest or terrain is set): ground materials with STONE's law or the slip
-  // law (sim/ground/). Null: the paper's model, [contact] body_ground for every ground contact.
-  std::shared_ptr<const GroundMap> ground;
-  // Rock fall through forest (opt-in; sim/ground/forest_law.h): stems hit statistically, each
-  // body drawing from a stream of `forestSeed` and its id (an ensemble draws the seed per
-  // realisation). Null: no trees.
-  std::shared_ptr<const Forest> forest;
-  std::uint64_t forestSeed = 1;
-  // Rock fall on terrain (sim/ground/rock_monitor.h): what lies beyond the grid and in NODATA
-  // cells, and when a rock counts as at rest. Used only when there is terrain.
-  TerrainEdge terrainEdge = TerrainEdge::kAuto;
-  RestCriterion rest;
   // Orientation update; the paper's explicit Euler by default, so the paper's scenes keep
   // their pinned trajectories (solve/integrate.h).
   RotationUpdate rotation = RotationUpdate::kExplicitEuler;
@@ -196,11 +177,8 @@ class World {
   bool isActive(int id) const { return bodies_[id].active; }
   // Asleep (WorldDef::sleep): at rest, not stepped until something touches it.
   bool isSleeping(int id) const { return bodies_[id].sleeping; }
-  // The slip law's slippage s of body id (m; solve/slip_law.h): 0 without slip materials.
-  double slippage(int id) const;
-  // The scar depth d of body id in the slip law's soft-soil layer (m; solve/scar_drag.h): 0 out
-  // of contact with scar ground.
-  double scarDepth(int id) const;
+  // Every body's record (shape, mass, flags), by id, as the step listeners see it.
+  const std::vector<BodyInfo>& bodies() const { return bodies_; }
   Vec3 velocity(int id) const;         // m/s
   Vec3 angularVelocity(int id) const;  // rad/s, world frame
   // The same for body id in state y (e.g. one of statesAt(t)).
@@ -231,9 +209,10 @@ class World {
   // takes body `id` out of the world (it no longer collides, moves or draws).
   void setMotion(int id, const Vec3& v, const Vec3& w);
   void deactivate(int id);
-  // Attaches `listener` to every later step, after the listeners attached before it (the
-  // constructor attaches rock fall, if WorldDef asks for it, and then the run guard); returns
-  // it, still owned by the World.
+  // Attaches `listener` to every later step, after the listeners attached before it and before
+  // the run guard, which the constructor attaches and which stays last at every phase; returns
+  // it, still owned by the World. A listener attached after a body was added has missed that
+  // body's onRelease.
   StepListener* attach(std::unique_ptr<StepListener> listener);
   // Calls `listener` at the end of every step, after every StepListener's afterStep and before
   // the step's state is hashed: how a policy that needs the whole World, such as the barriers'
@@ -242,19 +221,6 @@ class World {
   void addStepListener(std::function<void(World&)> listener) {
     listeners_.push_back(std::move(listener));
   }
-
-  // Rock fall (sim/ground/rock_fall.h), read through the World; without it (no ground, forest
-  // or terrain in WorldDef) empty, zero or false.
-  // On terrain: per body, its outcome so far.
-  const std::vector<RockOutcome>& outcomes() const;
-  // Every released dynamic body is at rest (RestCriterion), has left, or is buried.
-  bool allSettled() const;
-  // Non-empty when the run must end (TerrainEdge::kStop fired): names the rock and time.
-  const std::string& stopReason() const;
-  // Bodies removed, stopped or pushed out from below the surface, with body and time.
-  const std::vector<std::string>& terrainMessages() const;
-  // Stems body id met and the energy they took (WorldDef::forest; zero without forest).
-  TreeHits treeHits(int id) const;
 
  private:
   // Steps once towards `target` (> time_), never past it; lands on it exactly when the step
@@ -297,9 +263,8 @@ class World {
   ContactCache contactCache_;         // last step's contact impulses (warm starting)
   std::uint64_t stepsHash_;           // see stepsHash()
   std::optional<Runaway> runaway_;    // see runaway()
-  std::vector<std::unique_ptr<StepListener>> stepListeners_;  // attach(), in order
-  RockFall* rockFall_ = nullptr;  // the rock-fall listener among them, if attached
-  std::vector<std::function<void(World&)>> listeners_;  // addStepListener
+  std::vector<std::unique_ptr<StepListener>> stepListeners_;  // attach(), the run guard last
+  std::vector<std::function<void(World&)>> listeners_;        // addStepListener
   // stableStep() of the current state, NaN until asked: advanceTo asks for the next step's end
   // and the step then plans with the same state. Cleared wherever states_ or bodies_ change.
   mutable double stableStepCache_ = std::numeric_limits<double>::quiet_NaN();

@@ -4,7 +4,7 @@
 #include <cinttypes>
 #include <nlohmann/json.hpp>
 
-#include "sim/ground/rock_monitor.h"
+#include "sim/ground/rock_fall.h"
 
 namespace vf {
 namespace {
@@ -16,12 +16,12 @@ Vec3 toDem(const World& world, const Vec3& p) {
 
 }  // namespace
 
-void writeOutcomesCsv(std::FILE* out, const World& world) {
+void writeOutcomesCsv(std::FILE* out, const World& world, const RockFall& rockFall) {
   std::fprintf(out,
                "body,state,release_time_s,release_x,release_y,release_z,end_time_s,end_x,end_y,"
                "end_z,runout_m,reach_angle_deg,max_speed_mps,max_translational_energy_j,"
                "max_rotational_energy_j,max_jump_height_m,bounces\n");
-  const auto& rocks = world.outcomes();
+  const auto& rocks = rockFall.outcomes();
   for (std::size_t i = 0; i < rocks.size(); ++i) {
     const RockOutcome& r = rocks[i];
     if (!r.released) continue;
@@ -34,10 +34,10 @@ void writeOutcomesCsv(std::FILE* out, const World& world) {
   }
 }
 
-void writeOutcomesGeoJson(std::FILE* out, const World& world) {
+void writeOutcomesGeoJson(std::FILE* out, const World& world, const RockFall& rockFall) {
   using nlohmann::json;
   json features = json::array();
-  const auto& rocks = world.outcomes();
+  const auto& rocks = rockFall.outcomes();
   for (std::size_t i = 0; i < rocks.size(); ++i) {
     const RockOutcome& r = rocks[i];
     if (!r.released) continue;

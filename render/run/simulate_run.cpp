@@ -14,7 +14,7 @@
 #include "render/run/run_report.h"
 #include "sim/bake.h"
 #include "sim/core/error.h"
-#include "sim/ground/rock_monitor.h"
+#include "sim/ground/rock_fall.h"
 #include "sim/recorder.h"
 #include "sim/run_guard.h"
 #include "sim/shape/sphere_tree.h"
@@ -100,7 +100,8 @@ struct Stepping {
     }
     // Decided on the last step at or before each frame (Recorder::setRunEnds).
     recorder.setRunEnds([this, settle = spec.stopWhenSettled] {
-      return !built.world->stopReason().empty() || (settle && built.world->allSettled());
+      const RockFall& rf = *built.rockFall;
+      return !rf.stopReason().empty() || (settle && rf.allSettled(built.world->bodies()));
     });
     if (out.lines) {
       crossings.emplace(built.evaluationLines);
@@ -152,26 +153,27 @@ void stepFrames(Stepping& s, SimulateOutputs& out, const SceneSpec& spec, bool q
   throw InputError(spec.path, s.runaway);
 }
 
-void reportWorld(const World& world) {
-  for (const std::string& m : world.terrainMessages())
+void reportWorld(const World& world, const RockFall& rockFall) {
+  for (const std::string& m : rockFall.terrainMessages())
     std::fprintf(stderr, "voxfall: warning: %s\n", m.c_str());
-  if (!world.stopReason().empty())
+  if (!rockFall.stopReason().empty())
     std::fprintf(stderr, "voxfall: run stopped at t = %.4f s: %s\n", world.time(),
-                 world.stopReason().c_str());
+                 rockFall.stopReason().c_str());
 }
 
 void writeRockFiles(Stepping& s, SimulateOutputs& out, const SimulateRequest& r) {
   const World& world = *s.built.world;
+  const RockFall& rockFall = *s.built.rockFall;
   if (out.outcomes) {
     if (r.outcomes.ends_with(".geojson") || r.outcomes.ends_with(".json"))
-      writeOutcomesGeoJson(out.outcomes->stream(), world);
+      writeOutcomesGeoJson(out.outcomes->stream(), world, rockFall);
     else
-      writeOutcomesCsv(out.outcomes->stream(), world);
+      writeOutcomesCsv(out.outcomes->stream(), world, rockFall);
     out.wrote(*out.outcomes);
   }
   if (out.lines) {
     std::int64_t rocks = 0;
-    for (const RockOutcome& o : world.outcomes()) rocks += o.released ? 1 : 0;
+    for (const RockOutcome& o : rockFall.outcomes()) rocks += o.released ? 1 : 0;
     out.lines->write(s.built.evaluationLines, s.crossings->crossings(), rocks,
                      world.def().terrain->shift);
     out.note(r.lines);
@@ -206,9 +208,10 @@ void writeRunFiles(Stepping& s, SimulateOutputs& out, const SimulateRequest& r,
 }
 
 // The rocks' outcomes on terrain, in one line.
-void printRocks(const World& world, const SimulateRequest& r, bool outcomes, int stop) {
+void printRocks(const World& world, const RockFall& rockFall, const SimulateRequest& r,
+                bool outcomes, int stop) {
   int count[4] = {0, 0, 0, 0};
-  for (const RockOutcome& o : world.outcomes())
+  for (const RockOutcome& o : rockFall.outcomes())
     if (o.released) ++count[static_cast<int>(o.state)];
   std::printf("  rocks: %d stopped, %d left the terrain, %d buried, %d still moving (t = %.3f s)\n",
               count[1], count[2], count[3], count[0], world.time());
@@ -239,11 +242,12 @@ RunStatus runSimulation(const SimulateRequest& r) {
   const int stop = stopRequested();
   // The OutputFiles' destructors remove their temporary files.
   if (stop && s.done == 0) return stoppedWithNothingWritten();
-  reportWorld(*s.built.world);
+  reportWorld(*s.built.world, *s.built.rockFall);
   writeRockFiles(s, out, r);
   writeRunFiles(s, out, r, spec, stop);
   printSummary(stdout, spec.name, s.recorder.summary());
-  if (!spec.terrainPath.empty()) printRocks(*s.built.world, r, out.outcomes.has_value(), stop);
+  if (!spec.terrainPath.empty())
+    printRocks(*s.built.world, *s.built.rockFall, r, out.outcomes.has_value(), stop);
   if (stop)
     std::fprintf(stderr, "voxfall: interrupted; frames 0..%d (t = 0 .. %.6g s) written%s%s\n",
                  s.done - 1, s.recorder.frameTime(s.done - 1), out.written.empty() ? "" : " to ",

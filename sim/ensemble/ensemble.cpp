@@ -24,6 +24,7 @@
 #include "sim/core/error.h"
 #include "sim/core/prng.h"
 #include "sim/ensemble/block_size.h"
+#include "sim/ground/rock_fall_world.h"
 #include "sim/run_guard.h"
 
 namespace vf {
@@ -78,8 +79,8 @@ class CellMaxima {
 };
 
 // The rock's outcome and the run's totals, read from its world at the end of the run.
-void readOutcome(const World& w, RealisationResult& r) {
-  const RockOutcome& o = w.outcomes()[0];
+void readOutcome(const World& w, const RockFall& rockFall, RealisationResult& r) {
+  const RockOutcome& o = rockFall.outcomes()[0];
   r.release = o.release;
   r.end = o.end;
   r.endTime = o.endTime;
@@ -117,22 +118,22 @@ double rangeAt(const std::array<double, 2>& r, double u) { return r[0] + (r[1] -
 // The ground coefficients a realisation draws within [ensemble] restitution, friction and
 // rolling_resistance, given its uniforms and the seed of the per-cell variability.
 void drawGround(const EnsembleSpec& e, double uRestitution, double uFriction, double uRolling,
-                std::uint64_t groundSeed, WorldDef& def) {
+                std::uint64_t groundSeed, WorldDef& def, RockFallDef& rockFall) {
   if (e.restitution) def.contact.restitutionBodyGround = rangeAt(*e.restitution, uRestitution);
   if (e.friction) def.contact.frictionBodyGround = rangeAt(*e.friction, uFriction);
   const bool drawn = e.restitution || e.friction || e.rollingResistance;
-  const bool perCell = def.ground && def.ground->variability > 0;
-  if (!def.ground || !(drawn || perCell)) return;
+  const bool perCell = rockFall.ground && rockFall.ground->variability > 0;
+  if (!rockFall.ground || !(drawn || perCell)) return;
   // Every ground material takes the realisation's values (the class raster is shared), and the
   // per-cell factors the realisation's own seed.
-  auto ground = std::make_shared<GroundMap>(*def.ground);
+  auto ground = std::make_shared<GroundMap>(*rockFall.ground);
   for (GroundMaterial& m : ground->materials) {
     if (e.restitution) m.restitution = def.contact.restitutionBodyGround;
     if (e.friction) m.friction = def.contact.frictionBodyGround;
     if (e.rollingResistance) m.rollingResistance = rangeAt(*e.rollingResistance, uRolling);
   }
   if (perCell) ground->variabilitySeed = groundSeed;
-  def.ground = std::move(ground);
+  rockFall.ground = std::move(ground);
 }
 
 }  // namespace
@@ -184,6 +185,7 @@ Ensemble::Ensemble(const SceneSpec& spec) : spec_(spec) {
   base_ = sceneWorldDef(spec_);
   base_.threads = 1;                    // parallel over realisations instead
   VF_ASSERT(base_.terrain != nullptr);  // loadScene requires a heightfield with [ensemble]
+  rockFall_ = sceneRockFallDef(spec_, base_.terrain);
   release_ = std::make_shared<const ReleaseSources>(e.releases, base_.terrain, spec_.terrainPath);
   const Heightfield& dem = *base_.terrain;
   lines_ = sceneEvaluationLines(spec_, dem);
@@ -193,8 +195,7 @@ Ensemble::Ensemble(const SceneSpec& spec) : spec_(spec) {
   for (const std::string& name : e.shapes) shapes_.push_back(built.at(name).shape);
 }
 
-std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex,
-                                           std::shared_ptr<const BarrierMonitor>* barriers) const {
+RealisationWorld Ensemble::makeWorld(std::uint64_t seed) const {
   const EnsembleSpec& e = *spec_.ensemble;
   // One generator per realisation drawing the same numbers whatever is switched on, so that
   // varying one thing does not reshuffle the others. The release point gets its own stream
@@ -211,12 +212,14 @@ std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex,
   const std::uint64_t sizeSeed = rng.next();    // the rock's volume and density
   const std::uint64_t forestSeed = rng.next();  // the stems' ([forest]); last, as added last
 
+  RealisationWorld out;
   const int shape = drawShape(e, uShape);
-  if (shapeIndex) *shapeIndex = shape;
+  out.shape = shape;
 
   WorldDef def = base_;
-  def.forestSeed = forestSeed;
-  drawGround(e, uRestitution, uFriction, uRolling, groundSeed, def);
+  RockFallDef rockFall = rockFall_;
+  rockFall.forestSeed = forestSeed;
+  drawGround(e, uRestitution, uFriction, uRolling, groundSeed, def, rockFall);
 
   int source = 0;
   const Point2 xy = release_->draw(releaseSeed, &source);
@@ -229,11 +232,11 @@ std::unique_ptr<World> Ensemble::makeWorld(std::uint64_t seed, int* shapeIndex,
   body.angularVelocity =
       e.angularVelocityMin + (e.angularVelocityMax - e.angularVelocityMin).cwiseProduct(uw);
   body.dropHeight = e.dropHeight;
-  auto world = std::make_unique<World>(std::move(def));
-  world->addBody(body);
-  auto monitor = attachBarriers(*world, barriers_, barrierPieces_);
-  if (barriers) *barriers = std::move(monitor);
-  return world;
+  out.world = std::make_unique<World>(std::move(def));
+  out.rockFall = &attachRockFall(*out.world, std::move(rockFall));
+  out.world->addBody(body);
+  out.barriers = attachBarriers(*out.world, barriers_, barrierPieces_);
+  return out;
 }
 
 std::shared_ptr<const Shape> Ensemble::sized(const std::shared_ptr<const Shape>& shape, int source,
@@ -256,9 +259,10 @@ RealisationResult Ensemble::run(std::int64_t index, std::uint64_t seed, bool kee
   RealisationResult r;
   r.index = index;
   r.seed = seed;
-  std::shared_ptr<const BarrierMonitor> barriers;
-  std::unique_ptr<World> world = makeWorld(seed, &r.shape, &barriers);
-  World& w = *world;
+  const RealisationWorld made = makeWorld(seed);
+  World& w = *made.world;
+  const RockFall& rockFall = *made.rockFall;
+  r.shape = made.shape;
   const Heightfield& dem = *base_.terrain;
   CellMaxima cells(dem, r.cells);
   // Crossings of the evaluation lines on the step states (sim/ground/evaluation_lines.h).
@@ -294,13 +298,13 @@ RealisationResult Ensemble::run(std::int64_t index, std::uint64_t seed, bool kee
     if (keepPath) r.path.push_back(PathPoint{w.time(), x});
     before = after;
     xBefore = x;
-    if (w.outcomes()[0].state != RockState::kMoving) break;  // stopped, left or buried
+    if (rockFall.outcomes()[0].state != RockState::kMoving) break;  // stopped, left or buried
   }
   std::sort(r.cells.begin(), r.cells.end(),
             [](const CellPassage& a, const CellPassage& b) { return a.cell < b.cell; });
-  readOutcome(w, r);
+  readOutcome(w, rockFall, r);
   r.crossings = lines.crossings();
-  if (barriers) r.barriers = barriers->results();
+  if (made.barriers) r.barriers = made.barriers->results();
   return r;
 }
 

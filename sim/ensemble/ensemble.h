@@ -18,6 +18,7 @@
 
 #include "sim/core/math.h"
 #include "sim/ensemble/release_sources.h"
+#include "sim/ground/rock_fall.h"
 #include "sim/ground/rock_monitor.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/heightfield.h"
@@ -74,6 +75,14 @@ std::uint64_t realisationSeed(std::uint64_t ensembleSeed, std::int64_t index);
 void cellsOnSegment(const Heightfield& dem, const Vec3& a, const Vec3& b,
                     std::vector<std::int32_t>& out);
 
+// A realisation's World before its first step, with what is attached to it.
+struct RealisationWorld {
+  std::unique_ptr<World> world;  // one dynamic body, id 0, then the barriers' static pieces
+  RockFall* rockFall = nullptr;  // attached to `world`: the rock's outcome
+  std::shared_ptr<const BarrierMonitor> barriers;  // null without [[barriers]]
+  int shape = 0;                                   // index into EnsembleSpec::shapes
+};
+
 class Ensemble {
  public:
   // Builds the terrain, ground map and shapes of `spec` once and checks the release: throws
@@ -88,17 +97,16 @@ class Ensemble {
   // `keepPath`, every step's centre of mass is kept in `path`.
   RealisationResult run(std::int64_t index, std::uint64_t seed, bool keepPath,
                         const std::function<bool()>& stop = {}) const;
-  // The World of realisation `index` before its first step (one dynamic body, id 0, then the
-  // barriers' static pieces, whose monitor goes to `barriers` when given).
-  std::unique_ptr<World> makeWorld(std::uint64_t seed, int* shapeIndex = nullptr,
-                                   std::shared_ptr<const BarrierMonitor>* barriers = nullptr) const;
+  // The World of the realisation with seed `seed` before its first step, with rock fall (the
+  // forest drawn with the realisation's own seed) and the barriers attached.
+  RealisationWorld makeWorld(std::uint64_t seed) const;
   const std::vector<Barrier>& barriers() const { return barriers_; }
 
   const SceneSpec& spec() const { return spec_; }
   const EnsembleSpec& ensemble() const { return *spec_.ensemble; }
   const Heightfield& dem() const { return *base_.terrain; }
   // The scene's forest stand on the DEM's grid, or null without [forest].
-  const Forest* forest() const { return base_.forest.get(); }
+  const Forest* forest() const { return rockFall_.forest.get(); }
   // The release sources as world x, y outlines for maps (ReleaseSources::outlines).
   std::vector<std::vector<Point2>> releaseAreas() const;
   // The scene's evaluation lines, world coordinates (sceneEvaluationLines).
@@ -107,6 +115,7 @@ class Ensemble {
  private:
   SceneSpec spec_;
   WorldDef base_;
+  RockFallDef rockFall_;  // the scene's; each realisation draws its own forest seed and ground
   std::vector<std::shared_ptr<const Shape>> shapes_;  // per EnsembleSpec::shapes entry
   std::shared_ptr<const ReleaseSources> release_;
 

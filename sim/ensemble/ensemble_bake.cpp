@@ -46,8 +46,12 @@ BakeBody bakeBody(const Ensemble& ensemble, const World& w, int shapeIndex, std:
 // the one before it (frame_interp.h).
 class Realisation {
  public:
-  Realisation(World& w, double duration)
-      : w_(w), duration_(duration), now_{w.time(), {w.state(0)}, {present()}}, before_(now_) {}
+  Realisation(World& w, const RockFall& rockFall, double duration)
+      : w_(w),
+        rockFall_(rockFall),
+        duration_(duration),
+        now_{w.time(), {w.state(0)}, {present()}},
+        before_(now_) {}
 
   bool ended() const { return ended_; }
   const StepState& now() const { return now_; }
@@ -57,7 +61,7 @@ class Realisation {
   bool mayStep() const { return !ended_ && w_.nextStepEnd() <= duration_ + kTimeTolerance; }
   void step() {
     w_.stepNext();
-    ended_ = w_.outcomes()[0].state != RockState::kMoving;
+    ended_ = rockFall_.outcomes()[0].state != RockState::kMoving;
     before_ = std::move(now_);
     now_ = StepState{w_.time(), {w_.state(0)}, {present()}};
   }
@@ -65,11 +69,12 @@ class Realisation {
  private:
   // Released flag of the rock: off once it left the DEM or was buried.
   char present() const {
-    const RockState s = w_.outcomes()[0].state;
+    const RockState s = rockFall_.outcomes()[0].state;
     return static_cast<char>(s == RockState::kLeft || s == RockState::kBuried ? 0 : 1);
   }
 
   World& w_;
+  const RockFall& rockFall_;
   double duration_;
   bool ended_ = false;
   StepState now_, before_;
@@ -107,18 +112,16 @@ Bake ensembleBake(const Ensemble& ensemble, std::uint64_t ensembleSeed,
   Bake bake = emptyBake(spec, frames);
   int lastFrame = indices.empty() ? frames - 1 : 0;
   for (std::size_t b = 0; b < indices.size(); ++b) {
-    int shapeIndex = 0;
-    const std::unique_ptr<World> world =
-        ensemble.makeWorld(realisationSeed(ensembleSeed, indices[b]), &shapeIndex);
-    bake.bodies.push_back(bakeBody(ensemble, *world, shapeIndex, b));
-    Realisation rock(*world, spec.duration);
+    const RealisationWorld made = ensemble.makeWorld(realisationSeed(ensembleSeed, indices[b]));
+    bake.bodies.push_back(bakeBody(ensemble, *made.world, made.shape, b));
+    Realisation rock(*made.world, *made.rockFall, spec.duration);
     lastFrame = std::max(lastFrame, recordFrames(rock, bake));
     if (checksums) {
       // A realisation still moving at the last frame time takes Ensemble::run's remaining
       // steps up to the duration (none when the duration is a whole number of frames), so the
       // checksum covers the same steps as its row in runs.csv.
       while (rock.mayStep()) rock.step();
-      checksums->push_back(world->stepsHash());
+      checksums->push_back(made.world->stepsHash());
     }
   }
   // Nothing changes after the frame at which the last realisation has ended: the bake stops

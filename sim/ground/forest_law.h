@@ -1,7 +1,7 @@
-// Rocks meeting trees (rock fall extension; opt-in with WorldDef::forest): after each step, every
-// moving body that crossed forest draws whether it met a stem on the way, and a hit takes the
-// stem's absorbable energy from it. Owned by the rock-fall step listener (rock_fall.h) like the
-// rock monitor; reads and writes the body arrays after the integration.
+// Rocks meeting trees (rock fall extension; opt-in with RockFallDef::forest): after each step,
+// every moving body that crossed forest draws whether it met a stem on the way, and a hit takes
+// the stem's absorbable energy from it. Owned by the rock-fall step listener (rock_fall.h) like
+// the rock monitor; reads and writes the body arrays after the integration.
 //
 // Statistical, not geometric (docs/rockfall.md, "Forest"): stems are not bodies the sphere tree
 // collides with, because the inputs are stand rasters (a density and a mean DBH per cell), which

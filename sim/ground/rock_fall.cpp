@@ -9,8 +9,10 @@
 
 namespace vf {
 
-RockFall::RockFall(RockFallDef def) : def_(std::move(def)) {
-  monitor_.configure(def_.terrainEdge, def_.rest, def_.terrain.get(), def_.floor, def_.gravity);
+RockFall::RockFall(RockFallDef def, RockFallGround world)
+    : def_(std::move(def)), world_(std::move(world)) {
+  monitor_.configure(def_.terrainEdge, def_.rest, world_.terrain.get(), world_.floor,
+                     world_.gravity);
 }
 
 void RockFall::beforeSolve(StepContext& c, SolverSettings& solver) {
@@ -27,13 +29,13 @@ void RockFall::afterSolve(StepContext& c) {
   if (!def_.ground) return;
   const GroundMap& ground = *def_.ground;
   const GroundLawStats law =
-      groundLaw_.afterSolve(c.contacts, normalImpulses_, c.bodies, c.states, ground, def_.gravity,
-                            c.dt, def_.terrain.get(), def_.floor);
+      groundLaw_.afterSolve(c.contacts, normalImpulses_, c.bodies, c.states, ground, world_.gravity,
+                            c.dt, world_.terrain.get(), world_.floor);
   for (int id : law.bounced) monitor_.countBounce(id);
   if (!slip()) return;
   if (ground.hasScar())
     scarDrag_.afterSolve(c.contacts, normalImpulses_, c.bodies, c.states, ground, groundLaw_, c.dt,
-                         def_.terrain.get(), def_.floor);
+                         world_.terrain.get(), world_.floor);
   slipLaw_.afterSolve(c.contacts, normalImpulses_, c.bodies, c.states, ground, c.dt);
 }
 
@@ -42,12 +44,12 @@ void RockFall::afterIntegrate(StepContext& c) {
 }
 
 void RockFall::onRelease(StepContext& c, int id) {
-  if (def_.terrain && !c.bodies[static_cast<std::size_t>(id)].isStatic)
+  if (world_.terrain && !c.bodies[static_cast<std::size_t>(id)].isStatic)
     monitor_.onRelease(id, c.time, c.bodies, c.states);
 }
 
 void RockFall::afterStep(StepContext& c) {
-  if (def_.terrain) monitor_.afterStep(c.time, c.bodies, c.states);
+  if (world_.terrain) monitor_.afterStep(c.time, c.bodies, c.states);
 }
 
 double RockFall::slippage(int id) const {

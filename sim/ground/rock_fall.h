@@ -6,7 +6,8 @@
 //                              monitor), scar drag, slip law (s over the step)
 //   after the integration      forest law (stems met on the step's path)
 //   at a release, after a step rock monitor (terrain: edges, holes, push-out, rest, outcomes)
-// Each part acts only where its input is given: a ground map, a forest, terrain.
+// Each part acts only where its input is given: a ground map, a forest, terrain; with none of
+// them the listener does nothing.
 #pragma once
 
 #include <cstdint>
@@ -28,23 +29,33 @@
 
 namespace vf {
 
-// What a world's rock fall works with (the World fills it from its WorldDef).
+// Rock fall's own settings: what a caller gives attachRockFall (sim/ground/rock_fall_world.h),
+// which takes the terrain, the floor and gravity from the world it attaches to.
 struct RockFallDef {
-  std::shared_ptr<const GroundMap> ground;     // ground materials; null: no ground laws
-  std::shared_ptr<const Forest> forest;        // stems; null: no forest law
-  std::uint64_t forestSeed = 1;                // the forest law's streams (forest_law.h)
+  // Ground materials with STONE's law or the slip law (sim/ground/ground_material.h). Null: the
+  // paper's model, [contact] body_ground for every ground contact.
+  std::shared_ptr<const GroundMap> ground;
+  // Stems hit statistically (forest_law.h), each body drawing from a stream of `forestSeed` and
+  // its id (an ensemble draws the seed per realisation). Null: no trees.
+  std::shared_ptr<const Forest> forest;
+  std::uint64_t forestSeed = 1;
+  // On terrain (rock_monitor.h): what lies beyond the grid and in NODATA cells, and when a rock
+  // counts as at rest. Used only when the world has terrain.
+  TerrainEdge terrainEdge = TerrainEdge::kAuto;
+  RestCriterion rest;
+};
+
+// What rock fall reads of the world it is attached to.
+struct RockFallGround {
   std::shared_ptr<const Heightfield> terrain;  // null: no rock monitor
   std::optional<double> floor;                 // the floor plane z = h, if any
   Vec3 gravity = Vec3(0, 0, -9.81);            // m/s^2
-  TerrainEdge terrainEdge = TerrainEdge::kAuto;
-  RestCriterion rest;
-  // Whether a world with these inputs has anything for rock fall to do.
-  bool any() const { return ground || forest || terrain; }
 };
 
 class RockFall : public StepListener {
  public:
-  explicit RockFall(RockFallDef def);
+  RockFall(RockFallDef def, RockFallGround world);
+  const RockFallDef& def() const { return def_; }
 
   void beforeSolve(StepContext& c, SolverSettings& solver) override;
   void afterSolve(StepContext& c) override;
@@ -71,6 +82,7 @@ class RockFall : public StepListener {
   bool slip() const { return def_.ground && def_.ground->hasSlip(); }
 
   RockFallDef def_;
+  RockFallGround world_;
   std::vector<double> normalImpulses_;  // per contact, from the solver, for the ground laws
   GroundLaw groundLaw_;                 // flight, bounce, rolling (per body)
   SlipLaw slipLaw_;                     // slippage s of the slip law (per body)

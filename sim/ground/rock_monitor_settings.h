@@ -1,5 +1,5 @@
-// The rock monitor's settings (rock_monitor.h), apart from the monitor so that WorldDef can
-// carry them without the World's header seeing rock fall's laws.
+// The rock monitor's settings (rock_monitor.h), apart from the monitor so that a scene's spec
+// (sim/scene/scene.h) can carry them without seeing rock fall's laws.
 #pragma once
 
 namespace vf {

@@ -16,10 +16,15 @@
 #include "sim/ground/barriers.h"
 #include "sim/ground/evaluation_lines.h"
 #include "sim/ground/ground_material.h"
+#include "sim/ground/rock_monitor_settings.h"
 #include "sim/scene/drawing_spec.h"
 #include "sim/world.h"
 
 namespace vf {
+
+struct Forest;       // sim/ground/forest.h
+class RockFall;      // sim/ground/rock_fall.h
+struct RockFallDef;  // sim/ground/rock_fall.h
 
 struct ShapeSpec {
   std::string name;             // key of [shapes.NAME]; NAME#k for variant k of a rock family
@@ -344,6 +349,10 @@ std::shared_ptr<const BarrierMonitor> attachBarriers(
 // A World built from a spec, with what the renderer needs to draw it.
 struct BuiltScene {
   std::unique_ptr<World> world;
+  // Rock fall, attached to `world` (sim/ground/rock_fall_world.h): its outcomes, stop reason,
+  // terrain messages, tree hits, slippage and scar depth. Never null; idle without a ground
+  // map, forest or terrain.
+  RockFall* rockFall = nullptr;
   std::vector<EvaluationLine> evaluationLines;     // world coordinates (sceneEvaluationLines)
   std::shared_ptr<const BarrierMonitor> barriers;  // null without [[barriers]]
   std::vector<Color> colors;         // per body id: the body's, its shape's, or the palette
@@ -354,8 +363,11 @@ struct BuiltScene {
 // well-separated hues (linear RGB) that reads well under the sun and on the grey floor.
 Color defaultBodyColor(int id);
 
-// The World settings of a scene (terrain loaded, ground map built), without bodies.
+// The World settings of a scene (terrain loaded), without bodies.
 WorldDef sceneWorldDef(const SceneSpec& spec);
+// The scene's rock-fall settings on `terrain` (its DEM, or null): the ground map, the stand, the
+// edge policy and the rest criterion.
+RockFallDef sceneRockFallDef(const SceneSpec& spec, std::shared_ptr<const Heightfield> terrain);
 // Each shape of a scene built once (mesh read once per file, sphere tree once per mesh, scale
 // and level), by name, with the shape's colour if it has one.
 struct SceneShape {

@@ -20,6 +20,7 @@
 #include "sim/geometry/mesh_repair.h"
 #include "sim/geometry/rock_mesh.h"
 #include "sim/ground/ground_material.h"
+#include "sim/ground/rock_fall_world.h"
 #include "sim/run_length.h"
 #include "sim/scene/scene.h"
 #include "sim/shape/convex_polyhedron.h"
@@ -251,18 +252,23 @@ WorldDef sceneWorldDef(const SceneSpec& spec) {
   def.step = spec.step;
   def.groundHeight = spec.groundPlane;
   def.terrain = loadSceneTerrain(spec);
-  def.terrainEdge = spec.terrainEdge;
   def.rotation = spec.rotation;
-  def.rest = spec.rest;
-  if (!spec.groundMaterial.empty()) def.ground = buildGroundMap(spec, def.terrain);
-  def.forest = buildSceneForest(spec, def.terrain);
-  if (spec.forest) def.forestSeed = spec.forest->seed;
   def.contact = spec.contact;
   def.contactReduction = spec.contactReduction;
   def.sleep = spec.sleep;
   def.threads = spec.threads;
   def.stageTimes = spec.stageTimes;
   def.limits = spec.limits;
+  return def;
+}
+
+RockFallDef sceneRockFallDef(const SceneSpec& spec, std::shared_ptr<const Heightfield> terrain) {
+  RockFallDef def;
+  if (!spec.groundMaterial.empty()) def.ground = buildGroundMap(spec, terrain);
+  def.forest = buildSceneForest(spec, terrain);
+  if (spec.forest) def.forestSeed = spec.forest->seed;
+  def.terrainEdge = spec.terrainEdge;
+  def.rest = spec.rest;
   return def;
 }
 
@@ -366,6 +372,7 @@ void addSceneBarriers(const SceneSpec& spec, BodyAdder& bodies) {
 BuiltScene buildScene(const SceneSpec& spec) {
   BuiltScene out;
   out.world = std::make_unique<World>(sceneWorldDef(spec));
+  out.rockFall = &attachRockFall(*out.world, sceneRockFallDef(spec, out.world->def().terrain));
   if (out.world->def().terrain)
     out.evaluationLines = sceneEvaluationLines(spec, *out.world->def().terrain);
   const auto shapes = buildSceneShapes(spec);

@@ -340,7 +340,8 @@ TEST(Scenario, BoxOnTerrainInclineSlidesOrSticksAsCoulombSays) {
     def.step = StepRule::fixed(dt);
     def.contact.frictionBodyGround = mu;
     def.contact.restitutionBodyGround = 0;
-    World world(def);
+    test::RockFallWorld rock(def, {});  // with the rock monitor, as a scene on terrain has
+    World& world = rock.world;
     auto s = test::boxShape(0.3, 0.3, 0.2, 800, 4);
     BodyDef b;
     b.shape = s;

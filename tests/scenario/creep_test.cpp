@@ -75,13 +75,12 @@ std::shared_ptr<const Heightfield> incline() {
   return h;
 }
 
-World inclineWorld(const GroundMaterial& m) {
+test::RockFallWorld inclineWorld(const GroundMaterial& m) {
   auto g = std::make_shared<GroundMap>();
   g->materials.push_back(m);
   WorldDef def;
   def.terrain = incline();
-  def.ground = g;
-  return World(def);
+  return test::RockFallWorld(def, test::groundLaws(g));
 }
 
 // The rounded square the cube rolls on (header comment), from its sphere tree's leaves, and the
@@ -141,8 +140,9 @@ TEST(Creep, OnItsRollingFrictionAngleAStoneRockRollsOnWhileASlipLawCubeStops) {
   slip.muMin = slip.muMax = 2;
   slip.kappa = 3;
   slip.beta = 185;
-  World slipWorld = inclineWorld(slip);
-  const double rest = slipWorld.def().rest.time, maxStep = slipWorld.def().maxStep;
+  test::RockFallWorld slipRock = inclineWorld(slip);
+  World& slipWorld = slipRock.world;
+  const double rest = slipRock.rockFall.def().rest.time, maxStep = slipWorld.def().maxStep;
   BodyDef c;
   c.shape = cube;
   c.orientation = Quat(Eigen::AngleAxisd(kTheta, Vec3::UnitY()));  // a face on the plane
@@ -153,7 +153,7 @@ TEST(Creep, OnItsRollingFrictionAngleAStoneRockRollsOnWhileASlipLawCubeStops) {
   slipWorld.addBody(c);
   const double T = tMove + maxStep + rest + maxStep;
   slipWorld.advanceTo(T);
-  const RockOutcome& cubeEnd = slipWorld.outcomes()[0];
+  const RockOutcome& cubeEnd = slipRock.rockFall.outcomes()[0];
   EXPECT_EQ(cubeEnd.state, RockState::kStopped) << rockStateName(cubeEnd.state);
   EXPECT_LE(cubeEnd.endTime, tMove + maxStep) << "its slow spell began by then";
   // One roll: half a roll length either side tells one roll from none or two.
@@ -171,7 +171,8 @@ TEST(Creep, OnItsRollingFrictionAngleAStoneRockRollsOnWhileASlipLawCubeStops) {
   stone.restitution = 0;
   stone.friction = 0.8;
   stone.rollingResistance = std::tan(kTheta);
-  World stoneWorld = inclineWorld(stone);
+  test::RockFallWorld stoneRock = inclineWorld(stone);
+  World& stoneWorld = stoneRock.world;
   const double R = 0.25;
   BodyDef b;
   b.shape = test::smoothBall(R, 100);
@@ -180,7 +181,7 @@ TEST(Creep, OnItsRollingFrictionAngleAStoneRockRollsOnWhileASlipLawCubeStops) {
   b.angularVelocity = kV0 / R * kAxis;
   stoneWorld.addBody(b);
   stoneWorld.advanceTo(T);
-  EXPECT_EQ(stoneWorld.outcomes()[0].state, RockState::kMoving);
+  EXPECT_EQ(stoneRock.rockFall.outcomes()[0].state, RockState::kMoving);
   EXPECT_GE(stoneWorld.velocity(0).dot(kDown),
             kV0 - kG * std::sin(kTheta) * stoneWorld.totals().dtMax);
 }

@@ -20,10 +20,17 @@ constexpr double kG = 9.81;
 constexpr double kV0 = 8.0;   // m/s
 constexpr double kMuR = 0.3;  // rolling resistance
 
-// Flat terrain 61 x 11 samples of 1 m at z = 0, STONE's rolling resistance kMuR.
-WorldDef rollingGround() {
-  WorldDef def;
-  def.terrain = std::make_shared<const Heightfield>(test::flatHeightfield(61, 11, 1.0, 0.0));
+// Flat terrain 61 x 11 samples of 1 m at z = 0, STONE's rolling resistance kMuR: the world's
+// settings and rock fall's.
+struct Ground {
+  WorldDef world;
+  RockFallDef rockFall;
+};
+
+Ground rollingGround() {
+  Ground ground;
+  ground.world.terrain =
+      std::make_shared<const Heightfield>(test::flatHeightfield(61, 11, 1.0, 0.0));
   auto g = std::make_shared<GroundMap>();
   GroundMaterial m;
   m.name = "test";
@@ -31,30 +38,30 @@ WorldDef rollingGround() {
   m.friction = 0.8;
   m.rollingResistance = kMuR;
   g->materials.push_back(m);
-  def.ground = g;
-  return def;
+  ground.rockFall.ground = g;
+  return ground;
 }
 
-std::shared_ptr<const Forest> stand(const WorldDef& def, double stemsPerHectare, double dbhCm) {
+std::shared_ptr<const Forest> stand(const Ground& ground, double stemsPerHectare, double dbhCm) {
   auto f = std::make_shared<Forest>();
-  f->grid = def.terrain;
-  f->density.assign(def.terrain->z.size(), stemsPerHectare);
-  f->dbh.assign(def.terrain->z.size(), dbhCm);
+  f->grid = ground.world.terrain;
+  f->density.assign(ground.world.terrain->z.size(), stemsPerHectare);
+  f->dbh.assign(ground.world.terrain->z.size(), dbhCm);
   return f;
 }
 
 // A 1 m smooth ball (1400 kg) rolling without slip at kV0 towards +x from x = 5; returns the
 // world after 10 s (it stops within 7 v0^2 / (10 mu_r g) = 15.2 m on bare ground, in 3.9 s).
-std::unique_ptr<World> roll(WorldDef def) {
-  auto world = std::make_unique<World>(std::move(def));
+std::unique_ptr<test::RockFallWorld> roll(const Ground& ground) {
+  auto rock = std::make_unique<test::RockFallWorld>(ground.world, ground.rockFall);
   BodyDef b;
   b.shape = test::smoothBall(0.5, 1400);
   b.position = Vec3(5, 5, 0.5);
   b.velocity = Vec3(kV0, 0, 0);
   b.angularVelocity = Vec3(0, kV0 / 0.5, 0);
-  world->addBody(b);
-  world->advanceTo(10.0);
-  return world;
+  rock->world.addBody(b);
+  rock->world.advanceTo(10.0);
+  return rock;
 }
 
 }  // namespace
@@ -64,43 +71,43 @@ std::unique_ptr<World> roll(WorldDef def) {
 // path of 1 / (0.2 * 1.3) = 3.8 m, so a hit within the 15.2 m is all but certain (98 %) for any
 // seed. Every seed of ten stops sooner, each after at least one hit.
 TEST(ForestStand, ADenseStandStopsARockSoonerThanNone) {
-  const double bare = roll(rollingGround())->state(0).x.x() - 5;
+  const double bare = roll(rollingGround())->world.state(0).x.x() - 5;
   EXPECT_NEAR(bare, 7 * kV0 * kV0 / (10 * kMuR * kG), 0.5);
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
-    WorldDef def = rollingGround();
-    def.forest = stand(def, 2000, 30);
-    def.forestSeed = seed;
+    Ground def = rollingGround();
+    def.rockFall.forest = stand(def, 2000, 30);
+    def.rockFall.forestSeed = seed;
     const auto world = roll(def);
-    EXPECT_LT(world->state(0).x.x() - 5, bare - 1.0) << "seed " << seed;
-    EXPECT_GE(world->treeHits(0).hits, 1) << "seed " << seed;
-    EXPECT_LT(world->velocity(0).norm(), 0.1) << "seed " << seed;
+    EXPECT_LT(world->world.state(0).x.x() - 5, bare - 1.0) << "seed " << seed;
+    EXPECT_GE(world->rockFall.treeHits(0).hits, 1) << "seed " << seed;
+    EXPECT_LT(world->world.velocity(0).norm(), 0.1) << "seed " << seed;
   }
 }
 
 // Zero density everywhere: the same states after every step as with no forest (the checksum).
 TEST(ForestStand, ZeroDensityIsTheRunWithoutForest) {
-  WorldDef def = rollingGround();
-  const std::uint64_t bare = roll(def)->stepsHash();
-  def.forest = stand(def, 0, 30);
+  Ground def = rollingGround();
+  const std::uint64_t bare = roll(def)->world.stepsHash();
+  def.rockFall.forest = stand(def, 0, 30);
   const auto world = roll(def);
-  EXPECT_EQ(world->stepsHash(), bare);
-  EXPECT_EQ(world->treeHits(0).hits, 0);
+  EXPECT_EQ(world->world.stepsHash(), bare);
+  EXPECT_EQ(world->rockFall.treeHits(0).hits, 0);
 }
 
 // The same seed gives the same hits whatever the thread count; another seed other hits.
 TEST(ForestStand, HitsDependOnTheSeedNotOnTheThreads) {
-  WorldDef def = rollingGround();
-  def.forest = stand(def, 300, 20);  // 39 kJ a stem: several hits before the ball stops
-  def.forestSeed = 5;
+  Ground def = rollingGround();
+  def.rockFall.forest = stand(def, 300, 20);  // 39 kJ a stem: several hits before the ball stops
+  def.rockFall.forestSeed = 5;
   const auto one = roll(def);
-  def.threads = 2;
+  def.world.threads = 2;
   const auto two = roll(def);
-  EXPECT_EQ(one->stepsHash(), two->stepsHash());
-  EXPECT_EQ(one->treeHits(0).hits, two->treeHits(0).hits);
+  EXPECT_EQ(one->world.stepsHash(), two->world.stepsHash());
+  EXPECT_EQ(one->rockFall.treeHits(0).hits, two->rockFall.treeHits(0).hits);
   bool differs = false;
   for (std::uint64_t seed = 6; seed < 10 && !differs; ++seed) {
-    def.forestSeed = seed;
-    differs = roll(def)->stepsHash() != one->stepsHash();
+    def.rockFall.forestSeed = seed;
+    differs = roll(def)->world.stepsHash() != one->world.stepsHash();
   }
   EXPECT_TRUE(differs);
 }

@@ -98,7 +98,8 @@ TEST(FrameSampling, ABoxAtRestOnASlopeIsStillInEveryFrame) {
   WorldDef def;
   def.terrain = incline(theta);
   def.step = StepRule::fixed(kStep);
-  World world(def);
+  test::RockFallWorld rock(def, {});  // with the rock monitor, as a scene on terrain has
+  World& world = rock.world;
   const auto box = test::boxShape(0.2, 0.2, 0.2, 800, 3);
   const Vec3 normal(std::sin(theta), 0, std::cos(theta));
   BodyDef b = test::bodyAt(

@@ -119,7 +119,8 @@ DropResult drop(std::uint64_t seed) {
   } else {
     def.groundHeight = 0.0;
   }
-  World world(def);
+  test::RockFallWorld rock(def, {});  // with the rock monitor, as a scene on terrain has
+  World& world = rock.world;
   const auto groundAt = [&](double x, double y) {
     if (!onTerrain) return 0.0;
     const double h = def.terrain->heightAt(x, y);

@@ -41,8 +41,8 @@ TEST(Rockfall, RollingSphereStopsAtTheRollingResistanceDistance) {
   auto ball = test::smoothBall(r, 100);
   WorldDef def;
   def.groundHeight = 0.0;
-  def.ground = oneMaterial(0.0, 0.8, muR);
-  World world(def);
+  test::RockFallWorld rock(def, test::groundLaws(oneMaterial(0.0, 0.8, muR)));
+  World& world = rock.world;
   BodyDef b;
   b.shape = ball;
   b.position = Vec3(0, 0, r);
@@ -84,8 +84,8 @@ TEST(Rockfall, AShortSlowLandingRollsOnWithNoBounceLoss) {
   const double d = v0 * tFall + 7 * v0 * v0 / (10 * muR * kG);
   WorldDef def;
   def.groundHeight = 0.0;
-  def.ground = oneMaterial(0.0, 0.8, muR, 0.5);
-  World world(def);
+  test::RockFallWorld rock(def, test::groundLaws(oneMaterial(0.0, 0.8, muR, 0.5)));
+  World& world = rock.world;
   BodyDef b;
   b.shape = test::smoothBall(r, 100);
   b.position = Vec3(0, 0, r + h);
@@ -113,8 +113,8 @@ TEST(Rockfall, AFastLandingBouncesKeepingAtMostRtOfTheTangentialVelocity) {
   auto land = [&](double rt) {
     WorldDef def;
     def.groundHeight = 0.0;
-    def.ground = oneMaterial(rn, 0.8, 0.0, rt);
-    World world(def);
+    test::RockFallWorld rock(def, test::groundLaws(oneMaterial(rn, 0.8, 0.0, rt)));
+    World& world = rock.world;
     BodyDef b;
     b.shape = test::smoothBall(r, 100);
     b.position = Vec3(0, 0, r + h);
@@ -238,26 +238,29 @@ std::shared_ptr<const Heightfield> flatTerrain(int nx, int ny,
 }
 
 // A smooth ball rolling at 3 m/s towards the east edge of a 20 m grid (no floor plane).
-World rollTowardsEdge(TerrainEdge edge) {
+test::RockFallWorld rollTowardsEdge(TerrainEdge edge) {
   WorldDef def;
   def.terrain = flatTerrain(21, 21);
-  def.terrainEdge = edge;
   def.contact.restitutionBodyGround = 0;
-  World world(def);
+  RockFallDef edgePolicy;
+  edgePolicy.terrainEdge = edge;
+  test::RockFallWorld rock(def, edgePolicy);
+  World& world = rock.world;
   BodyDef b;
   b.shape = test::smoothBall(0.25, 100);
   b.position = Vec3(10, 10, 0.25);
   b.velocity = Vec3(3, 0, 0);
   b.angularVelocity = Vec3(0, 3 / 0.25, 0);
   world.addBody(b);
-  return world;
+  return rock;
 }
 
 TEST(Rockfall, ARockRolledOffTheGridEdgeIsRemovedAndRecorded) {
-  World world = rollTowardsEdge(TerrainEdge::kAuto);  // no plane: remove
+  test::RockFallWorld rock = rollTowardsEdge(TerrainEdge::kAuto);  // no plane: remove
+  World& world = rock.world;
   world.advanceTo(5.0);
-  ASSERT_EQ(world.outcomes().size(), 1u);
-  const RockOutcome& r = world.outcomes()[0];
+  ASSERT_EQ(rock.rockFall.outcomes().size(), 1u);
+  const RockOutcome& r = rock.rockFall.outcomes()[0];
   EXPECT_EQ(r.state, RockState::kLeft);
   EXPECT_FALSE(world.isActive(0));
   // Its centre crosses x = 20 after (20 - 10) / 3 s; it is removed in the step it does, at
@@ -267,7 +270,7 @@ TEST(Rockfall, ARockRolledOffTheGridEdgeIsRemovedAndRecorded) {
   EXPECT_NEAR(r.end.x(), 20.0, 3 * 2 * dt);
   EXPECT_NE(r.message.find("body 0 left the terrain grid"), std::string::npos) << r.message;
   EXPECT_EQ(world.measure().tunnelled, 0);  // gone, not tunnelled
-  EXPECT_TRUE(world.allSettled());
+  EXPECT_TRUE(rock.allSettled());
   // It does not fall forever: the step stays at the resting maximum with nothing left.
   EXPECT_GT(world.lastStep().dt, 1e-3);
 }
@@ -277,22 +280,21 @@ TEST(Rockfall, ARockRolledOffTheGridEdgeIsRemovedAndRecorded) {
 // lands again within 3 m at under 5 m/s, which starts rolling: no second bounce.
 // A world of flat terrain (11 x 11 samples of 1 m at z = 0) holding a 0.25 m smooth ball whose
 // bottom is `height` above the middle of it.
-World ballOverFlatTerrain(WorldDef def, double height) {
+test::RockFallWorld ballOverFlatTerrain(WorldDef def, const RockFallDef& rockFall, double height) {
   def.terrain = flatTerrain(11, 11);
-  World world(def);
+  test::RockFallWorld rock(def, rockFall);
   BodyDef b;
   b.shape = test::smoothBall(0.25, 100);
   b.position = Vec3(5, 5, 0.25 + height);
-  world.addBody(b);
-  return world;
+  rock.world.addBody(b);
+  return rock;
 }
 
 TEST(Rockfall, TheOutcomeCountsBounces) {
-  WorldDef def;
-  def.ground = oneMaterial(0.3, 0.8, 0.3, 0.5);
-  World world = ballOverFlatTerrain(def, 2.0);
-  world.advanceTo(3.0);
-  EXPECT_EQ(world.outcomes()[0].bounces, 1);
+  test::RockFallWorld rock =
+      ballOverFlatTerrain({}, test::groundLaws(oneMaterial(0.3, 0.8, 0.3, 0.5)), 2.0);
+  rock.world.advanceTo(3.0);
+  EXPECT_EQ(rock.rockFall.outcomes()[0].bounces, 1);
 }
 
 // With sleeping on, a rock at rest falls asleep (0.5 s under 0.05 m/s) before the rest
@@ -301,21 +303,22 @@ TEST(Rockfall, TheOutcomeCountsBounces) {
 TEST(Rockfall, ASleepingRockCountsAsStopped) {
   WorldDef def;
   def.sleep = true;
-  World world = ballOverFlatTerrain(def, 0.0);
-  world.advanceTo(2.0);
-  ASSERT_TRUE(world.isSleeping(0));
-  EXPECT_EQ(world.outcomes()[0].state, RockState::kStopped);
-  EXPECT_TRUE(world.allSettled());
+  test::RockFallWorld rock = ballOverFlatTerrain(def, {}, 0.0);
+  rock.world.advanceTo(2.0);
+  ASSERT_TRUE(rock.world.isSleeping(0));
+  EXPECT_EQ(rock.rockFall.outcomes()[0].state, RockState::kStopped);
+  EXPECT_TRUE(rock.allSettled());
 }
 
 TEST(Rockfall, EdgePoliciesStopTheRunOrWallTheRockIn) {
-  World stop = rollTowardsEdge(TerrainEdge::kStop);
-  stop.advanceTo(5.0);
-  EXPECT_NE(stop.stopReason().find("body 0 left the terrain grid at t = 3.3"), std::string::npos)
-      << stop.stopReason();
-  World wall = rollTowardsEdge(TerrainEdge::kWall);
+  test::RockFallWorld stopped = rollTowardsEdge(TerrainEdge::kStop);
+  stopped.world.advanceTo(5.0);
+  const std::string& reason = stopped.rockFall.stopReason();
+  EXPECT_NE(reason.find("body 0 left the terrain grid at t = 3.3"), std::string::npos) << reason;
+  test::RockFallWorld walled = rollTowardsEdge(TerrainEdge::kWall);
+  World& wall = walled.world;
   wall.advanceTo(5.0);
-  EXPECT_EQ(wall.outcomes()[0].state, RockState::kMoving);
+  EXPECT_EQ(walled.rockFall.outcomes()[0].state, RockState::kMoving);
   EXPECT_TRUE(wall.isActive(0));
   // Reflected at x = 20 after 3.33 s: heading west and back over the grid. The wall reverses
   // the velocity, not the spin, so friction then brings it to rolling with the angular
@@ -328,13 +331,14 @@ TEST(Rockfall, EdgePoliciesStopTheRunOrWallTheRockIn) {
 TEST(Rockfall, ARockDroppedIntoANoDataHoleIsRemoved) {
   WorldDef def;
   def.terrain = flatTerrain(11, 11, {{5, 5}});  // the four cells around (5, 5) m have no data
-  World world(def);
+  test::RockFallWorld rock(def, {});
+  World& world = rock.world;
   BodyDef b;
   b.shape = test::smoothBall(0.25, 100);
   b.position = Vec3(5.2, 4.9, 3.0);
   world.addBody(b);
   world.advanceTo(2.0);
-  const RockOutcome& r = world.outcomes()[0];
+  const RockOutcome& r = rock.rockFall.outcomes()[0];
   EXPECT_EQ(r.state, RockState::kLeft);
   EXPECT_NE(r.message.find("body 0 entered a NODATA hole at t = 0.0"), std::string::npos)
       << r.message;
@@ -345,18 +349,19 @@ TEST(Rockfall, ABodyBelowTheSurfaceIsPushedOutOrStoppedNeverEjected) {
   for (double depth : {0.1, 1.0}) {  // centre 0.1 m below (partly) and 1 m below (wholly)
     WorldDef def;
     def.terrain = flatTerrain(11, 11);
-    World world(def);
+    test::RockFallWorld rock(def, {});
+    World& world = rock.world;
     BodyDef b;
     b.shape = test::smoothBall(0.25, 100);
     b.position = Vec3(5, 5, -depth);
     world.addBody(b);
     world.advanceTo(2.0);
-    const RockOutcome& r = world.outcomes()[0];
-    ASSERT_FALSE(world.terrainMessages().empty());
+    const RockOutcome& r = rock.rockFall.outcomes()[0];
+    const std::vector<std::string>& messages = rock.rockFall.terrainMessages();
+    ASSERT_FALSE(messages.empty());
     if (depth < 0.25) {
-      EXPECT_NE(
-          world.terrainMessages()[0].find("body 0 was partly below the terrain surface at t = "),
-          std::string::npos);
+      EXPECT_NE(messages[0].find("body 0 was partly below the terrain surface at t = "),
+                std::string::npos);
       // Out and resting on the surface (the leaf sphere's bottom at z = 0 within a step's fall),
       // never thrown: its speed stays below what gravity adds in a few steps.
       EXPECT_NEAR(world.state(0).x.z(), 0.25, 0.01);

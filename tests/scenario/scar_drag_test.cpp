@@ -138,9 +138,9 @@ TEST(ScarDrag, ABlockSlidingInTheLayerSlowsAsTheDragOdePredicts) {
   WorldDef def;
   def.groundHeight = 0.0;
   def.step = StepRule::fixed(dt);
-  def.ground = oneMaterial(m);
   def.solverIterations = 1000;
-  World world(def);
+  test::RockFallWorld rock(def, test::groundLaws(oneMaterial(m)));
+  World& world = rock.world;
   auto s = test::boxShape(0.4, 0.4, 0.1, 800, 4);
   BodyDef bd;
   bd.shape = s;
@@ -158,7 +158,7 @@ TEST(ScarDrag, ABlockSlidingInTheLayerSlowsAsTheDragOdePredicts) {
   }
   ASSERT_GT(vImpact, 0.9 * std::sqrt(2 * kG * h));
   const double d = scarDepth(s->mass, m.scarModulus, vImpact);
-  EXPECT_NEAR(world.scarDepth(0), d, 1e-15);
+  EXPECT_NEAR(rock.rockFall.scarDepth(0), d, 1e-15);
   const double ay = equivalentSemiAxis(0.4), az = equivalentSemiAxis(0.1);
   // The ellipse's segment: the circle of radius a_z's segment of height d, stretched by a_y / a_z.
   const double A =
@@ -170,7 +170,7 @@ TEST(ScarDrag, ABlockSlidingInTheLayerSlowsAsTheDragOdePredicts) {
     world.advanceTo(tL + 0.5 * i);
     const double t = world.time() - tL;
     EXPECT_NEAR(world.velocity(0).x(), vL / (1 + k * vL * t), 1e-10) << "t = " << t;
-    EXPECT_NEAR(world.scarDepth(0), d, 1e-15);
+    EXPECT_NEAR(rock.rockFall.scarDepth(0), d, 1e-15);
   }
   EXPECT_LT(world.velocity(0).x(), vL - 0.3);  // the drag did slow it (k vL t is about 0.3)
 }
@@ -182,8 +182,8 @@ TEST(ScarDrag, ARockThatReboundsLeavesTheLayer) {
   WorldDef def;
   def.groundHeight = 0.0;
   def.step = StepRule::fixed(dt);
-  def.ground = oneMaterial(scarMaterial(0.6));
-  World world(def);
+  test::RockFallWorld rock(def, test::groundLaws(oneMaterial(scarMaterial(0.6))));
+  World& world = rock.world;
   auto s = test::boxShape(0.4, 0.4, 0.1, 800, 4);
   BodyDef bd;
   bd.shape = s;
@@ -193,14 +193,14 @@ TEST(ScarDrag, ARockThatReboundsLeavesTheLayer) {
   bool scarred = false, rebounded = false;
   while (world.time() < 1.0 && !rebounded) {
     world.step(dt);
-    scarred = scarred || world.scarDepth(0) > 0;
-    rebounded = scarred && world.scarDepth(0) == 0 && world.velocity(0).z() > 0;
+    scarred = scarred || rock.rockFall.scarDepth(0) > 0;
+    rebounded = scarred && rock.rockFall.scarDepth(0) == 0 && world.velocity(0).z() > 0;
   }
   ASSERT_TRUE(rebounded);
   const double vx = world.velocity(0).x();
   for (int i = 0; i < 50; ++i) {  // 0.05 s of the 0.3 s flight
     world.step(dt);
-    EXPECT_EQ(world.scarDepth(0), 0.0);
+    EXPECT_EQ(rock.rockFall.scarDepth(0), 0.0);
   }
   EXPECT_NEAR(world.velocity(0).x(), vx, 1e-12);
 }
@@ -227,8 +227,8 @@ TEST(ScarDrag, AScarMaterialABodyNeverTouchesChangesNoBit) {
     }
     WorldDef def;
     def.terrain = terrain;
-    def.ground = g;
-    World world(def);
+    test::RockFallWorld rock(def, test::groundLaws(g));
+    World& world = rock.world;
     auto s = test::boxShape(0.4, 0.3, 0.2, 2600, 3);
     BodyDef bd;
     bd.shape = s;

@@ -80,8 +80,8 @@ TEST(SlipLaw, ASlidingBlockDeceleratesByMuOfItsSlippageTimesG) {
   WorldDef def;
   def.groundHeight = 0.0;
   def.step = StepRule::fixed(dt);
-  def.ground = oneMaterial(m);
-  World world(def);
+  test::RockFallWorld rock(def, test::groundLaws(oneMaterial(m)));
+  World& world = rock.world;
   auto s = flatBlock();
   BodyDef b;
   b.shape = s;
@@ -110,7 +110,7 @@ TEST(SlipLaw, ASlidingBlockDeceleratesByMuOfItsSlippageTimesG) {
     const double tolV = kG * dt * (m.muMax + muSlope * v0 * t) * std::cosh(w * t);
     const double tolS = tolV * t + v0 * dt;
     EXPECT_NEAR(world.velocity(0).x(), v, tolV) << "t = " << t;
-    EXPECT_NEAR(world.slippage(0), sr, tolS) << "t = " << t;
+    EXPECT_NEAR(rock.rockFall.slippage(0), sr, tolS) << "t = " << t;
     moved = moved || v > 0;
   }
   ASSERT_TRUE(moved);
@@ -121,7 +121,7 @@ TEST(SlipLaw, ASlidingBlockDeceleratesByMuOfItsSlippageTimesG) {
   ref.at(v0, 1.0, vEnd, sEnd);
   EXPECT_EQ(vEnd, 0.0);
   EXPECT_LT(world.velocity(0).norm(), kG * dt);
-  EXPECT_NEAR(world.slippage(0), world.state(0).x.x(), 2 * v0 * dt);
+  EXPECT_NEAR(rock.rockFall.slippage(0), world.state(0).x.x(), 2 * v0 * dt);
   EXPECT_NEAR(world.state(0).x.y(), 0, 1e-9);
 }
 
@@ -142,9 +142,9 @@ TEST(SlipLaw, ANewtonImpactWithEpsNZeroLeavesNoRebound) {
     WorldDef def;
     def.groundHeight = 0.0;
     def.step = StepRule::fixed(dt);
-    def.ground = oneMaterial(m);
     def.solverIterations = 1000;
-    World world(def);
+    test::RockFallWorld rock(def, test::groundLaws(oneMaterial(m)));
+    World& world = rock.world;
     auto s = flatBlock();
     BodyDef b;
     b.shape = s;
@@ -192,8 +192,9 @@ TEST(SlipLaw, SlippageDecaysOutOfContactAsExpOfMinusBetaT) {
   WorldDef def;
   def.groundHeight = 0.0;
   def.step = StepRule::fixed(dt);
-  def.ground = oneMaterial(slipMaterial(0.2, 1.3, 0.7, beta, 0.6));
-  World world(def);
+  test::RockFallWorld rock(def,
+                           test::groundLaws(oneMaterial(slipMaterial(0.2, 1.3, 0.7, beta, 0.6))));
+  World& world = rock.world;
   auto s = flatBlock();
   BodyDef b;
   b.shape = s;
@@ -203,14 +204,14 @@ TEST(SlipLaw, SlippageDecaysOutOfContactAsExpOfMinusBetaT) {
   double s0 = 0, t0 = -1;
   bool rising = false;
   while (world.time() < 1.0) {
-    const double before = world.slippage(0);
+    const double before = rock.rockFall.slippage(0);
     world.step(dt);
-    if (world.slippage(0) > before) {  // grew: a step in contact
-      s0 = world.slippage(0), t0 = world.time();
+    if (rock.rockFall.slippage(0) > before) {  // grew: a step in contact
+      s0 = rock.rockFall.slippage(0), t0 = world.time();
       continue;
     }
     if (t0 < 0) {
-      EXPECT_EQ(world.slippage(0), 0.0) << "s before the first contact";
+      EXPECT_EQ(rock.rockFall.slippage(0), 0.0) << "s before the first contact";
       continue;
     }
     rising = rising || world.velocity(0).z() > 0;
@@ -220,8 +221,8 @@ TEST(SlipLaw, SlippageDecaysOutOfContactAsExpOfMinusBetaT) {
   ASSERT_TRUE(rising) << "the block rebounded";
   const double flight = world.time() - t0;
   EXPECT_GT(flight, 0.15);  // about 0.6 * 3.1 m/s / g = 0.19 s to the apex
-  EXPECT_NEAR(world.slippage(0) / (s0 * std::exp(-beta * flight)), 1.0, 1e-12);
-  EXPECT_LT(world.slippage(0), 0.5 * s0);
+  EXPECT_NEAR(rock.rockFall.slippage(0) / (s0 * std::exp(-beta * flight)), 1.0, 1e-12);
+  EXPECT_LT(rock.rockFall.slippage(0), 0.5 * s0);
 }
 
 // Mixed ground: a class raster with the slip preset on x < -0.5 m and a STONE material (Coulomb
@@ -246,8 +247,8 @@ TEST(SlipLaw, OnMixedGroundSlippageGrowsOnSlipClassesAndStoneActsOnItsOwn) {
   WorldDef def;
   def.terrain = terrain;
   def.step = StepRule::fixed(dt);
-  def.ground = g;
-  World world(def);
+  test::RockFallWorld rock(def, test::groundLaws(g));
+  World& world = rock.world;
   auto s = flatBlock();
   BodyDef b;
   b.shape = s;
@@ -259,17 +260,17 @@ TEST(SlipLaw, OnMixedGroundSlippageGrowsOnSlipClassesAndStoneActsOnItsOwn) {
   // centre is more than 0.25 m from there.
   bool sawSlip = false, sawStone = false;
   while (world.time() < 3.0 && world.velocity(0).norm() > 0.5) {
-    const double x = world.state(0).x.x(), sBefore = world.slippage(0);
+    const double x = world.state(0).x.x(), sBefore = rock.rockFall.slippage(0);
     const Vec3 vBefore = world.velocity(0);
     world.step(dt);
     const double x1 = world.state(0).x.x();
     if (x > -2.9 && x1 < -0.8) {  // on slip ground, in contact: s grows by |v| dt
       sawSlip = true;
-      EXPECT_NEAR(world.slippage(0) - sBefore, world.velocity(0).norm() * world.lastStep().dt,
-                  1e-12);
+      EXPECT_NEAR(rock.rockFall.slippage(0) - sBefore,
+                  world.velocity(0).norm() * world.lastStep().dt, 1e-12);
     } else if (x > -0.2) {  // on STONE ground: s decays at the slip class's beta, v by mu g dt
       sawStone = true;
-      EXPECT_EQ(world.slippage(0), sBefore * std::exp(-slip.beta * world.lastStep().dt));
+      EXPECT_EQ(rock.rockFall.slippage(0), sBefore * std::exp(-slip.beta * world.lastStep().dt));
       // Coulomb at the STONE material's mu: the friction impulse per unit mass is at most mu
       // times the normal one, N = g dt + dv_z on level ground, and along the slide at least
       // mu N cos(phi), phi the largest angle between a contact point's slip and the centre's
@@ -288,9 +289,10 @@ TEST(SlipLaw, OnMixedGroundSlippageGrowsOnSlipClassesAndStoneActsOnItsOwn) {
   EXPECT_TRUE(sawSlip);
   EXPECT_TRUE(sawStone);
   world.advanceTo(world.time() + 3.0);
-  ASSERT_EQ(world.outcomes().size(), 1u);
-  EXPECT_EQ(world.outcomes()[0].bounces, 0) << "a touch on slip ground counted as STONE bounce";
-  EXPECT_EQ(world.outcomes()[0].state, RockState::kStopped);
+  ASSERT_EQ(rock.rockFall.outcomes().size(), 1u);
+  EXPECT_EQ(rock.rockFall.outcomes()[0].bounces, 0)
+      << "a touch on slip ground counted as STONE bounce";
+  EXPECT_EQ(rock.rockFall.outcomes()[0].state, RockState::kStopped);
 }
 
 }  // namespace vf
@@ -311,9 +313,9 @@ TEST(SlipLaw, TheSameBitsOnAnyThreadCount) {
   auto run = [&](int threads, double& s0) {
     WorldDef def;
     def.terrain = terrain;
-    def.ground = g;
     def.threads = threads;
-    World world(def);
+    test::RockFallWorld rock(def, test::groundLaws(g));
+    World& world = rock.world;
     auto s = test::boxShape(0.4, 0.4, 0.1, 800, 3);
     for (int i = 0; i < 6; ++i) {
       BodyDef b;
@@ -324,7 +326,7 @@ TEST(SlipLaw, TheSameBitsOnAnyThreadCount) {
       world.addBody(b);
     }
     world.advanceTo(1.0);
-    s0 = world.slippage(0);
+    s0 = rock.rockFall.slippage(0);
     return world.stepsHash();
   };
   double s1 = 0, s2 = 0, s3 = 0;

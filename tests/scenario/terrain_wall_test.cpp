@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <string>
 
+#include "sim/ground/rock_fall.h"
 #include "sim/ground/rock_monitor.h"
 #include "sim/recorder.h"
 #include "sim/scene/scene.h"
@@ -72,7 +73,7 @@ TEST(TerrainWall, APileShovedAgainstTheGridBorderStaysOutOfTheTerrain) {
     EXPECT_EQ(s.tunnelled, 0) << "extensions " << extensions;
     // None was found below the surface (pushed out or buried by the rock monitor), and every
     // one is still on the floor side of the border: its centre west of it.
-    for (const std::string& m : w.terrainMessages()) ADD_FAILURE() << m;
+    for (const std::string& m : built.rockFall->terrainMessages()) ADD_FAILURE() << m;
     for (int i = 0; i < w.bodyCount(); ++i) {
       EXPECT_TRUE(w.isActive(i)) << "rock " << i;
       EXPECT_LT(w.state(i).x.x(), kBorder) << "rock " << i << " extensions " << extensions;

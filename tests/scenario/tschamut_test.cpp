@@ -16,6 +16,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "sim/ground/rock_fall.h"
 #include "sim/ground/rock_monitor.h"
 #include "sim/scene/scene.h"
 #include "tests/support/test_world.h"
@@ -67,9 +68,10 @@ SiteResult runSite(const std::string& scene) {
     one.bodies = {all.bodies[i]};
     BuiltScene built = buildScene(one);
     World& w = *built.world;
-    while (w.time() < one.duration - 1e-9 && !w.allSettled())
+    const RockFall& rockFall = *built.rockFall;
+    while (w.time() < one.duration - 1e-9 && !rockFall.allSettled(w.bodies()))
       w.advanceTo(std::min(one.duration, w.time() + 0.5));
-    const RockOutcome& r = w.outcomes()[0];
+    const RockOutcome& r = rockFall.outcomes()[0];
     std::printf("%s run %s: %s after %.1f s, runout %.1f m (observed %.1f m)\n", scene.c_str(),
                 runs[i].id.c_str(), rockStateName(r.state), r.endTime, r.runout(),
                 runs[i].observedRunout);

@@ -30,7 +30,8 @@ Outcome throwAtBarrier(double capacity) {
   WorldDef def;
   def.gravity = Vec3::Zero();
   def.terrain = flat;
-  World w(def);
+  test::RockFallWorld withRockFall(def, {});  // with the rock monitor, as a scene on terrain has
+  World& w = withRockFall.world;
   BodyDef rock;
   rock.shape = test::boxShape(kSide, kSide, kSide, kDensity, 4);
   rock.position = Vec3(5, 10, 1.5);

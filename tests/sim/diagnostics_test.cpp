@@ -87,7 +87,8 @@ TEST(Diagnostics, BodyBelowTheTerrain) {
   // 0.04 m under the surface.
   WorldDef def;
   def.terrain = std::make_shared<Heightfield>(test::flatHeightfield(5, 5, 1, 0.5, -2, -2));
-  World world(def);
+  test::RockFallWorld rock(def, {});  // with the rock monitor, as a scene on terrain has
+  World& world = rock.world;
   world.addBody(bodyAt(test::boxShape(0.2, 0.2, 0.2, 800, 3), Vec3(0.3, -0.4, 0.56)));
   Diagnostics d = world.measure();
   EXPECT_NEAR(d.maxPenetrationBodyGround, 0.04, kRounding);

@@ -155,8 +155,7 @@ TEST_F(EnsembleRunTest, ReleasesLieInTheAreaOnTheLineOrOnThePoints) {
     const Ensemble e(load(
         "shape = \"rock\"\nrelease = { area = [[1004, 5004], [1014, 5004], [1004, 5020]] }\n"));
     for (int i = 0; i < 40; ++i) {
-      const auto w = e.makeWorld(realisationSeed(1, i));
-      const Vec3 x = w->state(0).x;
+      const Vec3 x = e.makeWorld(realisationSeed(1, i)).world->state(0).x;
       EXPECT_GE(x.x(), 4);
       EXPECT_GE(x.y(), 4);
       EXPECT_LE((x.x() - 4) / 10 + (x.y() - 4) / 16, 1 + 1e-12) << "outside the triangle";
@@ -169,7 +168,7 @@ TEST_F(EnsembleRunTest, ReleasesLieInTheAreaOnTheLineOrOnThePoints) {
     const Ensemble e(load(test::kChuteEnsemble));
     double yMin = 1e9, yMax = -1e9;
     for (int i = 0; i < 40; ++i) {
-      const Vec3 x = e.makeWorld(realisationSeed(1, i))->state(0).x;
+      const Vec3 x = e.makeWorld(realisationSeed(1, i)).world->state(0).x;
       EXPECT_DOUBLE_EQ(x.x(), 5.0);
       yMin = std::min(yMin, x.y());
       yMax = std::max(yMax, x.y());
@@ -184,7 +183,7 @@ TEST_F(EnsembleRunTest, ReleasesLieInTheAreaOnTheLineOrOnThePoints) {
         load("shape = \"rock\"\nrelease = { points = [[1005, 5007], [1009, 5015]] }\n"));
     int first = 0;
     for (int i = 0; i < 40; ++i) {
-      const Vec3 x = e.makeWorld(realisationSeed(1, i))->state(0).x;
+      const Vec3 x = e.makeWorld(realisationSeed(1, i)).world->state(0).x;
       const bool a = x.x() == 5 && x.y() == 7, b = x.x() == 9 && x.y() == 15;
       EXPECT_TRUE(a || b) << x.transpose();
       first += a;
@@ -213,7 +212,7 @@ TEST_F(EnsembleRunTest, ReleasesFromASourceRasterLieInItsSourceCells) {
   const Ensemble e(load("shape = \"rock\"\nrelease = { cells = \"sources.tif\" }\n"));
   int inFirst = 0;
   for (int i = 0; i < 40; ++i) {
-    const Vec3 x = e.makeWorld(realisationSeed(1, i))->state(0).x;
+    const Vec3 x = e.makeWorld(realisationSeed(1, i)).world->state(0).x;
     // World x of sample (i, j) is 1 + 2 i (DEM x0 = 1001 minus the offset 1000), y is 1 + 2 j.
     const bool a = std::abs(x.x() - 7) <= 1 && std::abs(x.y() - 9) <= 1;
     const bool b = std::abs(x.x() - 21) <= 1 && std::abs(x.y() - 17) <= 1;
@@ -276,9 +275,9 @@ TEST_F(EnsembleRunTest, MaterialRangesAreDrawnPerRealisation) {
   const Ensemble e(load(std::string(test::kChuteEnsemble) + "friction = [0.2, 0.9]\n"));
   std::set<double> restitution, friction;
   for (int i = 0; i < 10; ++i) {
-    const auto w = e.makeWorld(realisationSeed(1, i));
-    ASSERT_TRUE(w->def().ground);
-    const GroundMaterial& m = w->def().ground->materials[0];
+    const RealisationWorld w = e.makeWorld(realisationSeed(1, i));
+    ASSERT_TRUE(w.rockFall->def().ground);
+    const GroundMaterial& m = w.rockFall->def().ground->materials[0];
     EXPECT_GE(m.restitution, 0.3);
     EXPECT_LT(m.restitution, 0.4);
     EXPECT_GE(m.friction, 0.2);
@@ -300,13 +299,14 @@ TEST_F(EnsembleRunTest, PerCellVariabilityIsDrawnPerRealisationAndRepeats) {
   const Ensemble varied(load(test::kChuteEnsemble, 1.0, "variability = 0.1\n"));
   std::set<std::uint64_t> seeds;
   for (int i = 0; i < 5; ++i) {
-    const auto w = varied.makeWorld(realisationSeed(1, i));
-    ASSERT_TRUE(w->def().ground);
-    EXPECT_EQ(w->def().ground->variability, 0.1);
-    EXPECT_EQ(w->def().ground->variabilitySeed,
-              varied.makeWorld(realisationSeed(1, i))->def().ground->variabilitySeed);
-    seeds.insert(w->def().ground->variabilitySeed);
-    EXPECT_TRUE(w->state(0).x == plain.makeWorld(realisationSeed(1, i))->state(0).x);
+    const RealisationWorld w = varied.makeWorld(realisationSeed(1, i));
+    const GroundMap* ground = w.rockFall->def().ground.get();
+    ASSERT_TRUE(ground);
+    EXPECT_EQ(ground->variability, 0.1);
+    EXPECT_EQ(ground->variabilitySeed,
+              varied.makeWorld(realisationSeed(1, i)).rockFall->def().ground->variabilitySeed);
+    seeds.insert(ground->variabilitySeed);
+    EXPECT_TRUE(w.world->state(0).x == plain.makeWorld(realisationSeed(1, i)).world->state(0).x);
   }
   EXPECT_EQ(seeds.size(), 5u);
   const std::vector<std::int64_t> indices = {0, 1, 2};
@@ -332,13 +332,13 @@ TEST_F(EnsembleRunTest, SubsetBakeHoldsEachRealisationsStateAtTheFrameTimes) {
   for (std::size_t b = 0; b < chosen.size(); ++b) {
     // The realisation alone, read by a Recorder (not by the bake's own loop), compared while
     // its rock is still moving.
-    const auto w = e.makeWorld(realisationSeed(5, chosen[b]));
-    Recorder recorder(*w, e.spec().fps, 2.0);
+    const RealisationWorld made = e.makeWorld(realisationSeed(5, chosen[b]));
+    Recorder recorder(*made.world, e.spec().fps, 2.0);
     int compared = 0;
     for (int k = 0; k < frames; ++k) {
       const double t = k / e.spec().fps;
       recorder.advanceToFrame(k);
-      if (w->outcomes()[0].state != RockState::kMoving) break;
+      if (made.rockFall->outcomes()[0].state != RockState::kMoving) break;
       const BodyState y = recorder.frameStates()[0];
       const BakeRecord& r = bake.records[static_cast<std::size_t>(k)];
       EXPECT_EQ(r.time, t);
@@ -365,8 +365,9 @@ TEST_F(EnsembleRunTest, SubsetBakeEndsAtTheFrameWhereItsLastRealisationHasEnded)
     // The realisation alone, step by step until its rock has ended: the first frame time at
     // or after the step that ended it (the bake's loop takes a step ending within
     // kTimeTolerance after a frame time with that frame).
-    const auto w = e.makeWorld(realisationSeed(5, i));
-    while (w->outcomes()[0].state == RockState::kMoving) w->stepNext();
+    const RealisationWorld made = e.makeWorld(realisationSeed(5, i));
+    const auto& w = made.world;
+    while (made.rockFall->outcomes()[0].state == RockState::kMoving) w->stepNext();
     int k = 0;
     while (w->time() > k / fps + kTimeTolerance) ++k;
     ASSERT_LT(k, Recorder::frameCountFor(fps, 120.0) - 1) << "realisation " << i;

@@ -12,6 +12,7 @@
 
 #include "sim/core/error.h"
 #include "sim/ground/forest.h"
+#include "sim/ground/rock_fall.h"
 #include "sim/scene/scene.h"
 #include "tests/support/chute_dem.h"
 
@@ -186,7 +187,8 @@ TEST_F(ForestInput, TheSceneTableNamesAMissingFileAndRefusesANegativeNumber) {
     test::writeChuteScene(dir_, test::kChuteEnsemble, 3.0);
     std::ofstream(dir_ / "scene.toml", std::ios::app) << "[forest]\n" << forest;
     try {
-      sceneWorldDef(loadScene((dir_ / "scene.toml").string()));
+      const SceneSpec spec = loadScene((dir_ / "scene.toml").string());
+      sceneRockFallDef(spec, sceneWorldDef(spec).terrain);
     } catch (const InputError& e) {
       return std::string(e.what());
     }

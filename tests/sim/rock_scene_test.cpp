@@ -198,8 +198,9 @@ TEST_F(RockSceneTest, EnsembleDrawsFollowTheWeightsAndShareOneShapePerVariant) {
   std::vector<int> count(p.size(), 0);
   std::map<int, const Shape*> shapeOf;  // per variant, the one shape every realisation uses
   for (int i = 0; i < n; ++i) {
-    int shape = -1;
-    const auto w = ens.makeWorld(realisationSeed(ens.ensemble().seed, i), &shape);
+    const RealisationWorld made = ens.makeWorld(realisationSeed(ens.ensemble().seed, i));
+    const auto& w = made.world;
+    const int shape = made.shape;
     ASSERT_GE(shape, 0);
     ++count[static_cast<std::size_t>(shape)];
     const auto [it, added] = shapeOf.emplace(shape, &w->shape(0));

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "sim/core/error.h"
+#include "sim/ground/rock_fall.h"
 #include "sim/scene/scene.h"
 #include "tests/support/scene_file_test.h"
 
@@ -624,7 +625,7 @@ TEST_F(SceneTest, GroundMaterialsByNameOrByClassRaster) {
           "[ground.materials.meadow]\nrolling_resistance = 0.9\nrestitution = 0.1\n"
           "tangential_restitution = 0.45\n");
   const BuiltScene built = buildScene(loadScene(path));
-  const GroundMap& g = *built.world->def().ground;
+  const GroundMap& g = *built.rockFall->def().ground;
   // STONE table (Guzzetti et al. 2002): non-schist bedrock 0.30 / Rn 65 % / Rt 75 %, colluvial
   // 0.80 / 15 % / 40 %.
   EXPECT_EQ(g.at(4, 4).name, "meadow");
@@ -641,7 +642,7 @@ TEST_F(SceneTest, GroundMaterialsByNameOrByClassRaster) {
   EXPECT_EQ(g.at(10, 0).tangentialRestitution, 0.75);
   // Without `material` the paper's model stands: no ground map at all.
   const std::string plain = write("plain.toml", kShape + "[ground]\nheightfield = \"dem.asc\"\n");
-  EXPECT_EQ(buildScene(loadScene(plain)).world->def().ground, nullptr);
+  EXPECT_EQ(buildScene(loadScene(plain)).rockFall->def().ground, nullptr);
   expectError(kShape + "[ground.materials.scree]\ntangential_restitution = 1.5\n", "1.5",
               "'tangential_restitution' must be between 0 and 1, got 1.5");
   expectError(kShape + "[ground]\nplane = 0\nmaterial = \"bedrok\"\n", "\"bedrok\"",
@@ -673,7 +674,7 @@ TEST_F(SceneTest, SlipLawPresetsCustomMaterialsAndVariability) {
                         "[ground.materials.scar]\nlaw = \"slip\"\nmu_min = 0.3\nmu_max = 0.9\n"
                         "kappa = 2\nbeta = 50\n");
   const BuiltScene built = buildScene(loadScene(path));
-  const GroundMap& g = *built.world->def().ground;
+  const GroundMap& g = *built.rockFall->def().ground;
   // A slip material's numbers (mu_min, mu_max, kappa, beta, eps_N) and a word of its source.
   auto expectSlip = [](const GroundMaterial& m, std::array<double, 5> v, const std::string& word) {
     EXPECT_EQ(m.law, GroundLawKind::kSlip) << m.name;
@@ -701,7 +702,7 @@ TEST_F(SceneTest, SlipLawPresetsCustomMaterialsAndVariability) {
   const std::string stone =
       write("stone.toml", kShape + "[ground]\nplane = 0\nmaterial = \"bedrock\"\n");
   const BuiltScene stoneBuilt = buildScene(loadScene(stone));  // owns the ground map below
-  const GroundMap& s = *stoneBuilt.world->def().ground;
+  const GroundMap& s = *stoneBuilt.rockFall->def().ground;
   EXPECT_FALSE(s.hasSlip());
   EXPECT_EQ(s.variability, 0.0);
 }
@@ -747,7 +748,7 @@ TEST_F(SceneTest, RockfallRunKeys) {
   EXPECT_EQ(spec.terrainEdge, TerrainEdge::kWall);
   const BuiltScene built = buildScene(spec);
   EXPECT_EQ(built.world->def().rotation, RotationUpdate::kMidpoint);
-  EXPECT_EQ(built.world->def().terrainEdge, TerrainEdge::kWall);
+  EXPECT_EQ(built.rockFall->def().terrainEdge, TerrainEdge::kWall);
   // Defaults: the paper's rotation update, run to the duration, edge policy automatic.
   const SceneSpec plain = loadScene(write("plain.toml", kShape));
   EXPECT_EQ(plain.rotation, RotationUpdate::kExplicitEuler);

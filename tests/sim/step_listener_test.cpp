@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sim/ground/forest_law.h"
+#include "sim/ground/rock_fall_world.h"
 #include "sim/world.h"
 #include "tests/support/test_world.h"
 
@@ -116,21 +117,73 @@ TEST(StepListener, ARunawayFromBeforeMoveStopsTheRunBeforeAnythingMoves) {
   EXPECT_EQ(stop->calls, 3) << "a stopped world takes no more steps";
 }
 
-TEST(StepListener, AWorldWithoutRockFallInputsReadsNoRockFall) {
-  // No ground map, forest or terrain: no rock-fall listener, and its readouts are empty.
+TEST(StepListener, AListenerAttachedLaterRunsBeforeTheRunGuard) {
+  // A box thrown at 5 m/s, over a speed bound of 1 m/s: the run guard stops the first step in
+  // beforeMove. A listener attached after the World was built stops it there too; the run's
+  // reason is the listener's, so the guard came after it.
+  WorldDef def;
+  def.limits.maxSpeed = 1.0;
+  World world(def);
+  world.attach(std::make_unique<Stopper>(1));
+  BodyDef b = test::bodyAt(test::boxShape(0.2, 0.2, 0.2, 800, 2), Vec3(0, 0, 10));
+  b.velocity = Vec3(5, 0, 0);
+  world.addBody(b);
+  EXPECT_THROW(world.step(0.01), RunawayError);
+  ASSERT_TRUE(world.runaway().has_value());
+  EXPECT_EQ(world.runaway()->quantity, "test");
+
+  World guarded(def);
+  guarded.addBody(b);
+  EXPECT_THROW(guarded.step(0.01), RunawayError);
+  EXPECT_EQ(guarded.runaway()->quantity, "speed") << "the guard alone stops it";
+}
+
+// Rock fall attached where a world is built (sim/ground/rock_fall_world.h) takes the terrain and
+// the floor from the world: a box sliding east off a 20 m grid at 3 m/s onto a floor plane level
+// with it. The rock monitor, given the terrain, meets the box at addBody; given the floor, its
+// `auto` edge keeps the box moving on the floor past the grid (without a floor it would remove
+// it there, rockfall_test).
+TEST(StepListener, RockFallTakesTheWorldsTerrainAndFloor) {
   WorldDef def;
   def.groundHeight = 0.0;
+  def.terrain = std::make_shared<const Heightfield>(test::flatHeightfield(21, 21, 1.0, 0.0));
+  def.contact.frictionBodyGround = 0.0;
   World world(def);
+  const RockFall& rockFall = attachRockFall(world, {});
   auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
+  BodyDef b = test::bodyAt(s, Vec3(18, 10, test::restOffset(*s)));
+  b.velocity = Vec3(3, 0, 0);
+  world.addBody(b);
+  ASSERT_EQ(rockFall.outcomes().size(), 1u) << "the monitor has the terrain";
+  EXPECT_TRUE(rockFall.outcomes()[0].released);
+  world.advanceTo(1.5);  // crosses x = 20 after 0.67 s
+  EXPECT_GT(world.state(0).x.x(), 21.0);
+  EXPECT_TRUE(world.isActive(0)) << "kept on the floor";
+  EXPECT_EQ(rockFall.outcomes()[0].state, RockState::kMoving);
+  EXPECT_TRUE(rockFall.terrainMessages().empty());
+}
+
+TEST(StepListener, IdleRockFallLeavesTheStepAsItWas) {
+  // No ground map, forest or terrain: rock fall attached or not, the same states after every
+  // step (the checksum), and its readouts are empty.
+  WorldDef def;
+  def.groundHeight = 0.0;
+  auto s = test::boxShape(0.2, 0.2, 0.2, 800, 2);
+  World plain(def);
+  plain.addBody(test::bodyAt(s, Vec3(0, 0, 1)));
+  plain.advanceTo(1.0);
+  World world(def);
+  const RockFall& rockFall = attachRockFall(world, {});
   world.addBody(test::bodyAt(s, Vec3(0, 0, 1)));
-  world.advanceTo(0.5);
-  EXPECT_TRUE(world.outcomes().empty());
-  EXPECT_FALSE(world.allSettled());
-  EXPECT_TRUE(world.stopReason().empty());
-  EXPECT_TRUE(world.terrainMessages().empty());
-  EXPECT_EQ(world.treeHits(0).hits, 0);
-  EXPECT_EQ(world.slippage(0), 0.0);
-  EXPECT_EQ(world.scarDepth(0), 0.0);
+  world.advanceTo(1.0);
+  EXPECT_EQ(world.stepsHash(), plain.stepsHash());
+  EXPECT_TRUE(rockFall.outcomes().empty());
+  EXPECT_FALSE(rockFall.allSettled(world.bodies()));
+  EXPECT_TRUE(rockFall.stopReason().empty());
+  EXPECT_TRUE(rockFall.terrainMessages().empty());
+  EXPECT_EQ(rockFall.treeHits(0).hits, 0);
+  EXPECT_EQ(rockFall.slippage(0), 0.0);
+  EXPECT_EQ(rockFall.scarDepth(0), 0.0);
 }
 
 }  // namespace

@@ -4,9 +4,11 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/geometry/tri_mesh.h"
+#include "sim/ground/rock_fall_world.h"
 #include "sim/shape/heightfield.h"
 #include "sim/shape/shape.h"
 #include "sim/world.h"
@@ -37,6 +39,23 @@ struct Rebound {
   double apex = 0;                 // m above zTouch
 };
 Rebound dropAndWatchRebound(World& world, double zTouch, double dt, double until);
+
+// A world with rock fall attached (sim/ground/rock_fall_world.h) before any body, as a scene
+// builds one.
+struct RockFallWorld {
+  RockFallWorld(WorldDef def, RockFallDef rockFallDef)
+      : world(std::move(def)), rockFall(attachRockFall(world, std::move(rockFallDef))) {}
+  bool allSettled() const { return rockFall.allSettled(world.bodies()); }
+  World world;
+  RockFall& rockFall;
+};
+
+// Rock fall with ground map `ground` and every other setting at its default.
+inline RockFallDef groundLaws(std::shared_ptr<const GroundMap> ground) {
+  RockFallDef def;
+  def.ground = std::move(ground);
+  return def;
+}
 
 // A level heightfield: nx x ny samples `cell` m apart from (x0, y0), all at height z (m).
 Heightfield flatHeightfield(int nx, int ny, double cell, double z, double x0 = 0, double y0 = 0);
