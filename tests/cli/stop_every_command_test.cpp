@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <ostream>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -236,6 +237,11 @@ struct StopParam {
   std::size_t row;
   int signal;
 };
+
+// How test names and failures show a row: the command and the signal.
+void PrintTo(const StopParam& p, std::ostream* out) {
+  *out << stopCases()[p.row].command << (p.signal == SIGINT ? " SIGINT" : " SIGTERM");
+}
 
 class StopEveryCommand : public ::testing::TestWithParam<StopParam> {
  protected:
