@@ -56,10 +56,10 @@ int main(int argc, char** argv) {
   vf::cli::addSimulateCommand(app, exitCode);
   vf::cli::addRenderCommand(app, exitCode);  // RENDER-COMMAND (render/cli/render_command.cpp)
   vf::cli::addExportCommand(app, exitCode);
-  // Visual regression tests: render/cli/diff_command.cpp and regress_command.cpp.
+  // Visual regression tests: render/run/diff_run.h and regress_run.h.
   vf::cli::addDiffCommand(app, exitCode);
   vf::cli::addRegressCommand(app, exitCode);
-  // Figures for papers: render/cli/figures_command.cpp (render/figures/).
+  // Figures for papers: render/run/figures_run.h (render/figures/).
   vf::cli::addFiguresCommand(app, exitCode);
   vf::cli::addFilmstripCommand(app, exitCode);
   vf::cli::addPlotCommand(app, exitCode);

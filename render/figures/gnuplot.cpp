@@ -1,7 +1,8 @@
 // gnuplot is driven with a script file (never by parsing its output): the script is written to
-// a scratch folder of its own, gnuplot runs it once, writing the figure's files under temporary
-// names next to the final ones, and those are renamed when gnuplot exits cleanly. A failure
-// removes the temporaries and reports gnuplot's first error line.
+// a scratch folder of its own, gnuplot runs it once (a helper program of output_file.h, so a stop
+// signal ends it with the run), writing the figure's files under the temporary names of their
+// OutputFiles, which are renamed when gnuplot exits cleanly. A failure removes the temporaries and
+// reports gnuplot's first error line.
 #include "render/figures/gnuplot.h"
 
 #include <unistd.h>
@@ -10,7 +11,6 @@
 #include <array>
 #include <atomic>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -27,13 +27,6 @@ namespace fs = std::filesystem;
 // Colour-blind-safe palette (Okabe & Ito), shared by every figure.
 constexpr std::array<const char*, 7> kPalette{"#0072B2", "#D55E00", "#009E73", "#CC79A7",
                                               "#E69F00", "#56B4E9", "#000000"};
-
-// A shell single-quoted word.
-std::string shellWord(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
 
 std::string seriesClause(const Series& s) {
   if (s.hollow && !s.title.empty())
@@ -93,16 +86,6 @@ std::string body(const Figure& f) {
   return o.str();
 }
 
-std::string partialName(const std::string& path) {
-  const fs::path p(path);
-  std::string name = ".";  // appended piecewise: GCC 12 warns wrongly on one long concatenation
-  name += p.filename().string();
-  name += ".partial-";
-  name += std::to_string(::getpid());
-  name += p.extension().string();
-  return (p.parent_path() / name).string();
-}
-
 // The pngcairo terminal every figure uses.
 std::string pngTerminal(const Figure& f) {
   return "set terminal pngcairo noenhanced size " + std::to_string(f.width) + "," +
@@ -153,8 +136,7 @@ void runGnuplot(const std::string& script, const std::string& where) {
     s << script;
     if (!s) throw InputError(where, "cannot write the gnuplot script " + scriptPath);
   }
-  const std::string command = "gnuplot " + shellWord(scriptPath) + " >" + shellWord(log) + " 2>&1";
-  const int status = std::system(command.c_str());
+  const int status = runHelperProgram({"gnuplot", scriptPath}, log);
   if (status == 0) return;
   std::string firstError;
   std::ifstream l(log);
@@ -169,25 +151,21 @@ void runGnuplot(const std::string& script, const std::string& where) {
 }
 
 void drawFigure(const Figure& figure, const std::string& basePath) {
-  const std::string png = basePath + ".png", svg = basePath + ".svg";
-  const std::string pngTmp = partialName(png), svgTmp = partialName(svg);
-  const std::string script = pngTerminal(figure) + "set output " + gnuplotString(pngTmp) + "\n" +
-                             body(figure) + "set output\n" + "set terminal svg noenhanced size " +
-                             std::to_string(figure.width) + "," + std::to_string(figure.height) +
+  OutputFile png(basePath + ".png", replaceOutputs()), svg(basePath + ".svg", replaceOutputs());
+  png.closeStream();  // gnuplot writes the temporary files by name
+  svg.closeStream();
+  const std::string script = pngTerminal(figure) + "set output " + gnuplotString(png.tempPath()) +
+                             "\n" + body(figure) + "set output\n" +
+                             "set terminal svg noenhanced size " + std::to_string(figure.width) +
+                             "," + std::to_string(figure.height) +
                              " font 'DejaVu Sans,11' dynamic background '#ffffff'\nset output " +
-                             gnuplotString(svgTmp) + "\n" + body(figure) + "set output\n";
-  std::error_code ignored;
-  try {
-    runGnuplot(script, basePath);
-    if (!fs::exists(pngTmp) || !fs::exists(svgTmp))
-      throw InputError(basePath, "gnuplot failed (is gnuplot-nox installed?): no output written");
-  } catch (const InputError&) {
-    fs::remove(pngTmp, ignored);
-    fs::remove(svgTmp, ignored);
-    throw;
-  }
-  fs::rename(pngTmp, png);
-  fs::rename(svgTmp, svg);
+                             gnuplotString(svg.tempPath()) + "\n" + body(figure) + "set output\n";
+  runGnuplot(script, basePath);
+  std::error_code ec;
+  if (fs::file_size(png.tempPath(), ec) == 0 || fs::file_size(svg.tempPath(), ec) == 0)
+    throw InputError(basePath, "gnuplot failed (is gnuplot-nox installed?): no output written");
+  png.commit();
+  svg.commit();
 }
 
 void drawFigurePng(const Figure& figure, const std::string& pngPath, const OutputRules& rules) {

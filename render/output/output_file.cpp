@@ -1,6 +1,8 @@
 #include "render/output/output_file.h"
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -11,6 +13,7 @@
 #include <mutex>
 #include <set>
 #include <system_error>
+#include <vector>
 
 #include "sim/core/error.h"
 
@@ -25,6 +28,12 @@ namespace {
 // and raise() are async-signal-safe, so the handler does nothing else.
 constexpr int kMaxPending = 64;
 std::atomic<const char*> gPending[kMaxPending];
+// Child processes running now that may still write temporary files: helper programs
+// (runHelperProgram), ended with SIGKILL, and workers running voxfall's own code (forkWorker),
+// sent the stop signal so that their own handlers remove their temporary files.
+constexpr int kMaxChildren = 64;
+std::atomic<pid_t> gHelpers[kMaxChildren];
+std::atomic<pid_t> gWorkers[kMaxChildren];
 std::atomic<int> gStopSignal{0};
 std::atomic<bool> gGraceful{false};  // a command polls stopSignal() (installStopHandlers)
 
@@ -32,6 +41,19 @@ extern "C" void onStopSignal(int sig) {
   int none = 0;
   // The first signal to a command that polls: finish the frame in hand and stop.
   if (gGraceful.load() && gStopSignal.compare_exchange_strong(none, sig)) return;
+  // Helpers first: one left running could write a temporary file after it was removed.
+  for (auto& slot : gHelpers) {
+    if (const pid_t pid = slot.load(); pid > 0) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, nullptr, 0);
+    }
+  }
+  for (auto& slot : gWorkers) {
+    if (const pid_t pid = slot.load(); pid > 0) {
+      ::kill(pid, sig);  // its dispositions are this process's: it ends as this one does
+      ::waitpid(pid, nullptr, 0);
+    }
+  }
   for (auto& slot : gPending) {
     if (const char* p = slot.load()) ::unlink(p);
   }
@@ -63,6 +85,59 @@ void unregisterPending(const char* path) {
     const char* expected = path;
     if (slot.compare_exchange_strong(expected, nullptr)) return;
   }
+}
+
+void registerChild(std::atomic<pid_t> (&slots)[kMaxChildren], pid_t pid) {
+  for (auto& slot : slots) {
+    pid_t empty = 0;
+    if (slot.compare_exchange_strong(empty, pid)) return;
+  }
+}
+
+void unregisterChild(std::atomic<pid_t> (&slots)[kMaxChildren], pid_t pid) {
+  for (auto& slot : slots) {
+    pid_t expected = pid;
+    if (slot.compare_exchange_strong(expected, 0)) return;
+  }
+}
+
+// fork() with the stop signals blocked until the child is in `slots`, so the handler always
+// knows it. The child forgets its parent's children and gets the signal mask back.
+pid_t forkRegistered(std::atomic<pid_t> (&slots)[kMaxChildren], sigset_t& previous) {
+  ensureHandlers();
+  sigset_t stops;
+  sigemptyset(&stops);
+  sigaddset(&stops, SIGINT);
+  sigaddset(&stops, SIGTERM);
+  ::sigprocmask(SIG_BLOCK, &stops, &previous);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    for (auto& slot : gHelpers) slot.store(0);
+    for (auto& slot : gWorkers) slot.store(0);
+    return 0;  // the caller restores the mask
+  }
+  if (child > 0) registerChild(slots, child);
+  ::sigprocmask(SIG_SETMASK, &previous, nullptr);
+  return child;
+}
+
+// In the child of runHelperProgram: output to `log`, then the program. Only async-signal-safe
+// calls between fork and exec.
+[[noreturn]] void execHelper(char* const* argv, const char* log, const sigset_t& mask) {
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  ::sigprocmask(SIG_SETMASK, &mask, nullptr);
+  const int out = ::open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  const int in = ::open("/dev/null", O_RDONLY);
+  if (out >= 0) {
+    ::dup2(out, 1);
+    ::dup2(out, 2);
+  }
+  if (in >= 0) ::dup2(in, 0);
+  ::execvp(argv[0], argv);
+  static const char kNotFound[] = "cannot run the program: not found or not executable\n";
+  if (::write(2, kNotFound, sizeof kNotFound - 1) < 0) ::_exit(127);
+  ::_exit(127);
 }
 
 // The process id in a temporary name ".STEM.partial-PID-N.EXT", or 0 if `name` is not one.
@@ -196,6 +271,31 @@ void OutputFile::commit() {
   committed_ = true;
   unregisterPending(tempPath_.c_str());
 }
+
+int runHelperProgram(const std::vector<std::string>& argv, const std::string& logPath) {
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  sigset_t previous;
+  const pid_t child = forkRegistered(gHelpers, previous);
+  if (child == 0) execHelper(args.data(), logPath.c_str(), previous);
+  if (child < 0)
+    throw InputError(argv.front(), std::string("cannot start: ") + std::strerror(errno));
+  int status = 0;
+  while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  }
+  unregisterChild(gHelpers, child);
+  return status;
+}
+
+pid_t forkWorker() {
+  sigset_t previous;
+  const pid_t child = forkRegistered(gWorkers, previous);
+  if (child == 0) ::sigprocmask(SIG_SETMASK, &previous, nullptr);
+  return child;
+}
+
+void workerEnded(pid_t pid) { unregisterChild(gWorkers, pid); }
 
 void installStopHandlers() {
   gGraceful.store(true);

@@ -11,9 +11,12 @@
 // policy of render/run/stop_policy.h, which says what a stopped run writes and its exit
 // status) the first SIGINT or SIGTERM only raises a flag read between frames (stopSignal()),
 // so the run finishes the frame in hand and finalises what it has.
-// A second signal, or the first in a command that does not poll, removes every pending
-// temporary file and ends the process as the signal would.
+// A second signal, or the first in a command that does not poll, ends the helper programs and
+// worker processes running (runHelperProgram, forkWorker), removes every pending temporary file and
+// ends the process as the signal would.
 #pragma once
+
+#include <sys/types.h>
 
 #include <cstdio>
 #include <string>
@@ -72,6 +75,20 @@ class OutputFile {
 // run killed with SIGKILL (or by a crash, or a power cut) cannot remove its own. A file of a
 // process that still runs is kept. OutputFile calls this once per folder and process.
 void removeStalePartials(const std::string& folder);
+
+// Runs the program `argv` (argv[0] looked up on the PATH) with stdin from /dev/null and stdout
+// and stderr to `logPath`, waits for it and returns its wait status, as std::system would: for
+// helper programs that write this run's temporary files (gnuplot). Unlike std::system it leaves
+// SIGINT and SIGTERM to this process's handlers meanwhile, and a signal that ends this process
+// kills the helper before removing the temporary files, so none is written after.
+int runHelperProgram(const std::vector<std::string>& argv, const std::string& logPath);
+
+// fork() for a worker process that runs voxfall's own code and writes its own temporary files
+// (regress --jobs): a signal that ends this process first sends it the same signal, whose handler
+// removes the worker's temporary files, and waits for it. The parent calls workerEnded(pid) once
+// it has waited for the worker itself.
+pid_t forkWorker();
+void workerEnded(pid_t pid);
 
 // Makes the first SIGINT or SIGTERM a request to stop (see above). A signal the parent made
 // the process ignore stays ignored.

@@ -127,7 +127,9 @@ CaseResult runOrReport(const SuiteCase& c, const Suite& suite, const fs::path& r
 
 struct Worker {
   pid_t pid = -1;
-  fs::path results;  // one JSON result per line, in the order of its cases
+  // One JSON result per line, in the order of its cases: a temporary file, never committed, so
+  // it goes when read, or with the run when a signal ends it.
+  std::unique_ptr<OutputFile> results;
 };
 
 // A worker process: its own GL context, cases k, k + jobs, ...; never returns.
@@ -168,15 +170,6 @@ std::string exitWords(int status) {
   return "ended with exit code " + std::to_string(WEXITSTATUS(status));
 }
 
-// A worker's results file goes when its results have been read, or could not be.
-struct RemoveOnExit {
-  fs::path path;
-  ~RemoveOnExit() {
-    std::error_code ec;
-    fs::remove(path, ec);
-  }
-};
-
 // The cases' results in case order, and the GL description of the first worker.
 std::vector<CaseResult> runInWorkers(const std::vector<SuiteCase>& cases, const Suite& suite,
                                      const RegressRequest& r, const fs::path& reportDir,
@@ -186,19 +179,21 @@ std::vector<CaseResult> runInWorkers(const std::vector<SuiteCase>& cases, const 
   std::fflush(nullptr);  // nothing buffered may be written twice
   for (int k = 0; k < jobs; ++k) {
     Worker& w = workers[static_cast<std::size_t>(k)];
-    w.results = reportDir / (".regress-worker-" + std::to_string(::getpid()) + "-" +
-                             std::to_string(k) + ".jsonl");
-    w.pid = ::fork();
+    w.results = std::make_unique<OutputFile>(
+        (reportDir / ("regress-worker-" + std::to_string(k) + ".jsonl")).string(),
+        replaceOutputs());
+    w.results->closeStream();  // the worker writes it by name
+    w.pid = forkWorker();
     if (w.pid < 0) throw InputError(reportDir.string(), "cannot start a worker process");
-    if (w.pid == 0) workerMain(k, cases, suite, r, reportDir, w.results);
+    if (w.pid == 0) workerMain(k, cases, suite, r, reportDir, w.results->tempPath());
   }
   std::vector<CaseResult> results(cases.size());
   for (int k = 0; k < jobs; ++k) {
     Worker& w = workers[static_cast<std::size_t>(k)];
     int status = 0;
     ::waitpid(w.pid, &status, 0);
-    std::ifstream in(w.results);
-    const RemoveOnExit cleanup{w.results};
+    workerEnded(w.pid);
+    std::ifstream in(w.results->tempPath());
     std::string line;
     if (std::getline(in, line) && backend.empty()) backend = json::parse(line).get<std::string>();
     for (std::size_t i = static_cast<std::size_t>(k); i < cases.size();

@@ -1,5 +1,5 @@
-// How every voxfall run ends, and how it stops on SIGINT or SIGTERM: the one stop policy of the
-// commands that run work (simulate, render, export, ensemble).
+// How every voxfall run ends, and how it stops on SIGINT or SIGTERM: the one stop policy of every
+// command. The runs that poll are simulate, render, export and ensemble.
 //
 // A run that polls calls watchForStop() once its outputs are checked and opened; from then on
 // the first SIGINT or SIGTERM only raises a flag (render/output/output_file.h), which the run
@@ -11,7 +11,9 @@
 //     removed), says so (stoppedWithNothingWritten) and ends stopped.
 // A stopped run's exit status is 128 + the signal (130 for SIGINT, 143 for SIGTERM), what the
 // shell reports for a process the signal ended. A second signal, or the first in a command that
-// does not poll, removes the temporary files and ends the process as the signal would.
+// does not poll (filmstrip, diff, regress, figures, plot, ensemble-merge), ends the helper
+// programs and worker processes the run started, removes the temporary files and ends the
+// process as the signal would (render/output/output_file.h).
 #pragma once
 
 #include <string>

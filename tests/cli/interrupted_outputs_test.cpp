@@ -1,13 +1,12 @@
 // Interrupted means said, and no litter, with real child processes: an interrupted `simulate
 // --summary` writes a summary that says it was interrupted and at which frame; the stop policy
-// (render/run/stop_policy.h) of the commands that output_rules_test and ensemble_command_test do
-// not stop: `export` stopped while it simulates writes nothing and exits 130 / 143, `ensemble`
-// stopped by SIGTERM keeps its complete realisations and exits 143, and a command that does not
-// poll (`filmstrip`) is ended by the signal with its temporary file removed; the temporary
-// files of a run killed with SIGKILL are removed by the next run that writes into the same
-// folder (only those whose process is gone); and on a full disk (a small tmpfs, where this
-// machine lets the test mount one) a run fails with one clear error and leaves nothing but
-// complete files.
+// (render/run/stop_policy.h) of the polling commands that output_rules_test and
+// ensemble_command_test do not stop: `export` stopped while it simulates writes nothing and exits
+// 130 / 143, and `ensemble` stopped by SIGTERM keeps its complete realisations and exits 143 (the
+// commands that do not poll are stopped in stop_every_command_test); the temporary files of a
+// run killed with SIGKILL are removed by the next run that writes into the same folder (only
+// those whose process is gone); and on a full disk (a small tmpfs, where this machine lets the
+// test mount one) a run fails with one clear error and leaves nothing but complete files.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -145,17 +144,6 @@ TEST_F(InterruptedOutputs, AnEnsembleStoppedBySigtermKeepsItsCompleteRealisation
   EXPECT_EQ(json.at("interrupted").at("signal"), "SIGTERM") << json.dump();
   EXPECT_EQ(json.at("interrupted").at("runs").get<std::size_t>(), rows - 1) << json.dump();
   EXPECT_TRUE(partials(dir_ / "int").empty());
-}
-
-TEST_F(InterruptedOutputs, ACommandThatDoesNotPollEndsByTheSignalAndLeavesNoTemporaryFile) {
-  fs::create_directories(dir_ / "out");
-  // The filmstrip's PNG is open as a temporary file while the 600 s scene is simulated.
-  const int status = interrupt(
-      {"filmstrip", "long.toml", "--times", "590", "--size", "64x48", "-o", "out/strip.png"},
-      SIGTERM, [&] { return !partials(dir_ / "out").empty(); });
-  ASSERT_TRUE(WIFSIGNALED(status));
-  EXPECT_EQ(WTERMSIG(status), SIGTERM);
-  EXPECT_TRUE(fs::is_empty(dir_ / "out"));
 }
 
 TEST_F(InterruptedOutputs, AKilledRunsTemporaryFilesAreGoneAfterTheNextRun) {

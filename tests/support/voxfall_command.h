@@ -66,6 +66,10 @@ inline pid_t startVoxfall(const std::string& exe, const std::filesystem::path& d
                           const std::string& stderrFile = "") {
   const pid_t child = ::fork();
   if (child != 0) return child;
+  // As a shell's foreground command: a test run as a background job ignores SIGINT, and the
+  // command would inherit that and never see the signal a test sends.
+  ::signal(SIGINT, SIG_DFL);
+  ::signal(SIGTERM, SIG_DFL);
   if (::chdir(dir.c_str()) != 0) ::_exit(126);
   const int null = ::open("/dev/null", O_WRONLY);
   const int err =
