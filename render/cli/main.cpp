@@ -1,7 +1,7 @@
 // The voxfall command: subcommands register themselves (commands.h); main() owns the one place
 // where errors become a message and an exit code, so every failure is reported exactly once:
-//   0 success, 1 bad input or failed run, 2 usage error. SIGINT/SIGTERM end the process as
-// usual (shell status 130/143) after removing unfinished outputs (render/run/stop_policy.h).
+//   0 success, 1 bad input or failed run, 2 usage error, 128 + the signal (130, 143) for a run
+// stopped by SIGINT or SIGTERM, which keeps only whole outputs (render/run/stop_policy.h).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
