@@ -141,7 +141,7 @@ Image comparePicture(const Image& expected, const Image& actual, const Image& di
   if (!crop) return out;
   int left = 0;
   for (const Image* p : full) outline(out, *crop, left, kBand), left += p->width + kGap;
-  const std::string z = " " + std::to_string(zoom) + "x";
+  const std::string z = std::string(" ").append(std::to_string(zoom)).append("x");
   panelRow(out, kBand + rowHeight + kGap, {&zoomed[0], &zoomed[1], &zoomed[2]},
            {"EXPECTED" + z, "ACTUAL" + z, "DIFF" + z});
   return out;

@@ -17,7 +17,10 @@
 namespace vf {
 
 RunStatus runExport(const ExportRequest& o) {
-  RunInput input = loadRunInput(o.input, o.overrides, {.fps = o.fps, .speed = o.speed});
+  DrawingOverrides rate;
+  rate.fps = o.fps;
+  rate.speed = o.speed;
+  RunInput input = loadRunInput(o.input, o.overrides, rate);
   const SceneSpec& spec = input.spec;
   const std::string path = o.output.empty() ? "out/" + spec.name + ".glb" : o.output;
   if (std::filesystem::path(path).extension() != ".glb")

@@ -294,9 +294,13 @@ void writeAll(int fd, const std::string& bytes, const std::string& path) {
 
 JournalWriter::JournalWriter(const std::string& path, const JournalHeader& header) : path_(path) {
   const fs::path target(path);
-  const fs::path temp = target.parent_path() / ("." + target.stem().string() + ".partial-" +
-                                                std::to_string(static_cast<long>(::getpid())) +
-                                                "-j" + target.extension().string());
+  std::string name = ".";
+  name.append(target.stem().string())
+      .append(".partial-")
+      .append(std::to_string(static_cast<long>(::getpid())))
+      .append("-j")
+      .append(target.extension().string());
+  const fs::path temp = target.parent_path() / name;
   const std::string text = std::string(kSignature) + "\n" + headerJson(header).dump() + "\n";
   fd_ = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) throw InputError(path, std::string("cannot write: ") + std::strerror(errno));

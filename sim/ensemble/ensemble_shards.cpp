@@ -73,8 +73,9 @@ std::string indexRanges(const std::vector<RealisationResult>& results) {
   for (std::size_t k = 0; k < results.size();) {
     std::size_t last = k;
     while (last + 1 < results.size() && results[last + 1].index == results[last].index + 1) ++last;
-    s += (s.empty() ? "" : ",") + std::to_string(results[k].index);
-    if (last > k) s += "-" + std::to_string(results[last].index);
+    if (!s.empty()) s += ',';
+    s += std::to_string(results[k].index);
+    if (last > k) s.append("-").append(std::to_string(results[last].index));
     k = last + 1;
   }
   return s;

@@ -23,7 +23,7 @@ struct SourceLine {
 
 std::vector<SourceLine> sourceLines(const EvaluationLineSpec& s, const Heightfield& dem,
                                     const std::string& what) {
-  if (s.file.empty()) return {SourceLine{s.name, s.points, s.pointWhere}};
+  if (s.file.empty()) return {SourceLine{s.name, s.points, s.pointWhere, std::nullopt}};
   std::vector<SourceLine> out;
   const std::vector<VectorFeature> features = readVectorFile(s.file, dem.crsWkt, s.layer);
   for (const VectorFeature& f : features) {
