@@ -1,6 +1,8 @@
 #include "render/run/lines_output.h"
 
+#include <charconv>
 #include <cmath>
+#include <cstdio>
 
 #include "render/maps/line_plots.h"
 
@@ -8,11 +10,12 @@ namespace vf {
 namespace {
 
 // %.17g, or nothing for NaN (an empty CSV field).
+// A number as the shortest text that reads back to the same double (std::to_chars), so that
+// a capacity given as 0.05 kJ reads 0.05, not %.17g's 0.050000000000000003; NaN: empty.
 void field(std::FILE* out, double v, const char* after = ",") {
-  if (std::isnan(v))
-    std::fprintf(out, "%s", after);
-  else
-    std::fprintf(out, "%.17g%s", v, after);
+  char text[32] = "";
+  if (!std::isnan(v)) *std::to_chars(text, text + sizeof text - 1, v).ptr = '\0';
+  std::fprintf(out, "%s%s", text, after);
 }
 
 // A name as one CSV field: quoted, with quotes doubled.
