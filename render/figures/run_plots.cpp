@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "render/figures/gnuplot.h"
+#include "render/output/number_text.h"
 #include "render/output/output_file.h"
 #include "sim/core/error.h"
 
@@ -106,9 +107,7 @@ void writeRunTables(const std::vector<Row>& rows, const RunPlotOptions& o, const
   energy << "frame,time_s,kinetic_J,potential_J,total_J\n";
   std::map<int, std::string> perBodyRows;  // body -> its rows, so each curve is consecutive
   auto flush = [&](int frame, double time, double ke, double pe) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%d,%.17g,%.17g,%.17g,%.17g\n", frame, time, ke, pe, ke + pe);
-    energy << buf;
+    energy << csvRow(frame, time, ke, pe, ke + pe);
   };
   int frame = rows[0].frame;
   double time = rows[0].time, ke = 0, pe = 0;
@@ -121,10 +120,7 @@ void writeRunTables(const std::vector<Row>& rows, const RunPlotOptions& o, const
     const Mat3 R = r.q.normalized().toRotationMatrix();
     ke += 0.5 * m.mass * r.v.squaredNorm() + 0.5 * r.w.dot(R * m.inertiaBody * R.transpose() * r.w);
     pe -= m.mass * o.gravity.dot(r.x);
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%d,%.17g,%.17g,%.17g,%.17g,%.17g\n", r.body, r.time, r.v.norm(),
-                  r.x.x(), r.x.y(), r.x.z());
-    perBodyRows[r.body] += buf;
+    perBodyRows[r.body] += csvRow(r.body, r.time, r.v.norm(), r.x.x(), r.x.y(), r.x.z());
   }
   flush(frame, time, ke, pe);
   std::string bodies = "body,time_s,speed_m_s,x_m,y_m,z_m\n";

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "render/output/number_text.h"
 #include "render/output/output_file.h"
 #include "sim/core/error.h"
 #include "sim/ensemble/ensemble_shards.h"
@@ -73,8 +74,7 @@ void writePathsCsv(std::FILE* f, const Heightfield& dem,
   for (const RealisationResult& r : runs)
     for (const PathPoint& p : r.path) {
       const Vec3 x = worldToDem(dem, p.x);
-      std::fprintf(f, "%lld,%.17g,%.17g,%.17g,%.17g\n", static_cast<long long>(r.index), p.time,
-                   x.x(), x.y(), x.z());
+      std::fputs(csvRow(r.index, p.time, x.x(), x.y(), x.z()).c_str(), f);
     }
 }
 

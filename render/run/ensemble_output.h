@@ -20,7 +20,8 @@ namespace vf {
 // checksum (16 hex digits).
 void writeRunsCsv(std::FILE* out, const Ensemble& ensemble,
                   const std::vector<RealisationResult>& runs);
-// index,time,x,y,z: every realisation's centre of mass after every step, %.17g (bit-exact).
+// index,time,x,y,z: every realisation's centre of mass after every step, in their shortest exact
+// text (number_text.h).
 void writePathsCsv(std::FILE* out, const Heightfield& dem,
                    const std::vector<RealisationResult>& runs);
 // converge.csv (runs, cell i and j, cell centre x and y, passages, reach probability, p95

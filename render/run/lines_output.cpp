@@ -1,21 +1,19 @@
 #include "render/run/lines_output.h"
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 
 #include "render/maps/line_plots.h"
+#include "render/output/number_text.h"
 
 namespace vf {
 namespace {
 
 // %.17g, or nothing for NaN (an empty CSV field).
-// A number as the shortest text that reads back to the same double (std::to_chars), so that
-// a capacity given as 0.05 kJ reads 0.05, not %.17g's 0.050000000000000003; NaN: empty.
+// A number in its shortest exact text (number_text.h), so that a capacity given as 0.05 kJ
+// reads 0.05; NaN: an empty field.
 void field(std::FILE* out, double v, const char* after = ",") {
-  char text[32] = "";
-  if (!std::isnan(v)) *std::to_chars(text, text + sizeof text - 1, v).ptr = '\0';
-  std::fprintf(out, "%s%s", text, after);
+  std::fprintf(out, "%s%s", std::isnan(v) ? "" : numberText(v).c_str(), after);
 }
 
 // A name as one CSV field: quoted, with quotes doubled.

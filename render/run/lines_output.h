@@ -21,7 +21,7 @@ namespace vf {
 // One row per crossing, in the order given: line, name, rock, time (s), x, y, z (m, DEM file
 // coordinates), vx, vy, vz (m/s), speed (m/s), translational, rotational and total kinetic
 // energy (kJ), passing height (m; empty over no ground), direction (+1 left to right, -1 back).
-// Numbers in %.17g (they read back bit-exact).
+// Numbers in their shortest exact text (number_text.h: they read back bit-exact).
 void writeCrossingsCsv(std::FILE* out, const std::vector<EvaluationLine>& lines,
                        const std::vector<LineCrossing>& crossings, const Vec3& shift);
 // One row per line: line, name, crossings, rocks_crossing, rocks, probability, energy_p50_kj,

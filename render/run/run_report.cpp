@@ -3,6 +3,7 @@
 #include <cinttypes>
 #include <cmath>
 
+#include "render/output/number_text.h"
 #include "render/output/output_file.h"
 #include "sim/core/error.h"
 
@@ -28,11 +29,10 @@ void writeCsvFrame(std::FILE* out, int frame, double time, const World& world,
     const BodyState& s = states[static_cast<std::size_t>(id)];
     const Vec3 v = world.velocity(id, s);
     const Vec3 w = world.angularVelocity(id, s);
-    std::fprintf(out,
-                 "%d,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
-                 "%.17g,%.17g\n",
-                 frame, time, id, s.x.x(), s.x.y(), s.x.z(), s.q.w(), s.q.x(), s.q.y(), s.q.z(),
-                 v.x(), v.y(), v.z(), w.x(), w.y(), w.z());
+    std::fputs(csvRow(frame, time, id, s.x.x(), s.x.y(), s.x.z(), s.q.w(), s.q.x(), s.q.y(),
+                      s.q.z(), v.x(), v.y(), v.z(), w.x(), w.y(), w.z())
+                   .c_str(),
+               out);
   }
 }
 
@@ -61,9 +61,7 @@ std::string jsonString(const std::string& s) {
 // JSON has no inf or nan; null says "no meaningful value" without breaking parsers.
 std::string jsonNumber(double v) {
   if (!std::isfinite(v)) return "null";
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
+  return numberText(v);
 }
 
 std::string jsonCount(std::uint64_t v) { return std::to_string(v); }

@@ -16,8 +16,8 @@ namespace vf {
 const char* voxfallVersion();
 
 // Per-frame trajectory CSV: one row per ACTIVE body per frame, position = centre of mass (m),
-// q = orientation (w, x, y, z), v (m/s) and w (rad/s, world frame), numbers in %.17g so that
-// they read back bit-exact.
+// q = orientation (w, x, y, z), v (m/s) and w (rad/s, world frame), each number in its shortest
+// text that reads back bit-exact (render/output/number_text.h).
 void writeCsvHeader(std::FILE* out);
 // `states` and `active` are the frame's states and released flags (Recorder::frameStates(),
 // frameActive()), one per body of `world`.
