@@ -1,6 +1,7 @@
 // Numbers as text that reads back to the same value: for a double, the shortest such text
 // (std::to_chars), so 0.15 is written 0.15 where printf's %.17g writes 0.14999999999999999.
-// Every CSV and JSON number voxfall writes goes through here.
+// The numbers of voxfall's tables that read back bit-exact go through here: the trajectory
+// CSV, the run summary JSON, an ensemble's paths, evaluation lines and barriers, plot tables.
 #pragma once
 
 #include <charconv>

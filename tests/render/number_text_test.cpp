@@ -1,5 +1,6 @@
-// The numbers of every CSV and JSON voxfall writes (render/output/number_text.h): the shortest
-// text that strtod reads back to the same bits, checked against strtod and printf's %.17g.
+// The numbers of the tables voxfall writes to read back bit-exact (render/output/number_text.h):
+// the shortest text that strtod reads back to the same bits, checked against strtod and printf's
+// %.17g.
 #include "render/output/number_text.h"
 
 #include <gtest/gtest.h>
