@@ -91,6 +91,9 @@ void readOutcome(const World& w, const RockFall& rockFall, RealisationResult& r)
   r.maxJumpHeight = o.maxJumpHeight;
   r.volume = w.shape(0).volume;
   r.mass = w.shape(0).mass;
+  const TreeHits trees = rockFall.treeHits(0);
+  r.treeHits = trees.hits;
+  r.treeEnergy = trees.absorbed;
   r.steps = static_cast<std::int64_t>(w.totals().steps);
   r.checksum = w.stepsHash();
 }
@@ -443,6 +446,8 @@ void serializeResult(const RealisationResult& r, std::string& s) {
   for (double v :
        {r.runout, r.reachAngle, r.maxSpeed, r.maxEnergy, r.maxJumpHeight, r.volume, r.mass})
     put(s, v);
+  put<std::int32_t>(s, r.treeHits);
+  put(s, r.treeEnergy);
   put(s, r.steps);
   put(s, r.checksum);
   put<std::uint64_t>(s, r.cells.size());
@@ -491,6 +496,8 @@ RealisationResult deserializeResult(const std::string& s, std::size_t& pos) {
   r.maxJumpHeight = take<double>(s, pos);
   r.volume = take<double>(s, pos);
   r.mass = take<double>(s, pos);
+  r.treeHits = take<std::int32_t>(s, pos);
+  r.treeEnergy = take<double>(s, pos);
   r.steps = take<std::int64_t>(s, pos);
   r.checksum = take<std::uint64_t>(s, pos);
   // Counts are checked against the bytes left before anything is allocated: a damaged count

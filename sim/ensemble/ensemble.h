@@ -58,6 +58,8 @@ struct RealisationResult {
   double maxJumpHeight = 0;              // m (RockOutcome::maxJumpHeight)
   double volume = 0;                     // m^3, of the rock as released
   double mass = 0;                       // kg
+  int treeHits = 0;                      // stems of [forest] the rock met (TreeHits::hits)
+  double treeEnergy = 0;                 // J, kinetic energy those stems took
   std::int64_t steps = 0;
   std::uint64_t checksum = 0;           // World::stepsHash(): the trajectory, bit for bit
   std::vector<CellPassage> cells;       // sorted by cell, each cell once

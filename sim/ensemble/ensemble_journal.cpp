@@ -24,7 +24,9 @@ using Json = nlohmann::ordered_json;
 namespace {
 
 constexpr const char* kSignature = "VOXFALL-JOURNAL 1";
-constexpr int kVersion = 2;
+// Records hold the rock's tree impacts; a journal of another version holds other records and is
+// refused (checkVersion) rather than read as zero hits, which a run through a forest did not have.
+constexpr int kVersion = 3;
 constexpr std::uint32_t kRecordMagic = 0x524a4656;  // "VFJR" little-endian
 constexpr std::uint32_t kKindRealisation = 1;
 constexpr std::uint32_t kKindRuns = 2;
@@ -195,6 +197,18 @@ std::string journalDifference(const JournalHeader& journal, const JournalHeader&
 
 namespace {
 
+// A journal of another format version cannot be continued or merged: its records hold other
+// fields. Left to headerFrom when the header has no integer version (a damaged header).
+void checkVersion(const std::string& path, const Json& header) {
+  const auto v = header.find("version");
+  if (v == header.end() || !v->is_number_integer() || v->get<int>() == kVersion) return;
+  const int version = v->get<int>();
+  throw InputError(path, "journal version " + std::to_string(version) + " was written by " +
+                             (version < kVersion ? "an older" : "a newer") +
+                             " voxfall (this one reads version " + std::to_string(kVersion) +
+                             "); it cannot be resumed or merged: run the ensemble again");
+}
+
 // The header lines; `pos` is left at the first record.
 JournalHeader readHeader(const std::string& path, const std::string& bytes, std::size_t& pos) {
   const std::size_t first = bytes.find('\n');
@@ -206,9 +220,16 @@ JournalHeader readHeader(const std::string& path, const std::string& bytes, std:
     throw InputError(path,
                      "the journal's header is cut short (the run was killed as it started;"
                      " remove the file and run again)");
+  Json header;
   try {
     pos = second + 1;
-    return headerFrom(Json::parse(bytes.substr(first + 1, second - first - 1)));
+    header = Json::parse(bytes.substr(first + 1, second - first - 1));
+  } catch (const std::exception& e) {
+    throw InputError(path + ":2", std::string("damaged journal header: ") + e.what());
+  }
+  checkVersion(path, header);
+  try {
+    return headerFrom(header);
   } catch (const std::exception& e) {
     throw InputError(path + ":2", std::string("damaged journal header: ") + e.what());
   }

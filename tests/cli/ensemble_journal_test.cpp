@@ -4,12 +4,13 @@
 // realisations, and two shards merged must each write the same bytes, file for file (the
 // journal aside: its records are in the order realisations finished). A resume with a changed
 // scene or option is refused naming the difference, and shards that overlap, miss realisations
-// or belong to another ensemble are refused by the merge.
+// or belong to another ensemble are refused by the merge, as is a journal of an older format.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -205,6 +206,30 @@ TEST_F(EnsembleJournalTest, AResumeWithAChangedSceneOrOptionIsRefusedNamingIt) {
   const auto none = runVoxfall(kExe, dir_, "ensemble scene.toml -q --runs 4 --resume -o b");
   EXPECT_EQ(none.code, 1);
   EXPECT_NE(none.err.find("no journal to resume"), std::string::npos) << none.err;
+}
+
+// A journal of the previous format (its records lack the tree impacts) is one error naming the
+// file, for a resume and for a merge, and nothing is written.
+TEST_F(EnsembleJournalTest, AJournalOfAnOlderFormatIsRefusedByResumeAndMerge) {
+  ensemble("--runs 4 -o a");
+  const std::string before = readFile(dir_ / "a" / "runs.csv");
+  std::string bytes = readFile(dir_ / "a" / kJournal);
+  const std::size_t at = bytes.find("\"version\":3");
+  ASSERT_NE(at, std::string::npos) << bytes.substr(0, 200);
+  bytes.replace(at, 11, "\"version\":2");
+  std::ofstream(dir_ / "a" / kJournal, std::ios::binary) << bytes;
+  const std::string message =
+      "ensemble.journal: journal version 2 was written by an older voxfall (this one reads "
+      "version 3); it cannot be resumed or merged: run the ensemble again";
+  for (const std::string command :
+       {"ensemble scene.toml -q --seed 7 --runs 6 --resume -o a", "ensemble-merge a -q -o m"}) {
+    const auto r = runVoxfall(kExe, dir_, command);
+    EXPECT_EQ(r.code, 1) << command;
+    EXPECT_NE(r.err.find(message), std::string::npos) << command << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  EXPECT_EQ(readFile(dir_ / "a" / "runs.csv"), before);
+  EXPECT_FALSE(fs::exists(dir_ / "m"));
 }
 
 }  // namespace
