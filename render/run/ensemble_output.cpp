@@ -50,20 +50,20 @@ void writeRunsCsv(std::FILE* f, const Ensemble& ens, const std::vector<Realisati
   const Heightfield& dem = ens.dem();
   std::fputs(
       "index,seed,shape,release_x,release_y,release_z,stop_x,stop_y,stop_z,stop_time,runout_m,"
-      "reach_angle_deg,max_speed_ms,max_energy_kJ,max_jump_height_m,volume_m3,mass_kg,state,steps,"
-      "checksum\n",
+      "reach_angle_deg,max_speed_ms,max_energy_kJ,max_jump_height_m,volume_m3,mass_kg,tree_hits,"
+      "tree_energy_kJ,state,steps,checksum\n",
       f);
   for (const RealisationResult& r : runs) {
     const Vec3 a = worldToDem(dem, r.release), b = worldToDem(dem, r.end);
     std::fprintf(
         f,
-        "%lld,%llu,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.6g,%.6g,%s,"
-        "%lld,%s\n",
+        "%lld,%llu,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.6g,%.6g,%d,"
+        "%.4f,%s,%lld,%s\n",
         static_cast<long long>(r.index), static_cast<unsigned long long>(r.seed),
         ens.ensemble().shapes[static_cast<std::size_t>(r.shape)].c_str(), a.x(), a.y(), a.z(),
         b.x(), b.y(), b.z(), r.endTime, r.runout, r.reachAngle, r.maxSpeed, r.maxEnergy / 1000.0,
-        r.maxJumpHeight, r.volume, r.mass, rockStateName(r.state), static_cast<long long>(r.steps),
-        checksumHex(r.checksum).c_str());
+        r.maxJumpHeight, r.volume, r.mass, r.treeHits, r.treeEnergy / 1000.0,
+        rockStateName(r.state), static_cast<long long>(r.steps), checksumHex(r.checksum).c_str());
   }
 }
 

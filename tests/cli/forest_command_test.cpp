@@ -1,16 +1,20 @@
 // [forest] end to end on the synthetic chute (tests/support/chute_dem.h): an ensemble through a
 // dense stand stops its rocks sooner than the same ensemble without one and writes the same bytes
-// for any --jobs; a forest raster in another CRS stops `ensemble` and `simulate` with one line
-// naming the file, and nothing is written.
+// for any --jobs; runs.csv's tree impacts are those of each realisation's world stepped here on
+// its own, and the same after two shards merged; a forest raster in another CRS stops `ensemble`
+// and `simulate` with one line naming the file, and nothing is written.
 #include <gdal.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "sim/ensemble/ensemble.h"
+#include "sim/scene/scene.h"
 #include "tests/support/chute_dem.h"
 #include "tests/support/voxfall_command.h"
 
@@ -22,20 +26,27 @@ using vf::test::runVoxfall;
 
 const std::string kExe = VOXFALL_EXE;
 
-// The runout column of runs.csv, one value per realisation.
-std::vector<double> runouts(const fs::path& runsCsv) {
+// runs.csv as rows of column name -> text.
+std::vector<std::map<std::string, std::string>> runsTable(const fs::path& runsCsv) {
   std::istringstream in(readFile(runsCsv));
-  std::string line;
+  std::string line, field;
   std::getline(in, line);
-  int column = 0;
-  for (std::istringstream h(line); std::getline(h, line, ',') && line != "runout_m";) ++column;
-  std::vector<double> out;
+  std::vector<std::string> names;
+  for (std::istringstream h(line); std::getline(h, field, ',');) names.push_back(field);
+  std::vector<std::map<std::string, std::string>> out;
   while (std::getline(in, line)) {
     std::istringstream row(line);
-    std::string field;
-    for (int k = 0; k <= column; ++k) std::getline(row, field, ',');
-    out.push_back(std::stod(field));
+    out.emplace_back();
+    for (std::size_t k = 0; k < names.size() && std::getline(row, field, ','); ++k)
+      out.back()[names[k]] = field;
   }
+  return out;
+}
+
+// The runout column of runs.csv, one value per realisation.
+std::vector<double> runouts(const fs::path& runsCsv) {
+  std::vector<double> out;
+  for (const auto& row : runsTable(runsCsv)) out.push_back(std::stod(row.at("runout_m")));
   return out;
 }
 
@@ -69,6 +80,53 @@ TEST_F(ForestCommandTest, ADenseStandShortensEveryRunoutAndKeepsTheBytesForAnyJo
   ASSERT_EQ(forest.size(), 6u);
   for (std::size_t k = 0; k < bare.size(); ++k)
     EXPECT_LT(forest[k], bare[k]) << "realisation " << k;
+}
+
+// 800 stems/ha of 20 cm: a mean free path of 1 / (0.08 * (0.2 + 0.4)) = 21 m on the chute, so
+// some rocks meet stems within 3 s and are not all stopped by the first. The oracle is the
+// realisation's World from Ensemble::makeWorld, stepped here as a rock-fall run ends (the
+// duration, or the rock stopped, left or buried), and its RockFall's treeHits of the rock.
+TEST_F(ForestCommandTest, TreeColumnsAreThoseOfEachRealisationRunOnItsOwn) {
+  writeScene("");
+  ASSERT_EQ(runVoxfall(kExe, dir_, "ensemble scene.toml --runs 3 --seed 5 -q -o bare").code, 0);
+  for (const auto& row : runsTable(dir_ / "bare" / "runs.csv")) {
+    EXPECT_EQ(row.at("tree_hits"), "0");
+    EXPECT_EQ(row.at("tree_energy_kJ"), "0.0000");
+  }
+  writeScene("density = 800\ndbh = 20\n");
+  const auto run = runVoxfall(kExe, dir_, "ensemble scene.toml --runs 8 --seed 5 -q -o f");
+  ASSERT_EQ(run.code, 0) << run.err;
+  const auto rows = runsTable(dir_ / "f" / "runs.csv");
+  ASSERT_EQ(rows.size(), 8u);
+  const vf::SceneSpec spec = vf::loadScene((dir_ / "scene.toml").string());
+  const vf::Ensemble ensemble(spec);
+  int hit = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const std::uint64_t seed = vf::realisationSeed(5, static_cast<std::int64_t>(k));
+    ASSERT_EQ(rows[k].at("seed"), std::to_string(seed));
+    const vf::RealisationWorld made = ensemble.makeWorld(seed);
+    vf::World& w = *made.world;
+    while (w.nextStepEnd() <= spec.duration + vf::kTimeTolerance) {
+      w.stepNext();
+      if (made.rockFall->outcomes()[0].state != vf::RockState::kMoving) break;
+    }
+    char hex[17], kJ[64];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(w.stepsHash()));
+    ASSERT_EQ(rows[k].at("checksum"), hex) << "realisation " << k << " is another run";
+    const vf::TreeHits trees = made.rockFall->treeHits(0);
+    std::snprintf(kJ, sizeof kJ, "%.4f", trees.absorbed / 1000.0);
+    EXPECT_EQ(rows[k].at("tree_hits"), std::to_string(trees.hits)) << "realisation " << k;
+    EXPECT_EQ(rows[k].at("tree_energy_kJ"), kJ) << "realisation " << k;
+    hit += trees.hits > 0 ? 1 : 0;
+  }
+  EXPECT_GE(hit, 1) << "no realisation met a stem: the stand tests nothing";
+  // Through the journal: two shards merged write the same runs.csv.
+  ASSERT_EQ(
+      runVoxfall(kExe, dir_, "ensemble scene.toml --runs 8 --seed 5 --shard 0/2 -q -o s0").code, 0);
+  ASSERT_EQ(
+      runVoxfall(kExe, dir_, "ensemble scene.toml --runs 8 --seed 5 --shard 1/2 -q -o s1").code, 0);
+  ASSERT_EQ(runVoxfall(kExe, dir_, "ensemble-merge s0 s1 -q -o merged").code, 0);
+  EXPECT_EQ(readFile(dir_ / "merged" / "runs.csv"), readFile(dir_ / "f" / "runs.csv"));
 }
 
 TEST_F(ForestCommandTest, ARasterInAnotherCrsStopsTheRunAndWritesNothing) {
