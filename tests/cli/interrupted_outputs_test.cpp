@@ -52,13 +52,7 @@ class InterruptedOutputs : public ::testing::Test {
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     dir_ = vf::test::scratchFolder("voxfall_interrupted", info->name());
-    fs::create_directories(dir_ / "meshes");
-    const fs::path scenes = fs::path(VOXFALL_SOURCE_DIR) / "scenes";
-    fs::copy_file(scenes / "meshes/cube.obj", dir_ / "meshes/cube.obj");
-    const std::string text = readFile(scenes / "cubes.toml");
-    std::ofstream(dir_ / "cubes.toml") << text;
-    std::ofstream(dir_ / "long.toml")
-        << std::regex_replace(text, std::regex("duration = 2\\.0"), "duration = 600.0");
+    vf::test::copyCubesScene(fs::path(VOXFALL_SOURCE_DIR) / "scenes", dir_, {{"long.toml", 600}});
   }
   void TearDown() override {
     if (mounted_) ::umount2((dir_ / "disk").c_str(), MNT_DETACH);

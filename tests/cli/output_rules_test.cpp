@@ -49,17 +49,10 @@ class OutputRules : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     // cubes.toml with a chosen duration, its mesh beside it (an input of the run).
-    const fs::path scenes = fs::path(VOXFALL_SOURCE_DIR) / "scenes";
-    fs::create_directories(dir_ / "meshes");
-    fs::copy_file(scenes / "meshes/cube.obj", dir_ / "meshes/cube.obj");
-    const std::string text = readFile(scenes / "cubes.toml");
-    std::ofstream(dir_ / "cubes.toml") << text;
     // Runs long enough that a signal lands mid-run: `simulate` of 600 s, and `render` of 30 s
     // (simulated whole before its 901 frames are drawn).
-    std::ofstream(dir_ / "long.toml")
-        << std::regex_replace(text, std::regex("duration = 2\\.0"), "duration = 600.0");
-    std::ofstream(dir_ / "minute.toml")
-        << std::regex_replace(text, std::regex("duration = 2\\.0"), "duration = 30.0");
+    vf::test::copyCubesScene(fs::path(VOXFALL_SOURCE_DIR) / "scenes", dir_,
+                             {{"long.toml", 600}, {"minute.toml", 30}});
   }
   void TearDown() override { fs::remove_all(dir_); }
 

@@ -108,12 +108,7 @@ void writePicture(const fs::path& path, int width, int height, int stride) {
 // cubes.toml and its mesh in `dir`, and long.toml: the same scene lasting 600 s, which takes
 // seconds to simulate.
 void writeCubes(const fs::path& dir) {
-  fs::create_directories(dir / "meshes");
-  fs::copy_file(kScenes / "meshes/cube.obj", dir / "meshes/cube.obj");
-  const std::string text = readFile(kScenes / "cubes.toml");
-  std::ofstream(dir / "cubes.toml") << text;
-  std::ofstream(dir / "long.toml")
-      << std::regex_replace(text, std::regex("duration = 2\\.0"), "duration = 600.0");
+  vf::test::copyCubesScene(kScenes, dir, {{"long.toml", 600}});
 }
 
 // A suite of two cases: the cubes (seconds) and then the 600 s scene, its last frame.

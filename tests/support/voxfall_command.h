@@ -12,9 +12,11 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace vf::test {
@@ -35,6 +37,20 @@ inline std::filesystem::path scratchFolder(const std::string& prefix, const std:
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+// The shipped cubes scene copied from the folder `scenes` into `dir` (cubes.toml, lasting 2 s,
+// and its mesh, an input of the run), and beside it, for each (file name, seconds), the same
+// scene lasting that long: a run long enough for a signal to land while it works.
+inline void copyCubesScene(const std::filesystem::path& scenes, const std::filesystem::path& dir,
+                           const std::vector<std::pair<std::string, int>>& longer = {}) {
+  std::filesystem::create_directories(dir / "meshes");
+  std::filesystem::copy_file(scenes / "meshes/cube.obj", dir / "meshes/cube.obj");
+  const std::string text = readFile(scenes / "cubes.toml");
+  std::ofstream(dir / "cubes.toml") << text;
+  for (const auto& [name, seconds] : longer)
+    std::ofstream(dir / name) << std::regex_replace(text, std::regex("duration = 2\\.0"),
+                                                    "duration = " + std::to_string(seconds) + ".0");
 }
 
 struct CommandResult {
