@@ -71,11 +71,8 @@ std::unique_ptr<FrameSink> openOutput(const RenderRequest& r, const RunInput& in
   const bool defaultOutput = r.output.empty();
   const std::string path = defaultOutput ? "out/" + spec.name + ".mp4" : r.output;
   const bool replaceDefault = defaultOutput && !r.neverOverwrite;
-  OutputRules rules;
-  rules.overwrite = r.neverOverwrite                ? Overwrite::never
-                    : r.overwrite || replaceDefault ? Overwrite::always
-                                                    : Overwrite::refuse;
-  rules.inputs = input.files;
+  const OutputRules rules =
+      runOutputRules(spec, r.input, r.overwrite || replaceDefault, r.neverOverwrite);
   watchForStop();
   // An unknown kind fails now, and so does a transparent background asked of an MP4.
   if (outputKind(path) == OutputKind::mp4 && spec.output.alpha)

@@ -48,15 +48,6 @@ void applyDrawingOverrides(RunInput& input, const std::string& path, const Drawi
   }
 }
 
-std::vector<std::string> filesRead(const SceneSpec& spec, const std::string& inputFile) {
-  std::vector<std::string> files{inputFile};
-  if (!spec.path.empty()) files.push_back(spec.path);
-  for (const ShapeSpec& s : spec.shapes)
-    if (!s.meshPath.empty()) files.push_back(s.meshPath);  // "" for a generated rock
-  if (!spec.terrainPath.empty()) files.push_back(spec.terrainPath);
-  return files;
-}
-
 }  // namespace
 
 RunInput loadRunInput(const std::string& path, const SceneOverrides& overrides,
@@ -75,7 +66,6 @@ RunInput loadRunInput(const std::string& path, const SceneOverrides& overrides,
     applyOverrides(in.spec, overrides);
   }
   applyDrawingOverrides(in, path, drawing);
-  in.files = filesRead(in.spec, path);
   return in;
 }
 
@@ -85,7 +75,11 @@ OutputRules runOutputRules(const SceneSpec& spec, const std::string& inputFile, 
   rules.overwrite = neverOverwrite ? Overwrite::never
                     : overwrite    ? Overwrite::always
                                    : Overwrite::refuse;
-  rules.inputs = filesRead(spec, inputFile);
+  rules.inputs.push_back(inputFile);
+  if (!spec.path.empty()) rules.inputs.push_back(spec.path);
+  for (const ShapeSpec& s : spec.shapes)
+    if (!s.meshPath.empty()) rules.inputs.push_back(s.meshPath);  // "" for a generated rock
+  if (!spec.terrainPath.empty()) rules.inputs.push_back(spec.terrainPath);
   return rules;
 }
 

@@ -35,8 +35,6 @@ struct DrawingOverrides {
 struct RunInput {
   SceneSpec spec;            // the scene, or the bake's scene data
   std::optional<Bake> bake;  // set when the input is a bake
-  // Every file the run reads (the input, the scene, each mesh, the terrain): never an output.
-  std::vector<std::string> files;
 };
 
 // Reads `path`, a scene file or a bake (sim/bake.h, recognised by its first line), and applies
